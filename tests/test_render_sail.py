@@ -1,0 +1,203 @@
+"""Tests for the top-view sailing renderer (headless, via SDL's dummy video driver)."""
+
+import os
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+
+import dataclasses
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pygame")
+
+from gymnasium.error import DependencyNotInstalled  # noqa: E402
+
+from bbgym.render import sail_view  # noqa: E402
+from bbgym.render.sail_view import (  # noqa: E402
+    CREW_COLOR,
+    MARK_COLOR,
+    SAIL_FILL_COLOR,
+    SailRenderer,
+    SailScene,
+    body_to_world,
+    world_to_screen,
+)
+
+WIDTH, HEIGHT, PPM = 640, 480, 12.0
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+def make_scene(**overrides: object) -> SailScene:
+    """Boat at the origin heading east, wind from the north, boom out to starboard."""
+    base = SailScene(
+        time_s=12.5,
+        position_m=(0.0, 0.0),
+        heading_rad=0.0,
+        heel_rad=-0.2,
+        boom_angle_rad=-0.6,
+        rudder_angle_rad=0.1,
+        sail_force_n=300.0,
+        sail_luffing=False,
+        mark_m=(10.0, 5.0),
+        mark_radius_m=3.0,
+        true_wind_mps=(0.0, -5.0),
+        apparent_wind_speed_mps=5.8,
+        apparent_wind_angle_rad=math.radians(70.0),
+        boat_speed_mps=2.0,
+        wake_m=tuple((-1.0 * k, 0.0) for k in range(20, 0, -1)),
+        capsized=False,
+        jibes=1,
+        tacks=2,
+    )
+    return dataclasses.replace(base, **overrides)
+
+
+def color_mask(img: np.ndarray, color: tuple[int, int, int], tol: int = 12) -> np.ndarray:
+    diff = np.abs(img.astype(np.int16) - np.array(color, dtype=np.int16))
+    return np.all(diff <= tol, axis=-1)
+
+
+@pytest.fixture
+def renderer():
+    r = SailRenderer("rgb_array", width=WIDTH, height=HEIGHT, pixels_per_meter=PPM)
+    yield r
+    r.close()
+
+
+def test_rgb_array_shape_and_dtype(renderer: SailRenderer) -> None:
+    img = renderer.render(make_scene())
+    assert isinstance(img, np.ndarray)
+    assert img.shape == (HEIGHT, WIDTH, 3)
+    assert img.dtype == np.uint8
+    # Not a blank frame: many distinct colours are drawn.
+    assert len(np.unique(img.reshape(-1, 3), axis=0)) > 10
+
+
+def test_same_scene_is_deterministic_and_heading_changes_image(renderer: SailRenderer) -> None:
+    scene = make_scene()
+    a = renderer.render(scene)
+    b = renderer.render(scene)
+    np.testing.assert_array_equal(a, b)
+    turned = renderer.render(make_scene(heading_rad=math.pi / 2))
+    assert np.count_nonzero(np.any(a != turned, axis=-1)) > 100
+
+
+def test_orange_crew_on_windward_side(renderer: SailRenderer) -> None:
+    # Heading east, boom out to starboard (south): crew hikes on the port side = north = up.
+    img = renderer.render(make_scene(boom_angle_rad=-0.6))
+    rows, _ = np.nonzero(color_mask(img, CREW_COLOR, tol=30))
+    assert rows.size > 20
+    assert rows.mean() < HEIGHT / 2
+    # Boom out to port (north): crew on the starboard side = down.
+    img = renderer.render(
+        make_scene(boom_angle_rad=0.6, apparent_wind_angle_rad=math.radians(-70.0))
+    )
+    rows, _ = np.nonzero(color_mask(img, CREW_COLOR, tol=30))
+    assert rows.size > 20
+    assert rows.mean() > HEIGHT / 2
+
+
+def test_sail_is_on_the_boom_side_and_bellied_to_leeward(renderer: SailRenderer) -> None:
+    boom = -0.8  # heading east, boom out to starboard
+    img = renderer.render(make_scene(boom_angle_rad=boom, sail_force_n=600.0))
+    # Only look around the boat (screen centre): the HUD text antialiasing has similar greys.
+    box = 60
+    top, left = HEIGHT // 2 - box, WIDTH // 2 - box
+    mask = color_mask(img, SAIL_FILL_COLOR, tol=6)[top : top + 2 * box, left : left + 2 * box]
+    rows, cols = np.nonzero(mask)
+    assert rows.size > 10
+    # Back to world metres (boat at the origin, heading east = body frame).
+    x = (cols + left - WIDTH / 2) / PPM
+    y = (HEIGHT / 2 - (rows + top)) / PPM
+    assert y.mean() < 0  # the sail is on the starboard (south) side
+    # The belly is on the far side of the boom from the hull's stern, i.e. to leeward.
+    mast = np.array([4.2 / 6, 0.0])
+    boom_dir = np.array([-math.cos(boom), math.sin(boom)])
+    normal = np.array([-boom_dir[1], boom_dir[0]])
+    stern_side = np.sign(np.dot(np.array([-2.1, 0.0]) - mast, normal))
+    sides = np.sign((x - mast[0]) * normal[0] + (y - mast[1]) * normal[1])
+    assert np.mean(sides == -stern_side) > 0.8
+
+
+def test_mark_drawn_at_expected_screen_position(renderer: SailRenderer) -> None:
+    mark = (10.0, 5.0)
+    img = renderer.render(make_scene(mark_m=mark))
+    sx, sy = world_to_screen(mark, (0.0, 0.0), PPM, (WIDTH, HEIGHT))
+    assert (round(sx), round(sy)) == (440, 180)
+    mask = color_mask(img, MARK_COLOR, tol=30)
+    window = mask[round(sy) - 8 : round(sy) + 9, round(sx) - 8 : round(sx) + 9]
+    assert np.count_nonzero(window) > 30
+    # No edge arrow when the mark is on screen: nothing mark-coloured near the border.
+    assert np.count_nonzero(mask[:, WIDTH - 40 :]) == 0
+
+
+def test_far_mark_gives_edge_arrow(renderer: SailRenderer) -> None:
+    img = renderer.render(make_scene(mark_m=(500.0, 0.0)))
+    mask = color_mask(img, MARK_COLOR, tol=30)
+    assert np.count_nonzero(mask[:, WIDTH - 50 :]) > 30
+    rows, _ = np.nonzero(mask)
+    assert abs(rows.mean() - HEIGHT / 2) < 15  # the mark is due east: arrow at mid-height
+    assert np.count_nonzero(mask[:, : WIDTH - 50]) == 0
+
+    img = renderer.render(make_scene(mark_m=(0.0, -500.0)))
+    mask = color_mask(img, MARK_COLOR, tol=30)
+    assert np.count_nonzero(mask[HEIGHT - 50 :, :]) > 30
+
+
+def test_capsized_renders_and_differs(renderer: SailRenderer) -> None:
+    upright = renderer.render(make_scene())
+    capsized = renderer.render(make_scene(capsized=True, heel_rad=1.5))
+    assert capsized.shape == (HEIGHT, WIDTH, 3)
+    assert np.count_nonzero(np.any(upright != capsized, axis=-1)) > 200
+
+
+def test_luffing_sail_and_empty_wake_render(renderer: SailRenderer) -> None:
+    full = renderer.render(make_scene())
+    luffing = renderer.render(make_scene(sail_luffing=True, sail_force_n=0.0, wake_m=()))
+    assert luffing.shape == (HEIGHT, WIDTH, 3)
+    assert not np.array_equal(full, luffing)
+
+
+def test_bad_render_mode_raises() -> None:
+    with pytest.raises(ValueError, match="render_mode"):
+        SailRenderer("ansi")
+
+
+def test_human_mode_with_dummy_display() -> None:
+    r = SailRenderer("human", render_fps=1000)
+    try:
+        assert r.render(make_scene()) is None
+    finally:
+        r.close()
+
+
+def test_missing_pygame_raises_dependency_not_installed(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "pygame", None)  # makes `import pygame` fail
+    with pytest.raises(DependencyNotInstalled, match="pip install"):
+        SailRenderer("rgb_array")
+
+
+def test_module_import_does_not_import_pygame() -> None:
+    code = (
+        "import sys, bbgym.render.sail_view as m; "
+        "assert m.SailScene; sys.exit(1 if 'pygame' in sys.modules else 0)"
+    )
+    env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
+    result = subprocess.run([sys.executable, "-c", code], cwd=REPO_ROOT, env=env)
+    assert result.returncode == 0
+
+
+def test_frames_and_geometry_helpers() -> None:
+    # World y is up on screen.
+    assert world_to_screen((0.0, 1.0), (0.0, 0.0), 10.0, (100, 100)) == (50.0, 40.0)
+    # Body +y is port: for a boat heading north, port is west.
+    wx, wy = body_to_world((0.0, 1.0), (5.0, 5.0), math.pi / 2)
+    assert wx == pytest.approx(4.0)
+    assert wy == pytest.approx(5.0)
+    assert sail_view.leeward_sign(0.5, 1.0) == 1.0
+    assert sail_view.leeward_sign(0.0, 1.0) == -1.0
