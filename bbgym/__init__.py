@@ -1,0 +1,20 @@
+"""bbgym: Gymnasium environments for sailing and beach-ball control on tested game physics.
+
+Importing the package registers its environment ids with Gymnasium.
+"""
+
+from gymnasium.envs.registration import register, registry
+
+__version__ = "0.1.0"
+
+SAIL_MAX_EPISODE_STEPS = 1200
+
+if "BeachballSail-v0" not in registry:
+    register(
+        id="BeachballSail-v0",
+        entry_point="bbgym.envs.sail:BeachballSailEnv",
+        vector_entry_point="bbgym.envs.sail:BeachballSailVectorEnv",
+        max_episode_steps=SAIL_MAX_EPISODE_STEPS,
+    )
+
+__all__ = ["__version__"]

@@ -31,7 +31,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, WATER_DENSITY_KGM3, split_along
+from bbgym.physics.common import AIR_DENSITY_KGM3, WATER_DENSITY_KGM3, split_along
 
 SAIL_MODELS = ("lift", "seed")
 
@@ -70,13 +70,13 @@ class DinghyParams:
     """Distance of the centre of effort from the mast along the boom."""
 
     boom_length_m: float = 2.7
-    boom_impact_heel_arm_m: float = 2.0
+    boom_impact_heel_arm_m: float = 2.9
     """Height above the heel axis where a jibing sail's momentum is stopped.
 
     Most of the swinging mass and air is the cloth, high on the mast; when the sheet stops
     the boom the mast stops the sail, so the roll impulse is the sail's angular momentum
     times this height over ``sail_ce_aft_m``."""
-    boom_inertia_kgm2: float = 12.0
+    boom_inertia_kgm2: float = 15.0
     """Boom and sail about the mast."""
     boom_air_damping: float = 25.0
     """Quadratic air damping of a swinging sail, torque = -k * rate * |rate| (N m s^2)."""
@@ -124,7 +124,7 @@ class DinghyParams:
     """Time constant of the helmsman moving across the boat."""
     hull_righting_nm: float = 150.0
     """Form stability, moment = -k sin(heel)."""
-    heel_damping: float = 600.0
+    heel_damping: float = 350.0
     """N m s/rad."""
     capsize_heel_rad: float = math.radians(60.0)
 
@@ -331,18 +331,21 @@ def boom_limit_from_sheet(p: DinghyParams, sheet: np.ndarray) -> np.ndarray:
 
 
 def apply_sheet_stop(
-    p: DinghyParams, boom: np.ndarray, boom_rate: np.ndarray, limit: np.ndarray
+    boom: np.ndarray, boom_rate: np.ndarray, arrival_rate: np.ndarray, limit: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The sheet caps the boom angle at ``+-limit``; returns ``(boom, rate, impact_rate)``.
 
     A boom that reaches the cap while swinging out is stopped dead by the sheet (an
-    inelastic stop); ``impact_rate`` is its signed angular speed then, whose angular
-    momentum the sheet hands to the hull (see :func:`substep`). That is the jolt of a jibe:
-    the further the sheet is eased, the longer the boom accelerates and the harder it hits.
+    inelastic stop). ``impact_rate`` is the signed angular speed it arrived with
+    (``arrival_rate``, the rate before this substep's push), whose angular momentum the
+    sheet hands to the hull (see :func:`substep`): the jolt of a jibe. The further the
+    sheet is eased, the longer the boom accelerates and the harder it hits. A sail pressing
+    steadily on the sheet arrives with rate 0 each substep and gives no jolt: the sheet load
+    is then an internal force.
     """
     over = np.abs(boom) > limit
     outward = over & (boom * boom_rate > 0.0)
-    impact_rate = np.where(outward, boom_rate, 0.0)
+    impact_rate = np.where(outward & (boom * arrival_rate > 0.0), arrival_rate, 0.0)
     boom = np.clip(boom, -limit, limit)
     boom_rate = np.where(outward, 0.0, boom_rate)
     return boom, boom_rate, impact_rate
@@ -388,7 +391,7 @@ def substep(
     boom_rate = state.boom_rate_rps + boom_torque / p.boom_inertia_kgm2 * dt_s
 
     boom, boom_rate, impact = apply_sheet_stop(
-        p, state.boom_rad + boom_rate * dt_s, boom_rate, boom_limit_rad
+        state.boom_rad + boom_rate * dt_s, boom_rate, state.boom_rate_rps, boom_limit_rad
     )
     # The sheet hands the sail's angular momentum to the hull: all of it to yaw, and a roll
     # impulse from the height where the mast stops the swinging cloth (the jibe's jolt).

@@ -3,7 +3,8 @@
 Gusts and shifts are a smooth random process: an Ornstein-Uhlenbeck process (mean
 reverting, stationary standard deviation ``*_std``, correlation time ``time_constant_s``)
 fed through a first-order lag, so the wind has no kinks a controller could not follow.
-All randomness comes from the ``numpy.random.Generator`` passed in.
+The caller passes the standard normal draws, made with its own
+``numpy.random.Generator``: the process itself holds no randomness.
 """
 
 from __future__ import annotations
@@ -48,30 +49,25 @@ class GustState:
     shift: np.ndarray
 
 
-def gust_init(params: GustParams, batch: int, rng: np.random.Generator) -> GustState:
-    """Draw the gust process from its stationary distribution."""
-    speed = rng.normal(0.0, params.speed_std, batch)
-    shift = rng.normal(0.0, params.shift_std_rad, batch)
+def gust_init(params: GustParams, noise: np.ndarray, enabled: np.ndarray) -> GustState:
+    """Start the gust process in its stationary distribution from ``noise`` ``(2, batch)``."""
+    speed = np.where(enabled, params.speed_std * noise[0], 0.0)
+    shift = np.where(enabled, params.shift_std_rad * noise[1], 0.0)
     return GustState(speed_raw=speed, speed=speed.copy(), shift_raw=shift, shift=shift.copy())
 
 
 def gust_step(
-    state: GustState,
-    params: GustParams,
-    dt_s: float,
-    rng: np.random.Generator,
-    enabled: np.ndarray,
+    state: GustState, params: GustParams, dt_s: float, noise: np.ndarray, enabled: np.ndarray
 ) -> GustState:
     """Advance the gust process by ``dt_s`` (exact OU discretisation, then the lag).
 
-    Where ``enabled`` is false the gust stays at zero (steady wind). Random numbers are
-    drawn for every element either way, so one env's draws do not depend on another's
-    options.
+    ``noise`` holds standard normal draws of shape ``(2, batch)`` (speed, direction), drawn
+    by the caller from its ``numpy.random.Generator`` so each env can own its stream. Where
+    ``enabled`` is false the gust stays at zero (steady wind).
     """
     decay = math.exp(-dt_s / params.time_constant_s)
     noise_scale = math.sqrt(1.0 - decay * decay)
     lag = 1.0 - math.exp(-dt_s / params.smoothing_s)
-    noise = rng.normal(0.0, 1.0, (2, state.speed.shape[0]))
     speed_raw = decay * state.speed_raw + params.speed_std * noise_scale * noise[0]
     shift_raw = decay * state.shift_raw + params.shift_std_rad * noise_scale * noise[1]
     speed_raw = np.where(enabled, speed_raw, 0.0)

@@ -1,0 +1,806 @@
+"""BeachballSail-v0: sail a dinghy to a mark with rudder and sheet.
+
+The task code (:class:`SailTask`) is batched: the single env runs a batch of one, the
+native vector env a batch of ``num_envs``, through the same functions.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from bbgym.physics.common import wrap_angle
+from bbgym.physics.sailing import (
+    DinghyParams,
+    DinghyState,
+    apparent_wind_body,
+    dinghy_at_rest,
+    sail_force,
+    split_along,
+    step,
+)
+from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
+
+RESET_OPTIONS = ("wind_speed", "wind_from", "mark", "heading", "speed", "gusts")
+OBS_SIZE = 16
+# Scales that bring each observation into roughly [-1, 1]; values beyond are clipped.
+WIND_SCALE_MPS = 15.0
+BOAT_SPEED_SCALE_MPS = 6.0
+YAW_RATE_SCALE_RPS = 1.5
+HEEL_RATE_SCALE_RPS = 2.0
+
+
+def _check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
+    """Validate a ``(min, max)`` pair of finite numbers above ``low``."""
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a (min, max) pair of numbers, got {value!r}") from None
+    ok = math.isfinite(lo) and math.isfinite(hi) and lo <= hi
+    ok = ok and (lo > low if strict else lo >= low)
+    if not ok:
+        bound = ">" if strict else ">="
+        raise ValueError(f"{name} must be finite with {bound} {low} and min <= max, got {value!r}")
+    return lo, hi
+
+
+def _check_positive(name: str, value: Any) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(v) or v <= 0.0:
+        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    return v
+
+
+def _make_params(cls: type, name: str, value: Any, **extra: Any) -> Any:
+    """Build a params dataclass from ``None``, an instance or a mapping of field names."""
+    if value is None:
+        value = {}
+    if isinstance(value, cls):
+        return value if not extra else value.replace(**extra)
+    if not isinstance(value, Mapping):
+        raise ValueError(f"{name} must be a mapping of {cls.__name__} fields, got {value!r}")
+    known = {f.name for f in fields(cls)}
+    unknown = sorted(set(value) - known)
+    if unknown:
+        raise ValueError(f"{name} has unknown keys {unknown}; known: {sorted(known)}")
+    return cls(**{**value, **extra})
+
+
+@dataclass
+class Scenario:
+    """What an episode is about, per env (arrays of shape ``(batch,)``)."""
+
+    wind_speed_mps: np.ndarray
+    wind_from_rad: np.ndarray
+    mark_x_m: np.ndarray
+    mark_y_m: np.ndarray
+    gusts: np.ndarray
+
+
+class SailTask:
+    """The sailing task over a batch: scenario sampling, transition, observation, reward.
+
+    Holds the arguments shared by :class:`BeachballSailEnv` and
+    :class:`BeachballSailVectorEnv`; see the env docstring for their meaning.
+    """
+
+    def __init__(
+        self,
+        sail_model: str = "lift",
+        dinghy: Mapping[str, Any] | DinghyParams | None = None,
+        wind_speed_range: tuple[float, float] = (3.0, 7.0),
+        gusts: bool = True,
+        gust_params: Mapping[str, float] | GustParams | None = None,
+        mark_distance_range: tuple[float, float] = (40.0, 100.0),
+        mark_radius: float = 5.0,
+        initial_speed_range: tuple[float, float] = (0.5, 2.0),
+        ctrl_dt: float = 0.25,
+        sim_dt: float = 0.05,
+        progress_weight: float = 1.0,
+        arrival_bonus: float = 10.0,
+        capsize_penalty: float = 10.0,
+        time_penalty: float = 0.01,
+    ) -> None:
+        self.params = _make_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
+        self.gust_params = _make_params(GustParams, "gust_params", gust_params)
+        self.wind_speed_range = _check_range("wind_speed_range", wind_speed_range)
+        if not isinstance(gusts, (bool, np.bool_)):
+            raise ValueError(f"gusts must be a bool, got {gusts!r}")
+        self.gusts = bool(gusts)
+        self.mark_distance_range = _check_range("mark_distance_range", mark_distance_range)
+        self.mark_radius = _check_positive("mark_radius", mark_radius)
+        if self.mark_radius >= self.mark_distance_range[0]:
+            raise ValueError(
+                f"mark_radius ({mark_radius!r}) must be smaller than the nearest mark distance "
+                f"({self.mark_distance_range[0]!r})"
+            )
+        self.initial_speed_range = _check_range(
+            "initial_speed_range", initial_speed_range, strict=False
+        )
+        self.ctrl_dt = _check_positive("ctrl_dt", ctrl_dt)
+        self.sim_dt = _check_positive("sim_dt", sim_dt)
+        self.n_substeps = round(self.ctrl_dt / self.sim_dt)
+        if self.n_substeps < 1 or abs(self.n_substeps * self.sim_dt - self.ctrl_dt) > 1e-9:
+            raise ValueError(
+                f"ctrl_dt ({ctrl_dt!r}) must be a whole multiple of sim_dt ({sim_dt!r})"
+            )
+        self.progress_weight = _check_positive("progress_weight", progress_weight)
+        for name, value in (
+            ("arrival_bonus", arrival_bonus),
+            ("capsize_penalty", capsize_penalty),
+            ("time_penalty", time_penalty),
+        ):
+            if not math.isfinite(float(value)) or float(value) < 0.0:
+                raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+        self.arrival_bonus = float(arrival_bonus)
+        self.capsize_penalty = float(capsize_penalty)
+        self.time_penalty = float(time_penalty)
+        # Progress is measured against what a fast boat covers in one step, so the dense
+        # term stays within [-1, 1] per step.
+        self.progress_scale_m = BOAT_SPEED_SCALE_MPS * self.ctrl_dt
+
+        self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+        self.reward_range = (
+            -(self.progress_weight + self.time_penalty + self.capsize_penalty),
+            self.progress_weight + self.arrival_bonus,
+        )
+
+    # -- scenario ---------------------------------------------------------------------------
+    def sample(
+        self, rngs: list[np.random.Generator], options: Mapping[str, Any] | None
+    ) -> tuple[Scenario, DinghyState, GustState]:
+        """Draw a scenario and the initial boat and gust state for each generator."""
+        options = self.check_options(options)
+        batch = len(rngs)
+        draws = np.array([rng.random(6) for rng in rngs]).T  # (6, batch), one row per use
+        noise = np.array([rng.standard_normal(2) for rng in rngs]).T
+        lo, hi = self.wind_speed_range
+        wind_speed = options.get("wind_speed", lo + (hi - lo) * draws[0])
+        wind_from = options.get("wind_from", 2.0 * math.pi * draws[1])
+        if "mark" in options:
+            mark_x, mark_y = options["mark"]
+        else:
+            d_lo, d_hi = self.mark_distance_range
+            distance = d_lo + (d_hi - d_lo) * draws[2]
+            bearing = 2.0 * math.pi * draws[3]
+            mark_x, mark_y = distance * np.cos(bearing), distance * np.sin(bearing)
+        heading = options.get("heading", 2.0 * math.pi * draws[4])
+        s_lo, s_hi = self.initial_speed_range
+        speed = options.get("speed", s_lo + (s_hi - s_lo) * draws[5])
+        gusts = np.broadcast_to(options.get("gusts", self.gusts), (batch,)).copy()
+
+        def full(value: Any) -> np.ndarray:
+            return np.broadcast_to(np.asarray(value, dtype=np.float64), (batch,)).copy()
+
+        heading = full(heading)
+        wind_from = full(wind_from)
+        # Start with the boom to leeward, where the wind would put it.
+        wind_side = np.sin(wind_from - heading)
+        boom = -np.where(wind_side >= 0.0, 1.0, -1.0) * self.params.sheet_min_rad
+        scenario = Scenario(
+            wind_speed_mps=full(wind_speed),
+            wind_from_rad=wind_from,
+            mark_x_m=full(mark_x),
+            mark_y_m=full(mark_y),
+            gusts=gusts.astype(bool),
+        )
+        boat = dinghy_at_rest(batch, heading_rad=heading, speed_mps=full(speed), boom_rad=boom)
+        return scenario, boat, gust_init(self.gust_params, noise, scenario.gusts)
+
+    def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
+        """Validate ``reset`` options; unknown keys and non-physical values raise."""
+        if options is None:
+            return {}
+        if not isinstance(options, Mapping):
+            raise ValueError(f"options must be a dict, got {options!r}")
+        unknown = sorted(set(options) - set(RESET_OPTIONS))
+        if unknown:
+            raise ValueError(f"unknown reset options {unknown}; known: {list(RESET_OPTIONS)}")
+        checked: dict[str, Any] = {}
+        for key, value in options.items():
+            if key == "gusts":
+                if not isinstance(value, (bool, np.bool_)):
+                    raise ValueError(f"options['gusts'] must be a bool, got {value!r}")
+                checked[key] = bool(value)
+            elif key == "mark":
+                try:
+                    mark = tuple(float(v) for v in value)
+                except (TypeError, ValueError):
+                    mark = ()
+                if len(mark) != 2 or not all(math.isfinite(v) for v in mark):
+                    raise ValueError(f"options['mark'] must be finite (x, y) metres, got {value!r}")
+                if math.hypot(*mark) <= self.mark_radius:
+                    raise ValueError(
+                        f"options['mark'] {value!r} lies within mark_radius of the start"
+                    )
+                checked[key] = mark
+            else:
+                try:
+                    v = float(value)
+                except (TypeError, ValueError):
+                    raise ValueError(f"options[{key!r}] must be a number, got {value!r}") from None
+                if not math.isfinite(v):
+                    raise ValueError(f"options[{key!r}] must be finite, got {value!r}")
+                if key in ("wind_speed", "speed") and v < 0.0:
+                    raise ValueError(f"options[{key!r}] must be >= 0, got {value!r}")
+                checked[key] = v
+        return checked
+
+    # -- dynamics ---------------------------------------------------------------------------
+    def check_action(self, action: Any, batch: int) -> np.ndarray:
+        """Actions as float64 ``(batch, 2)``, clipped to [-1, 1]; NaN/inf or bad shape raise."""
+        try:
+            a = np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"action must be numeric, got {action!r}") from None
+        expected = (2,) if batch == 0 else (batch, 2)
+        if a.shape != expected:
+            raise ValueError(f"action must have shape {expected}, got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"action must be finite, got {action!r}")
+        return np.clip(a.reshape(-1, 2), -1.0, 1.0)
+
+    def transition(
+        self,
+        boat: DinghyState,
+        gust: GustState,
+        scenario: Scenario,
+        action: np.ndarray,
+        noise: np.ndarray,
+    ) -> tuple[DinghyState, GustState, Any]:
+        """Hold the controls for ``ctrl_dt``: rudder ``a[0]`` and sheet ``a[1]``."""
+        rudder = action[:, 0] * self.params.rudder_max_rad
+        sheet = 0.5 * (action[:, 1] + 1.0)
+        wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed_mps, scenario.wind_from_rad, gust)
+        boat, events = step(
+            self.params, boat, rudder, sheet, wind_x, wind_y, self.sim_dt, self.n_substeps
+        )
+        gust = gust_step(gust, self.gust_params, self.ctrl_dt, noise, scenario.gusts)
+        return boat, gust, events
+
+    def measure(self, boat: DinghyState, gust: GustState, scenario: Scenario) -> dict:
+        """Physical quantities of the current state (shared by observation, reward, info)."""
+        cos_h, sin_h = np.cos(boat.heading_rad), np.sin(boat.heading_rad)
+        wind_x, wind_y, wind_speed, wind_from = wind_vector(
+            scenario.wind_speed_mps, scenario.wind_from_rad, gust
+        )
+        aw_u, aw_v = apparent_wind_body(boat, wind_x, wind_y, cos_h, sin_h)
+        surge, sway = split_along(boat.vx_mps, boat.vy_mps, cos_h, sin_h)
+        dx, dy = scenario.mark_x_m - boat.x_m, scenario.mark_y_m - boat.y_m
+        distance = np.hypot(dx, dy)
+        speed = np.hypot(boat.vx_mps, boat.vy_mps)
+        _, _, sail_normal = sail_force(self.params, boat, aw_u, aw_v)
+        return {
+            "surge": surge,
+            "sway": sway,
+            "boat_speed": speed,
+            # Where the wind comes FROM, relative to the bow, counterclockwise (+ = from port).
+            "apparent_wind_angle": np.arctan2(-aw_v, -aw_u),
+            "apparent_wind_speed": np.hypot(aw_u, aw_v),
+            "true_wind_angle": wrap_angle(wind_from - boat.heading_rad),
+            "true_wind_speed": wind_speed,
+            "true_wind_from": wind_from,
+            "bearing_to_mark": wrap_angle(np.arctan2(dy, dx) - boat.heading_rad),
+            "distance_to_mark": distance,
+            "vmg_to_mark": (boat.vx_mps * dx + boat.vy_mps * dy) / np.maximum(distance, 1e-9),
+            "leeway": np.arctan2(sway, np.maximum(np.abs(surge), 1e-9)) * np.sign(surge + 1e-12),
+            "sail_force": np.abs(sail_normal),
+        }
+
+    def observe(self, boat: DinghyState, m: dict) -> np.ndarray:
+        """Egocentric, normalised observation ``(batch, 16)`` float32; see the env table."""
+        p = self.params
+        d_max = self.mark_distance_range[1]
+        columns = (
+            np.cos(m["apparent_wind_angle"]),
+            np.sin(m["apparent_wind_angle"]),
+            m["apparent_wind_speed"] / WIND_SCALE_MPS,
+            np.cos(m["true_wind_angle"]),
+            np.sin(m["true_wind_angle"]),
+            m["true_wind_speed"] / WIND_SCALE_MPS,
+            m["surge"] / BOAT_SPEED_SCALE_MPS,
+            m["sway"] / BOAT_SPEED_SCALE_MPS,
+            boat.yaw_rate_rps / YAW_RATE_SCALE_RPS,
+            boat.heel_rad / p.capsize_heel_rad,
+            boat.heel_rate_rps / HEEL_RATE_SCALE_RPS,
+            boat.boom_rad / p.sheet_max_rad,
+            np.cos(m["bearing_to_mark"]),
+            np.sin(m["bearing_to_mark"]),
+            m["distance_to_mark"] / (2.0 * d_max),
+            m["vmg_to_mark"] / BOAT_SPEED_SCALE_MPS,
+        )
+        return np.clip(np.stack(columns, axis=1), -1.0, 1.0).astype(np.float32)
+
+    def reward(
+        self, previous_distance: np.ndarray, m: dict, arrived: np.ndarray, capsized: np.ndarray
+    ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """Dense progress toward the mark, arrival bonus, capsize penalty, time cost."""
+        progress = (previous_distance - m["distance_to_mark"]) / self.progress_scale_m
+        terms = {
+            "progress": self.progress_weight * np.clip(progress, -1.0, 1.0),
+            "arrival": self.arrival_bonus * arrived,
+            "capsize": -self.capsize_penalty * capsized,
+            "time": np.full(arrived.shape, -self.time_penalty),
+        }
+        return sum(terms.values()), terms
+
+
+class _SailSim:
+    """Batch state of the task plus per-env random streams and episode counters."""
+
+    def __init__(self, task: SailTask, batch: int) -> None:
+        self.task = task
+        self.batch = batch
+        self.rngs: list[np.random.Generator] = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.boat: DinghyState | None = None
+
+    def seed(self, seeds: list[int | None]) -> None:
+        for i, s in enumerate(seeds):
+            self.rngs[i] = seeding.np_random(s)[0]
+
+    def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
+        """Start new episodes where ``mask`` is true."""
+        idx = np.flatnonzero(mask)
+        scenario, boat, gust = self.task.sample([self.rngs[i] for i in idx], options)
+        if self.boat is None or idx.size == self.batch:
+            self.scenario, self.boat, self.gust = scenario, boat, gust
+            self.jibes = np.zeros(self.batch, dtype=np.int64)
+            self.tacks = np.zeros(self.batch, dtype=np.int64)
+            self.max_jibe_severity = np.zeros(self.batch)
+            self.elapsed = np.zeros(self.batch)
+        else:
+            for name, new in (("scenario", scenario), ("boat", boat), ("gust", gust)):
+                old = getattr(self, name)
+                for f in fields(old):
+                    getattr(old, f.name)[idx] = getattr(new, f.name)
+            for counter in (self.jibes, self.tacks, self.max_jibe_severity, self.elapsed):
+                counter[idx] = 0
+        self.measures = self.task.measure(self.boat, self.gust, self.scenario)
+        self.terms = {k: np.zeros(self.batch) for k in ("progress", "arrival", "capsize", "time")}
+        self.last_jibe_severity = np.zeros(self.batch)
+
+    def step(
+        self, action: np.ndarray, active: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Advance every env; only ``active`` ones draw gust noise (finished ones are about
+        to restart, and must not consume their random stream)."""
+        task = self.task
+        noise = np.zeros((2, self.batch))
+        drawing = self.scenario.gusts if active is None else self.scenario.gusts & active
+        for i in np.flatnonzero(drawing):
+            noise[:, i] = self.rngs[i].standard_normal(2)
+        previous_distance = self.measures["distance_to_mark"]
+        self.boat, self.gust, events = task.transition(
+            self.boat, self.gust, self.scenario, action, noise
+        )
+        self.jibes += events.jibes
+        self.tacks += events.tacks
+        self.last_jibe_severity = events.jibe_severity_rps
+        self.max_jibe_severity = np.maximum(self.max_jibe_severity, events.jibe_severity_rps)
+        self.elapsed += task.ctrl_dt
+        self.measures = task.measure(self.boat, self.gust, self.scenario)
+        arrived = (self.measures["distance_to_mark"] <= task.mark_radius) & ~self.boat.capsized
+        capsized = self.boat.capsized
+        reward, self.terms = task.reward(previous_distance, self.measures, arrived, capsized)
+        return reward, arrived | capsized, arrived
+
+    def observation(self) -> np.ndarray:
+        return self.task.observe(self.boat, self.measures)
+
+    def info(self, arrived: np.ndarray) -> dict[str, Any]:
+        """Per-env physical quantities (arrays of shape ``(batch,)``)."""
+        m, boat = self.measures, self.boat
+        return {
+            "position": np.stack([boat.x_m, boat.y_m], axis=1),
+            "velocity": np.stack([boat.vx_mps, boat.vy_mps], axis=1),
+            "boat_speed": m["boat_speed"],
+            "heading": wrap_angle(boat.heading_rad),
+            "true_wind_angle": m["true_wind_angle"],
+            "true_wind_speed": m["true_wind_speed"],
+            "apparent_wind_angle": m["apparent_wind_angle"],
+            "apparent_wind_speed": m["apparent_wind_speed"],
+            "heel": boat.heel_rad,
+            "leeway": m["leeway"],
+            "boom_angle": boat.boom_rad,
+            "vmg_to_mark": m["vmg_to_mark"],
+            "distance_to_mark": m["distance_to_mark"],
+            "mark": np.stack([self.scenario.mark_x_m, self.scenario.mark_y_m], axis=1),
+            "jibes": self.jibes.copy(),
+            "jibe_severity": self.last_jibe_severity,
+            "max_jibe_severity": self.max_jibe_severity.copy(),
+            "tacks": self.tacks.copy(),
+            "capsized": boat.capsized.copy(),
+            "elapsed_time": self.elapsed.copy(),
+            "is_success": arrived,
+            "reward_terms": self.terms,
+        }
+
+
+_DOC_ARGS = """
+    ## Arguments
+
+    All are keyword arguments of ``gym.make("BeachballSail-v0", ...)`` (and of
+    ``gym.make_vec``); the defaults are the preset in ``configs/beachball_sail.yaml``.
+
+    | argument | default | meaning |
+    |---|---|---|
+    | `render_mode` | `None` | `"rgb_array"` (headless frames) or `"human"` (window) |
+    | `sail_model` | `"lift"` | sail coefficient model, `"lift"` or `"seed"` (§9 drag formula) |
+    | `dinghy` | `None` | mapping of `DinghyParams` fields (mass, sail area, drags, ...) |
+    | `wind_speed_range` | `(3.0, 7.0)` | true wind speed drawn per episode, m/s |
+    | `gusts` | `True` | gusts and shifts on by default |
+    | `gust_params` | `None` | mapping of `GustParams` fields (speed std, shift std, time constant) |
+    | `mark_distance_range` | `(40.0, 100.0)` | distance of the mark from the start, m |
+    | `mark_radius` | `5.0` | arrival radius, m |
+    | `initial_speed_range` | `(0.5, 2.0)` | initial speed ahead, m/s |
+    | `ctrl_dt` | `0.25` | seconds per env step |
+    | `sim_dt` | `0.05` | physics substep, s (`ctrl_dt` must be a multiple) |
+    | `progress_weight` | `1.0` | weight of the dense progress term |
+    | `arrival_bonus` | `10.0` | reward on arrival |
+    | `capsize_penalty` | `10.0` | penalty on capsize |
+    | `time_penalty` | `0.01` | cost per step |
+
+    A non-physical value raises ``ValueError`` naming the argument.
+"""
+
+
+class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
+    """Sail a dinghy from the start to a mark, in any direction from the wind, upright.
+
+    ## Description
+
+    A Laser-like single-handed dinghy (seed §9) floats on still water in a true wind with
+    gusts and shifts. The helmsman steers with the rudder and trims the sail with the
+    sheet; the crew hikes automatically. The wind drives the boat through the apparent
+    wind on a flat sail; the centreboard resists sideways drift; the side force heels the
+    boat, and too much heel capsizes it. A mark lies 40-100 m away in any direction,
+    upwind included, so the boat must beat and tack to reach some marks; downwind it may
+    have to jibe.
+
+    Conventions: world frame x east, y north, angles counterclockwise from +x in radians;
+    `wind_from` is the direction the true wind blows from; body frame x forward, y to port.
+
+    ## Action Space
+
+    `Box(-1, 1, (2,), float32)`; values beyond [-1, 1] are clipped, NaN/inf raise.
+
+    | Num | Action | Min | Max | Physical |
+    |-----|--------|-----|-----|----------|
+    | 0 | rudder | -1 | 1 | x 30 deg; positive turns the bow counterclockwise (to port) when moving ahead |
+    | 1 | sheet | -1 | 1 | -1 fully in (boom at most 4 deg out), +1 fully out (boom free to 85 deg) |
+
+    ## Observation Space
+
+    `Box(-1, 1, (16,), float32)`, egocentric; angles relative to the bow, counterclockwise
+    positive (toward port); each value is clipped to [-1, 1].
+
+    | Num | Observation | Scale | Range of the physical value |
+    |-----|-------------|-------|-----------------------------|
+    | 0 | cos of apparent wind angle (where it comes from) | 1 | [-1, 1] |
+    | 1 | sin of apparent wind angle | 1 | [-1, 1] |
+    | 2 | apparent wind speed | / 15 m/s | [0, 15] m/s |
+    | 3 | cos of true wind angle | 1 | [-1, 1] |
+    | 4 | sin of true wind angle | 1 | [-1, 1] |
+    | 5 | true wind speed | / 15 m/s | [0, 15] m/s |
+    | 6 | velocity along the hull (surge) | / 6 m/s | [-6, 6] m/s |
+    | 7 | velocity across the hull, to port (sway) | / 6 m/s | [-6, 6] m/s |
+    | 8 | yaw rate | / 1.5 rad/s | [-1.5, 1.5] rad/s |
+    | 9 | heel, + port side down | / capsize heel (60 deg) | [-60, 60] deg |
+    | 10 | heel rate | / 2 rad/s | [-2, 2] rad/s |
+    | 11 | boom angle, + swung out to port | / 85 deg | [-85, 85] deg |
+    | 12 | cos of bearing to the mark | 1 | [-1, 1] |
+    | 13 | sin of bearing to the mark | 1 | [-1, 1] |
+    | 14 | distance to the mark | / (2 x largest mark distance) | [0, 200] m |
+    | 15 | velocity made good toward the mark | / 6 m/s | [-6, 6] m/s |
+
+    ## Rewards
+
+    Per step, bounded in [-11.01, 11]:
+
+    * `progress`: metres gained toward the mark over 1.5 m (6 m/s for 0.25 s), clipped to
+      [-1, 1], times `progress_weight`;
+    * `arrival`: `+arrival_bonus` (10) on reaching the mark;
+    * `capsize`: `-capsize_penalty` (10) on capsizing;
+    * `time`: `-time_penalty` (0.01) every step.
+
+    Each term is in `info["reward_terms"]`.
+
+    ## Starting State
+
+    The boat starts at the origin, upright, heading uniformly random, moving ahead at
+    0.5-2 m/s with the sheet in on the leeward side. The true wind blows from a uniformly
+    random direction at 3-7 m/s; the mark lies 40-100 m from the start at a uniformly
+    random bearing. `reset(options=...)` pins any of: `wind_speed` (m/s), `wind_from`
+    (rad), `mark` ((x, y) m relative to the start), `heading` (rad), `speed` (m/s ahead),
+    `gusts` (bool). Unknown keys raise `ValueError`.
+
+    ## Episode End
+
+    * Termination: the boat is within `mark_radius` (5 m) of the mark (success,
+      `info["is_success"]`), or it capsizes (heel beyond 60 deg).
+    * Truncation: 1200 steps (300 s), enough to beat 100 m upwind in light air.
+    {args}
+    ## Info
+
+    `position`, `velocity` (over ground, m/s), `boat_speed`, `heading`,
+    `true_wind_angle`, `true_wind_speed`, `apparent_wind_angle`, `apparent_wind_speed`,
+    `heel`, `leeway`, `boom_angle` (rad), `vmg_to_mark`, `distance_to_mark`, `mark`,
+    `jibes`, `tacks` (counts this episode), `jibe_severity` (boom angular speed at a jibe
+    this step, rad/s), `max_jibe_severity`, `capsized`, `elapsed_time`, `is_success`,
+    `reward_terms`.
+
+    ## Version History
+
+    * v0: Initial version.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.task = SailTask(**kwargs)
+        self.render_mode = render_mode
+        self.action_space = self.task.action_space
+        self.observation_space = self.task.observation_space
+        self._sim = _SailSim(self.task, 1)
+        self._renderer = None
+        self._wake: deque[tuple[float, float]] = deque(maxlen=120)
+        self._last_action = np.zeros(2)
+
+    @property
+    def params(self) -> DinghyParams:
+        return self.task.params
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self._sim.rngs[0] = self.np_random
+        self._sim.reset(np.ones(1, dtype=bool), options)
+        self._wake.clear()
+        self._last_action = np.zeros(2)
+        if self.render_mode == "human":
+            self.render()
+        return self._sim.observation()[0], self._info(np.zeros(1, dtype=bool))
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if self._sim.boat is None:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(action, 0)
+        self._last_action = a[0]
+        reward, terminated, arrived = self._sim.step(a)
+        self._wake.append((float(self._sim.boat.x_m[0]), float(self._sim.boat.y_m[0])))
+        if self.render_mode == "human":
+            self.render()
+        obs = self._sim.observation()[0]
+        return obs, float(reward[0]), bool(terminated[0]), False, self._info(arrived)
+
+    def _info(self, arrived: np.ndarray) -> dict[str, Any]:
+        info = self._sim.info(arrived)
+        out: dict[str, Any] = {}
+        for key, value in info.items():
+            if key == "reward_terms":
+                out[key] = {k: float(v[0]) for k, v in value.items()}
+            elif isinstance(value, np.ndarray) and value.ndim == 2:
+                out[key] = value[0].copy()
+            elif value.dtype == bool:
+                out[key] = bool(value[0])
+            elif value.dtype.kind == "i":
+                out[key] = int(value[0])
+            else:
+                out[key] = float(value[0])
+        return out
+
+    def render(self) -> np.ndarray | None:
+        if self.render_mode is None:
+            gym.logger.warn(
+                "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
+            )
+            return None
+        if self._sim.boat is None:
+            raise gym.error.ResetNeeded("Call reset() before render()")
+        if self._renderer is None:
+            from bbgym.render.sail_view import SailRenderer
+
+            self._renderer = SailRenderer(
+                self.render_mode, render_fps=self.metadata["render_fps"] * 4
+            )
+        return self._renderer.render(_scene(self._sim, 0, tuple(self._wake), self._last_action))
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
+    """Drawing description of env ``i`` (no physics happens in the renderer)."""
+    from bbgym.render.sail_view import SailScene
+
+    boat, m, p = sim.boat, sim.measures, sim.task.params
+    wind_x, wind_y, _, _ = wind_vector(
+        sim.scenario.wind_speed_mps, sim.scenario.wind_from_rad, sim.gust
+    )
+    return SailScene(
+        time_s=float(sim.elapsed[i]),
+        position_m=(float(boat.x_m[i]), float(boat.y_m[i])),
+        heading_rad=float(boat.heading_rad[i]),
+        heel_rad=float(boat.heel_rad[i]),
+        boom_angle_rad=float(boat.boom_rad[i]),
+        rudder_angle_rad=float(action[0] * p.rudder_max_rad),
+        sail_force_n=float(m["sail_force"][i]),
+        sail_luffing=bool(m["sail_force"][i] < 5.0),
+        mark_m=(float(sim.scenario.mark_x_m[i]), float(sim.scenario.mark_y_m[i])),
+        mark_radius_m=sim.task.mark_radius,
+        true_wind_mps=(float(wind_x[i]), float(wind_y[i])),
+        apparent_wind_speed_mps=float(m["apparent_wind_speed"][i]),
+        apparent_wind_angle_rad=float(m["apparent_wind_angle"][i]),
+        boat_speed_mps=float(m["boat_speed"][i]),
+        wake_m=wake,
+        capsized=bool(boat.capsized[i]),
+        hull_length_m=p.hull_length_m,
+        hull_beam_m=p.hull_beam_m,
+        boom_length_m=p.boom_length_m,
+        jibes=int(sim.jibes[i]),
+        tacks=int(sim.tacks[i]),
+    )
+
+
+class BeachballSailVectorEnv(VectorEnv):
+    """Native vector version of :class:`BeachballSailEnv`: one batched simulation.
+
+    Same task, spaces, arguments and info keys as the single env (infos are arrays with
+    Gymnasium's ``_key`` masks). Sub-env ``i`` reset with ``seed=s`` follows the same
+    trajectory as a single env reset with ``seed=s + i`` under the same actions. Finished
+    sub-envs reset on the next ``step`` (``AutoresetMode.NEXT_STEP``); that step returns
+    the first observation of the new episode with reward 0.
+    """
+
+    metadata = {
+        "render_modes": ["rgb_array", "human"],
+        "render_fps": 4,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int = 1200,
+        **kwargs: Any,
+    ) -> None:
+        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
+        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+            raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.task = SailTask(**kwargs)
+        self.num_envs = int(num_envs)
+        self.max_episode_steps = int(max_episode_steps)
+        self.render_mode = render_mode
+        self.single_action_space = self.task.action_space
+        self.single_observation_space = self.task.observation_space
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self._sim = _SailSim(self.task, self.num_envs)
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        self._renderer = None
+        self._wakes = [deque(maxlen=120) for _ in range(self.num_envs)]
+        self._last_action = np.zeros((self.num_envs, 2))
+
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        if seed is None:
+            seeds: list[int | None] = [None] * self.num_envs
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"seed must have {self.num_envs} entries, got {len(seeds)}")
+        if seed is not None or self._sim.boat is None:
+            self._sim.seed(seeds)
+        if seed is not None:
+            self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
+        self._sim.reset(np.ones(self.num_envs, dtype=bool), options)
+        self._steps[:] = 0
+        self._autoreset[:] = False
+        for wake in self._wakes:
+            wake.clear()
+        self._last_action[:] = 0.0
+        return self._sim.observation(), self._vector_info(np.zeros(self.num_envs, dtype=bool))
+
+    def step(
+        self, actions: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        if self._sim.boat is None:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(actions, self.num_envs)
+        self._last_action = a
+        restarting = self._autoreset.copy()
+        reward, terminated, arrived = self._sim.step(a, ~restarting)
+        self._steps += 1
+        if restarting.any():
+            # Next-step autoreset: the finished envs start anew and ignore this action.
+            self._sim.reset(restarting, None)
+            self._steps[restarting] = 0
+            reward = np.where(restarting, 0.0, reward)
+            terminated = terminated & ~restarting
+            arrived = arrived & ~restarting
+            for i in np.flatnonzero(restarting):
+                self._wakes[i].clear()
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        self._autoreset = terminated | truncated
+        for i in range(min(self.num_envs, 4) if self.render_mode else 0):
+            self._wakes[i].append((float(self._sim.boat.x_m[i]), float(self._sim.boat.y_m[i])))
+        return (
+            self._sim.observation(),
+            reward.astype(np.float64),
+            terminated,
+            truncated,
+            self._vector_info(arrived),
+        )
+
+    def _vector_info(self, arrived: np.ndarray) -> dict[str, Any]:
+        info = self._sim.info(arrived)
+        mask = np.ones(self.num_envs, dtype=bool)
+        out: dict[str, Any] = {}
+        for key, value in info.items():
+            if key == "reward_terms":
+                terms = {k: v.copy() for k, v in value.items()}
+                terms.update({f"_{k}": mask for k in value})
+                out[key] = terms
+            else:
+                out[key] = value
+            out[f"_{key}"] = mask
+        return out
+
+    def render(self) -> tuple[np.ndarray, ...] | None:
+        """Frames of the first (up to 4) sub-envs."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode.")
+            return None
+        if self._sim.boat is None:
+            raise gym.error.ResetNeeded("Call reset() before render()")
+        if self._renderer is None:
+            from bbgym.render.sail_view import SailRenderer
+
+            self._renderer = SailRenderer(
+                self.render_mode, render_fps=self.metadata["render_fps"] * 4
+            )
+        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
+        frames = tuple(
+            self._renderer.render(_scene(self._sim, i, tuple(self._wakes[i]), self._last_action[i]))
+            for i in range(count)
+        )
+        return None if self.render_mode == "human" else frames
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+BeachballSailEnv.__doc__ = BeachballSailEnv.__doc__.replace("{args}", _DOC_ARGS)
