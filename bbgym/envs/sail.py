@@ -443,7 +443,7 @@ _DOC_ARGS = """
     | `dinghy` | `None` | mapping of `DinghyParams` fields (mass, sail area, drags, ...) |
     | `wind_speed_range` | `(3.0, 7.0)` | true wind speed drawn per episode, m/s |
     | `gusts` | `True` | gusts and shifts on by default |
-    | `gust_params` | `None` | mapping of `GustParams` fields (speed std, shift std, time constant) |
+    | `gust_params` | `None` | `GustParams` fields (speed std, shift std, time constant) |
     | `mark_distance_range` | `(40.0, 100.0)` | distance of the mark from the start, m |
     | `mark_radius` | `5.0` | arrival radius, m |
     | `initial_speed_range` | `(0.5, 2.0)` | initial speed ahead, m/s |
@@ -480,8 +480,8 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
 
     | Num | Action | Min | Max | Physical |
     |-----|--------|-----|-----|----------|
-    | 0 | rudder | -1 | 1 | x 30 deg; positive turns the bow counterclockwise (to port) when moving ahead |
-    | 1 | sheet | -1 | 1 | -1 fully in (boom at most 4 deg out), +1 fully out (boom free to 85 deg) |
+    | 0 | rudder | -1 | 1 | x 30 deg; + turns the bow counterclockwise (to port) going ahead |
+    | 1 | sheet | -1 | 1 | -1 fully in (boom out 4 deg at most), +1 out (boom free to 85 deg) |
 
     ## Observation Space
 
