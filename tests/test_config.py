@@ -1,0 +1,34 @@
+"""The default preset in configs/ equals the code's defaults."""
+
+from __future__ import annotations
+
+import inspect
+
+import gymnasium as gym
+
+from bbgym.config import CONFIG_DIR, load_preset
+from bbgym.envs.sail import SailTask
+from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.wind import GustParams
+
+
+def test_sail_preset_matches_code_defaults():
+    env_id, kwargs = load_preset(CONFIG_DIR / "beachball_sail.yaml")
+    assert env_id == "BeachballSail-v0"
+    assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
+    assert DinghyParams(**kwargs.pop("dinghy")) == DinghyParams()
+    assert GustParams(**kwargs.pop("gust_params")) == GustParams()
+    defaults = {
+        k: p.default
+        for k, p in inspect.signature(SailTask.__init__).parameters.items()
+        if k not in ("self", "dinghy", "gust_params")
+    }
+    assert kwargs == defaults
+
+
+def test_preset_builds_the_env():
+    env_id, kwargs = load_preset(CONFIG_DIR / "beachball_sail.yaml")
+    env = gym.make(env_id, **kwargs)
+    obs, _ = env.reset(seed=0)
+    assert env.observation_space.contains(obs)
+    env.close()
