@@ -25,6 +25,7 @@ class Polar:
     vmg_mps: np.ndarray
     """Velocity made good toward the wind (negative: losing ground to leeward)."""
     leeway_rad: np.ndarray
+    """Drift angle to leeward while moving ahead (NaN where the boat is pushed astern)."""
     heel_rad: np.ndarray
     sheet: np.ndarray
     """Best sheet setting found, 0 (in) .. 1 (out)."""
@@ -90,7 +91,8 @@ def compute_polar(
         true_wind_angle_rad=angles,
         boat_speed_mps=speed[rows, best],
         vmg_mps=vx * np.cos(angles) + vy * np.sin(angles),
-        leeway_rad=np.arctan2(-vy, np.maximum(vx, 1e-9)) * np.sign(angles + 1e-12),
+        # Leeway is the drift angle of a boat moving ahead; a boat pushed astern has none.
+        leeway_rad=np.where(vx > 0.05, np.arctan2(-vy, np.maximum(vx, 1e-9)), np.nan),
         heel_rad=np.abs(pick(state.heel_rad)),
         sheet=sheets[best],
         capsized=pick(state.capsized),

@@ -105,7 +105,7 @@ class DinghyParams:
     The centreboard is a foil: its side force is ``1/2 rho A C_L_alpha * u * v``
     (``A`` 0.35 m^2, ``C_L_alpha`` about 5 /rad plus the hull's share), so leeway is
     small and almost independent of speed."""
-    windage: float = 1.3
+    windage: float = 1.0
     """C_d * A (m^2) of hull, mast and crew in the apparent wind."""
 
     rudder_max_rad: float = math.radians(30.0)

@@ -1,0 +1,35 @@
+# Two entry points, each doing its own set-up on a fresh machine:
+#   make run   - the main job: sail an episode with a scripted controller, print its
+#                statistics and write an animation (runs/demo/sail_episode.gif)
+#   make test  - lint and the test suite
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+
+.PHONY: run test setup polar bench clean
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e ".[dev]"
+	touch $(STAMP)
+
+setup: $(STAMP)
+
+run: $(STAMP)
+	SDL_VIDEODRIVER=dummy $(PY) scripts/sail_demo.py --out runs/demo
+
+test: $(STAMP)
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+	SDL_VIDEODRIVER=dummy $(VENV)/bin/pytest -q
+
+polar: $(STAMP)
+	$(PY) scripts/polar.py --out runs/polar
+
+bench: $(STAMP)
+	$(PY) scripts/bench.py
+
+clean:
+	rm -rf $(VENV) runs
