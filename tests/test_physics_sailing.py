@@ -315,3 +315,27 @@ def test_batched_physics_matches_elementwise():
         )
         assert one.x_m[0] == pytest.approx(batch.x_m[i], rel=1e-12, abs=1e-12)
         assert one.heading_rad[0] == pytest.approx(batch.heading_rad[i], rel=1e-12, abs=1e-12)
+
+
+def test_scalar_namespace_matches_numpy():
+    # One env runs on Python floats (bbgym.physics.backend.scalar), a batch on NumPy: the
+    # same functions must give the same trajectory, through tacks, jibes and the sheet stop.
+    from dataclasses import fields
+
+    from bbgym.physics.backend import scalar
+
+    s = dinghy_at_rest(1, heading_rad=0.4, speed_mps=2.0, boom_rad=-0.3)
+    f = type(s)(**{k.name: getattr(s, k.name)[0].item() for k in fields(s)})
+    rng = np.random.default_rng(5)
+    jibes = tacks = 0
+    for _ in range(400):  # turning circles in a 6.3 m/s wind: tacks and a jibe
+        rudder, sheet = 0.35 + rng.uniform(-0.1, 0.1), rng.uniform(0.2, 0.6)
+        s, ev = step(P, s, np.array([rudder]), np.array([sheet]), np.array([-6.0]),
+                     np.array([2.0]), DT, 5)  # fmt: skip
+        f, ev_f = step(P, f, rudder, sheet, -6.0, 2.0, DT, 5, scalar)
+        assert isinstance(f.x_m, float) and ev_f.jibes == ev.jibes[0]
+        jibes, tacks = jibes + ev_f.jibes, tacks + ev_f.tacks
+        assert f.x_m == pytest.approx(s.x_m[0], rel=1e-9, abs=1e-9)
+        assert f.heel_rad == pytest.approx(s.heel_rad[0], rel=1e-9, abs=1e-9)
+        assert f.boom_rad == pytest.approx(s.boom_rad[0], rel=1e-9, abs=1e-9)
+    assert jibes >= 1 and tacks >= 2

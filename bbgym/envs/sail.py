@@ -19,10 +19,13 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from bbgym.physics import backend
+from bbgym.physics.backend import Array
 from bbgym.physics.common import wrap_angle
 from bbgym.physics.sailing import (
     DinghyParams,
     DinghyState,
+    StepEvents,
     apparent_wind_body,
     dinghy_at_rest,
     sail_force,
@@ -241,8 +244,10 @@ class SailTask:
         return checked
 
     # -- dynamics ---------------------------------------------------------------------------
-    def check_action(self, action: Any, batch: int) -> np.ndarray:
-        """Actions as float64 ``(batch, 2)``, clipped to [-1, 1]; NaN/inf or bad shape raise."""
+    def check_action(self, action: Any, batch: int) -> Any:
+        """Validate and clip actions to [-1, 1]: a ``(rudder, sheet)`` tuple of floats for one
+        env (``batch == 0``), a float64 ``(batch, 2)`` array for a batch. NaN/inf or a wrong
+        shape raise ``ValueError``."""
         try:
             a = np.asarray(action, dtype=np.float64)
         except (TypeError, ValueError):
@@ -250,67 +255,74 @@ class SailTask:
         expected = (2,) if batch == 0 else (batch, 2)
         if a.shape != expected:
             raise ValueError(f"action must have shape {expected}, got {a.shape}")
-        if not np.all(np.isfinite(a)):
+        if batch == 0:
+            rudder, sheet = float(a[0]), float(a[1])
+            if not (math.isfinite(rudder) and math.isfinite(sheet)):
+                raise ValueError(f"action must be finite, got {action!r}")
+            return (min(max(rudder, -1.0), 1.0), min(max(sheet, -1.0), 1.0))
+        if not np.isfinite(a).all():
             raise ValueError(f"action must be finite, got {action!r}")
-        return np.clip(a.reshape(-1, 2), -1.0, 1.0)
+        return np.clip(a, -1.0, 1.0)
 
     def transition(
         self,
         boat: DinghyState,
         gust: GustState,
         scenario: Scenario,
-        action: np.ndarray,
-        noise: np.ndarray,
-    ) -> tuple[DinghyState, GustState, Any]:
-        """Hold the controls for ``ctrl_dt``: rudder ``a[0]`` and sheet ``a[1]``."""
-        rudder = action[:, 0] * self.params.rudder_max_rad
-        sheet = 0.5 * (action[:, 1] + 1.0)
-        wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed_mps, scenario.wind_from_rad, gust)
-        boat, events = step(
-            self.params, boat, rudder, sheet, wind_x, wind_y, self.sim_dt, self.n_substeps
+        rudder_action: Array,
+        sheet_action: Array,
+        noise: Any,
+        xp: Any = np,
+    ) -> tuple[DinghyState, GustState, StepEvents]:
+        """Hold rudder and sheet (actions in [-1, 1]) for ``ctrl_dt``, then move the gusts."""
+        rudder = rudder_action * self.params.rudder_max_rad
+        sheet = 0.5 * (sheet_action + 1.0)
+        wind_x, wind_y, _, _ = wind_vector(
+            scenario.wind_speed_mps, scenario.wind_from_rad, gust, xp
         )
-        gust = gust_step(gust, self.gust_params, self.ctrl_dt, noise, scenario.gusts)
+        boat, events = step(
+            self.params, boat, rudder, sheet, wind_x, wind_y, self.sim_dt, self.n_substeps, xp
+        )
+        gust = gust_step(gust, self.gust_params, self.ctrl_dt, noise, scenario.gusts, xp)
         return boat, gust, events
 
-    def measure(self, boat: DinghyState, gust: GustState, scenario: Scenario) -> dict:
+    def measure(
+        self, boat: DinghyState, gust: GustState, scenario: Scenario, xp: Any = np
+    ) -> dict[str, Array]:
         """Physical quantities of the current state (shared by observation, reward, info)."""
-        cos_h, sin_h = np.cos(boat.heading_rad), np.sin(boat.heading_rad)
+        cos_h, sin_h = xp.cos(boat.heading_rad), xp.sin(boat.heading_rad)
         wind_x, wind_y, wind_speed, wind_from = wind_vector(
-            scenario.wind_speed_mps, scenario.wind_from_rad, gust
+            scenario.wind_speed_mps, scenario.wind_from_rad, gust, xp
         )
         aw_u, aw_v = apparent_wind_body(boat, wind_x, wind_y, cos_h, sin_h)
         surge, sway = split_along(boat.vx_mps, boat.vy_mps, cos_h, sin_h)
         dx, dy = scenario.mark_x_m - boat.x_m, scenario.mark_y_m - boat.y_m
-        distance = np.hypot(dx, dy)
-        speed = np.hypot(boat.vx_mps, boat.vy_mps)
-        _, _, sail_normal = sail_force(self.params, boat, aw_u, aw_v)
+        distance = xp.hypot(dx, dy)
         return {
             "surge": surge,
             "sway": sway,
-            "boat_speed": speed,
+            "boat_speed": xp.hypot(boat.vx_mps, boat.vy_mps),
             # Where the wind comes FROM, relative to the bow, counterclockwise (+ = from port).
-            "apparent_wind_angle": np.arctan2(-aw_v, -aw_u),
-            "apparent_wind_speed": np.hypot(aw_u, aw_v),
-            "true_wind_angle": wrap_angle(wind_from - boat.heading_rad),
+            "apparent_wind_angle": xp.arctan2(-aw_v, -aw_u),
+            "apparent_wind_speed": xp.hypot(aw_u, aw_v),
+            "true_wind_angle": wrap_angle(wind_from - boat.heading_rad, xp),
             "true_wind_speed": wind_speed,
-            "true_wind_from": wind_from,
-            "bearing_to_mark": wrap_angle(np.arctan2(dy, dx) - boat.heading_rad),
+            "bearing_to_mark": wrap_angle(xp.arctan2(dy, dx) - boat.heading_rad, xp),
             "distance_to_mark": distance,
-            "vmg_to_mark": (boat.vx_mps * dx + boat.vy_mps * dy) / np.maximum(distance, 1e-9),
-            "leeway": np.arctan2(sway, np.maximum(np.abs(surge), 1e-9)) * np.sign(surge + 1e-12),
-            "sail_force": np.abs(sail_normal),
+            "vmg_to_mark": (boat.vx_mps * dx + boat.vy_mps * dy) / xp.maximum(distance, 1e-9),
+            # Drift angle: positive to port of the course steered.
+            "leeway": xp.arctan2(sway, xp.maximum(xp.abs(surge), 1e-9)) * xp.sign(surge),
         }
 
-    def observe(self, boat: DinghyState, m: dict) -> np.ndarray:
-        """Egocentric, normalised observation ``(batch, 16)`` float32; see the env table."""
+    def observation_columns(self, boat: DinghyState, m: dict, xp: Any = np) -> tuple:
+        """The 16 observation values (unclipped), in the order of the env's table."""
         p = self.params
-        d_max = self.mark_distance_range[1]
-        columns = (
-            np.cos(m["apparent_wind_angle"]),
-            np.sin(m["apparent_wind_angle"]),
+        return (
+            xp.cos(m["apparent_wind_angle"]),
+            xp.sin(m["apparent_wind_angle"]),
             m["apparent_wind_speed"] / WIND_SCALE_MPS,
-            np.cos(m["true_wind_angle"]),
-            np.sin(m["true_wind_angle"]),
+            xp.cos(m["true_wind_angle"]),
+            xp.sin(m["true_wind_angle"]),
             m["true_wind_speed"] / WIND_SCALE_MPS,
             m["surge"] / BOAT_SPEED_SCALE_MPS,
             m["sway"] / BOAT_SPEED_SCALE_MPS,
@@ -318,33 +330,36 @@ class SailTask:
             boat.heel_rad / p.capsize_heel_rad,
             boat.heel_rate_rps / HEEL_RATE_SCALE_RPS,
             boat.boom_rad / p.sheet_max_rad,
-            np.cos(m["bearing_to_mark"]),
-            np.sin(m["bearing_to_mark"]),
-            m["distance_to_mark"] / (2.0 * d_max),
+            xp.cos(m["bearing_to_mark"]),
+            xp.sin(m["bearing_to_mark"]),
+            m["distance_to_mark"] / (2.0 * self.mark_distance_range[1]),
             m["vmg_to_mark"] / BOAT_SPEED_SCALE_MPS,
         )
-        return np.clip(np.stack(columns, axis=1), -1.0, 1.0).astype(np.float32)
 
     def reward(
-        self, previous_distance: np.ndarray, m: dict, arrived: np.ndarray, capsized: np.ndarray
-    ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        self, previous_distance: Array, m: dict, arrived: Array, capsized: Array, xp: Any = np
+    ) -> tuple[Array, dict[str, Array]]:
         """Dense progress toward the mark, arrival bonus, capsize penalty, time cost."""
         progress = (previous_distance - m["distance_to_mark"]) / self.progress_scale_m
+        progress = self.progress_weight * xp.clip(progress, -1.0, 1.0)
         terms = {
-            "progress": self.progress_weight * np.clip(progress, -1.0, 1.0),
+            "progress": progress,
             "arrival": self.arrival_bonus * arrived,
             "capsize": -self.capsize_penalty * capsized,
-            "time": np.full(arrived.shape, -self.time_penalty),
+            "time": 0.0 * progress - self.time_penalty,  # same shape as the others
         }
-        return sum(terms.values()), terms
+        return terms["progress"] + terms["arrival"] + terms["capsize"] + terms["time"], terms
 
 
 class _SailSim:
-    """Batch state of the task plus per-env random streams and episode counters."""
+    """Task state over a batch (NumPy arrays) or for one env (Python floats, ``scalar``),
+    with per-env random streams and episode counters."""
 
-    def __init__(self, task: SailTask, batch: int) -> None:
+    def __init__(self, task: SailTask, batch: int, scalar: bool = False) -> None:
         self.task = task
         self.batch = batch
+        self.scalar = scalar
+        self.xp = backend.scalar if scalar else np
         self.rngs: list[np.random.Generator] = [seeding.np_random(None)[0] for _ in range(batch)]
         self.boat: DinghyState | None = None
 
@@ -356,7 +371,11 @@ class _SailSim:
         """Start new episodes where ``mask`` is true."""
         idx = np.flatnonzero(mask)
         scenario, boat, gust = self.task.sample([self.rngs[i] for i in idx], options)
-        if self.boat is None or idx.size == self.batch:
+        if self.scalar:
+            self.scenario, self.boat, self.gust = (_element(x, 0) for x in (scenario, boat, gust))
+            self.jibes = self.tacks = 0
+            self.max_jibe_severity = self.elapsed = 0.0
+        elif self.boat is None or idx.size == self.batch:
             self.scenario, self.boat, self.gust = scenario, boat, gust
             self.jibes = np.zeros(self.batch, dtype=np.int64)
             self.tacks = np.zeros(self.batch, dtype=np.int64)
@@ -369,46 +388,64 @@ class _SailSim:
                     getattr(old, f.name)[idx] = getattr(new, f.name)
             for counter in (self.jibes, self.tacks, self.max_jibe_severity, self.elapsed):
                 counter[idx] = 0
-        self.measures = self.task.measure(self.boat, self.gust, self.scenario)
-        self.terms = {k: np.zeros(self.batch) for k in ("progress", "arrival", "capsize", "time")}
-        self.last_jibe_severity = np.zeros(self.batch)
+        self.measures = self.task.measure(self.boat, self.gust, self.scenario, self.xp)
+        zero = 0.0 * self.measures["distance_to_mark"]
+        self.terms = {k: zero for k in ("progress", "arrival", "capsize", "time")}
+        self.last_jibe_severity = zero
+        self.arrived = zero > 0.0
 
-    def step(
-        self, action: np.ndarray, active: np.ndarray | None = None
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Advance every env; only ``active`` ones draw gust noise (finished ones are about
-        to restart, and must not consume their random stream)."""
-        task = self.task
+    def _noise(self, active: np.ndarray | None) -> Any:
+        """Standard normal draws for the gusts: only envs with gusts (and still running)
+        draw, so an env's random stream does not depend on the others."""
+        if self.scalar:
+            if not self.scenario.gusts:
+                return (0.0, 0.0)
+            n = self.rngs[0].standard_normal(2)
+            return (float(n[0]), float(n[1]))
         noise = np.zeros((2, self.batch))
         drawing = self.scenario.gusts if active is None else self.scenario.gusts & active
         for i in np.flatnonzero(drawing):
             noise[:, i] = self.rngs[i].standard_normal(2)
+        return noise
+
+    def step(self, action: Any, active: np.ndarray | None = None) -> tuple[Any, Any]:
+        """Advance by one control step; returns ``(reward, terminated)``."""
+        task, xp = self.task, self.xp
+        if self.scalar:
+            rudder, sheet = action
+        else:
+            rudder, sheet = action[:, 0], action[:, 1]
         previous_distance = self.measures["distance_to_mark"]
         self.boat, self.gust, events = task.transition(
-            self.boat, self.gust, self.scenario, action, noise
+            self.boat, self.gust, self.scenario, rudder, sheet, self._noise(active), xp
         )
-        self.jibes += events.jibes
-        self.tacks += events.tacks
+        self.jibes = self.jibes + events.jibes
+        self.tacks = self.tacks + events.tacks
         self.last_jibe_severity = events.jibe_severity_rps
-        self.max_jibe_severity = np.maximum(self.max_jibe_severity, events.jibe_severity_rps)
-        self.elapsed += task.ctrl_dt
-        self.measures = task.measure(self.boat, self.gust, self.scenario)
-        arrived = (self.measures["distance_to_mark"] <= task.mark_radius) & ~self.boat.capsized
+        self.max_jibe_severity = xp.maximum(self.max_jibe_severity, events.jibe_severity_rps)
+        self.elapsed = self.elapsed + task.ctrl_dt
+        self.measures = task.measure(self.boat, self.gust, self.scenario, xp)
         capsized = self.boat.capsized
-        reward, self.terms = task.reward(previous_distance, self.measures, arrived, capsized)
-        return reward, arrived | capsized, arrived
+        arrived = (self.measures["distance_to_mark"] <= task.mark_radius) & xp.logical_not(capsized)
+        reward, self.terms = task.reward(previous_distance, self.measures, arrived, capsized, xp)
+        self.arrived = arrived
+        return reward, arrived | capsized
 
     def observation(self) -> np.ndarray:
-        return self.task.observe(self.boat, self.measures)
+        """Observation(s), float32, clipped to the space's bounds."""
+        columns = self.task.observation_columns(self.boat, self.measures, self.xp)
+        stacked = np.array(columns) if self.scalar else np.stack(columns, axis=1)
+        return np.clip(stacked, -1.0, 1.0).astype(np.float32)
 
-    def info(self, arrived: np.ndarray) -> dict[str, Any]:
-        """Per-env physical quantities (arrays of shape ``(batch,)``)."""
-        m, boat = self.measures, self.boat
-        return {
-            "position": np.stack([boat.x_m, boat.y_m], axis=1),
-            "velocity": np.stack([boat.vx_mps, boat.vy_mps], axis=1),
+    def info(self) -> dict[str, Any]:
+        """Physical quantities: Python scalars for one env, arrays ``(batch,)`` for a batch."""
+        m, boat, xp = self.measures, self.boat, self.xp
+        pair = np.array if self.scalar else (lambda xy: np.stack(xy, axis=1))
+        info = {
+            "position": pair((boat.x_m, boat.y_m)),
+            "velocity": pair((boat.vx_mps, boat.vy_mps)),
             "boat_speed": m["boat_speed"],
-            "heading": wrap_angle(boat.heading_rad),
+            "heading": wrap_angle(boat.heading_rad, xp),
             "true_wind_angle": m["true_wind_angle"],
             "true_wind_speed": m["true_wind_speed"],
             "apparent_wind_angle": m["apparent_wind_angle"],
@@ -418,16 +455,21 @@ class _SailSim:
             "boom_angle": boat.boom_rad,
             "vmg_to_mark": m["vmg_to_mark"],
             "distance_to_mark": m["distance_to_mark"],
-            "mark": np.stack([self.scenario.mark_x_m, self.scenario.mark_y_m], axis=1),
-            "jibes": self.jibes.copy(),
+            "mark": pair((self.scenario.mark_x_m, self.scenario.mark_y_m)),
+            "jibes": self.jibes,
             "jibe_severity": self.last_jibe_severity,
-            "max_jibe_severity": self.max_jibe_severity.copy(),
-            "tacks": self.tacks.copy(),
-            "capsized": boat.capsized.copy(),
-            "elapsed_time": self.elapsed.copy(),
-            "is_success": arrived,
-            "reward_terms": self.terms,
+            "max_jibe_severity": self.max_jibe_severity,
+            "tacks": self.tacks,
+            "capsized": boat.capsized,
+            "elapsed_time": self.elapsed,
+            "is_success": self.arrived,
+            "reward_terms": dict(self.terms),
         }
+        if not self.scalar:
+            # Counters are updated in place by resets: hand out copies.
+            for key in ("jibes", "tacks", "max_jibe_severity", "capsized", "elapsed_time"):
+                info[key] = info[key].copy()
+        return info
 
 
 _DOC_ARGS = """
@@ -559,7 +601,7 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
         self.render_mode = render_mode
         self.action_space = self.task.action_space
         self.observation_space = self.task.observation_space
-        self._sim = _SailSim(self.task, 1)
+        self._sim = _SailSim(self.task, 1, scalar=True)
         self._renderer = None
         self._wake: deque[tuple[float, float]] = deque(maxlen=120)
         self._last_action = np.zeros(2)
@@ -578,35 +620,22 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
         self._last_action = np.zeros(2)
         if self.render_mode == "human":
             self.render()
-        return self._sim.observation()[0], self._info(np.zeros(1, dtype=bool))
+        return self._sim.observation(), self._info()
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self._sim.boat is None:
             raise gym.error.ResetNeeded("Call reset() before step()")
         a = self.task.check_action(action, 0)
-        self._last_action = a[0]
-        reward, terminated, arrived = self._sim.step(a)
-        self._wake.append((float(self._sim.boat.x_m[0]), float(self._sim.boat.y_m[0])))
+        self._last_action = a
+        reward, terminated = self._sim.step(a)
+        if self.render_mode is not None:
+            self._wake.append((self._sim.boat.x_m, self._sim.boat.y_m))
         if self.render_mode == "human":
             self.render()
-        obs = self._sim.observation()[0]
-        return obs, float(reward[0]), bool(terminated[0]), False, self._info(arrived)
+        return self._sim.observation(), reward, terminated, False, self._info()
 
-    def _info(self, arrived: np.ndarray) -> dict[str, Any]:
-        info = self._sim.info(arrived)
-        out: dict[str, Any] = {}
-        for key, value in info.items():
-            if key == "reward_terms":
-                out[key] = {k: float(v[0]) for k, v in value.items()}
-            elif isinstance(value, np.ndarray) and value.ndim == 2:
-                out[key] = value[0].copy()
-            elif value.dtype == bool:
-                out[key] = bool(value[0])
-            elif value.dtype.kind == "i":
-                out[key] = int(value[0])
-            else:
-                out[key] = float(value[0])
-        return out
+    def _info(self) -> dict[str, Any]:
+        return self._sim.info()
 
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
@@ -630,36 +659,50 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
             self._renderer = None
 
 
+def _element(obj: Any, i: int) -> Any:
+    """Element ``i`` of a batch dataclass, as Python scalars."""
+    return type(obj)(**{f.name: getattr(obj, f.name)[i].item() for f in fields(obj)})
+
+
 def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
-    """Drawing description of env ``i`` (no physics happens in the renderer)."""
+    """Drawing description of env ``i`` (the renderer itself does no physics)."""
     from bbgym.render.sail_view import SailScene
 
-    boat, m, p = sim.boat, sim.measures, sim.task.params
-    wind_x, wind_y, _, _ = wind_vector(
-        sim.scenario.wind_speed_mps, sim.scenario.wind_from_rad, sim.gust
-    )
+    xp = backend.scalar
+    if sim.scalar:
+        boat, gust, scenario = sim.boat, sim.gust, sim.scenario
+        jibes, tacks, elapsed = sim.jibes, sim.tacks, sim.elapsed
+    else:
+        boat, gust, scenario = (_element(x, i) for x in (sim.boat, sim.gust, sim.scenario))
+        jibes, tacks, elapsed = int(sim.jibes[i]), int(sim.tacks[i]), float(sim.elapsed[i])
+    p = sim.task.params
+    m = sim.task.measure(boat, gust, scenario, xp)
+    wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed_mps, scenario.wind_from_rad, gust, xp)
+    cos_h, sin_h = xp.cos(boat.heading_rad), xp.sin(boat.heading_rad)
+    aw_u, aw_v = apparent_wind_body(boat, wind_x, wind_y, cos_h, sin_h)
+    sail_normal_n = abs(sail_force(p, boat, aw_u, aw_v, xp)[2])
     return SailScene(
-        time_s=float(sim.elapsed[i]),
-        position_m=(float(boat.x_m[i]), float(boat.y_m[i])),
-        heading_rad=float(boat.heading_rad[i]),
-        heel_rad=float(boat.heel_rad[i]),
-        boom_angle_rad=float(boat.boom_rad[i]),
-        rudder_angle_rad=float(action[0] * p.rudder_max_rad),
-        sail_force_n=float(m["sail_force"][i]),
-        sail_luffing=bool(m["sail_force"][i] < 5.0),
-        mark_m=(float(sim.scenario.mark_x_m[i]), float(sim.scenario.mark_y_m[i])),
+        time_s=elapsed,
+        position_m=(boat.x_m, boat.y_m),
+        heading_rad=boat.heading_rad,
+        heel_rad=boat.heel_rad,
+        boom_angle_rad=boat.boom_rad,
+        rudder_angle_rad=float(action[0]) * p.rudder_max_rad,
+        sail_force_n=sail_normal_n,
+        sail_luffing=sail_normal_n < 5.0,
+        mark_m=(scenario.mark_x_m, scenario.mark_y_m),
         mark_radius_m=sim.task.mark_radius,
-        true_wind_mps=(float(wind_x[i]), float(wind_y[i])),
-        apparent_wind_speed_mps=float(m["apparent_wind_speed"][i]),
-        apparent_wind_angle_rad=float(m["apparent_wind_angle"][i]),
-        boat_speed_mps=float(m["boat_speed"][i]),
+        true_wind_mps=(wind_x, wind_y),
+        apparent_wind_speed_mps=m["apparent_wind_speed"],
+        apparent_wind_angle_rad=m["apparent_wind_angle"],
+        boat_speed_mps=m["boat_speed"],
         wake_m=wake,
-        capsized=bool(boat.capsized[i]),
+        capsized=boat.capsized,
         hull_length_m=p.hull_length_m,
         hull_beam_m=p.hull_beam_m,
         boom_length_m=p.boom_length_m,
-        jibes=int(sim.jibes[i]),
-        tacks=int(sim.tacks[i]),
+        jibes=jibes,
+        tacks=tacks,
     )
 
 
@@ -730,7 +773,7 @@ class BeachballSailVectorEnv(VectorEnv):
         for wake in self._wakes:
             wake.clear()
         self._last_action[:] = 0.0
-        return self._sim.observation(), self._vector_info(np.zeros(self.num_envs, dtype=bool))
+        return self._sim.observation(), self._vector_info()
 
     def step(
         self, actions: Any
@@ -740,7 +783,7 @@ class BeachballSailVectorEnv(VectorEnv):
         a = self.task.check_action(actions, self.num_envs)
         self._last_action = a
         restarting = self._autoreset.copy()
-        reward, terminated, arrived = self._sim.step(a, ~restarting)
+        reward, terminated = self._sim.step(a, ~restarting)
         self._steps += 1
         if restarting.any():
             # Next-step autoreset: the finished envs start anew and ignore this action.
@@ -748,7 +791,7 @@ class BeachballSailVectorEnv(VectorEnv):
             self._steps[restarting] = 0
             reward = np.where(restarting, 0.0, reward)
             terminated = terminated & ~restarting
-            arrived = arrived & ~restarting
+            self._sim.arrived = self._sim.arrived & ~restarting
             for i in np.flatnonzero(restarting):
                 self._wakes[i].clear()
         truncated = (self._steps >= self.max_episode_steps) & ~terminated
@@ -760,11 +803,11 @@ class BeachballSailVectorEnv(VectorEnv):
             reward.astype(np.float64),
             terminated,
             truncated,
-            self._vector_info(arrived),
+            self._vector_info(),
         )
 
-    def _vector_info(self, arrived: np.ndarray) -> dict[str, Any]:
-        info = self._sim.info(arrived)
+    def _vector_info(self) -> dict[str, Any]:
+        info = self._sim.info()
         mask = np.ones(self.num_envs, dtype=bool)
         out: dict[str, Any] = {}
         for key, value in info.items():

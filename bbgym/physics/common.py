@@ -1,8 +1,7 @@
 """Shared physical constants and vector tools (seed §8, §9).
 
-Everything here works on arrays with a leading batch axis and uses only functions that
-the Python array API standard also has (``sin``, ``cos``, ``atan2``, ``where``, ...), so
-a second array library can run the same code later.
+Everything here works on arrays with a leading batch axis, or on plain floats for one
+env, through the namespace ``xp`` (see :mod:`bbgym.physics.backend`).
 
 2D vectors are passed as separate ``x`` and ``y`` arrays of shape ``(batch,)``: the
 physics is small per element, and two flat arrays are both faster and easier to read
@@ -12,8 +11,11 @@ than an ``(batch, 2)`` array sliced everywhere.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
+
+from bbgym.physics.backend import Array
 
 GRAVITY_MPS2 = 9.81
 AIR_DENSITY_KGM3 = 1.2
@@ -21,20 +23,18 @@ WATER_DENSITY_KGM3 = 1025.0
 KNOT_MPS = 0.514444
 
 
-def wrap_angle(angle_rad: np.ndarray) -> np.ndarray:
+def wrap_angle(angle_rad: Array, xp: Any = np) -> Array:
     """Wrap angles to (-pi, pi]."""
-    return math.pi - np.remainder(math.pi - angle_rad, 2.0 * math.pi)
+    return math.pi - xp.remainder(math.pi - angle_rad, 2.0 * math.pi)
 
 
-def rotate(x: np.ndarray, y: np.ndarray, angle_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def rotate(x: Array, y: Array, angle_rad: Array, xp: Any = np) -> tuple[Array, Array]:
     """Rotate the vector (x, y) counterclockwise by ``angle_rad``."""
-    c, s = np.cos(angle_rad), np.sin(angle_rad)
+    c, s = xp.cos(angle_rad), xp.sin(angle_rad)
     return c * x - s * y, s * x + c * y
 
 
-def split_along(
-    x: np.ndarray, y: np.ndarray, dir_x: np.ndarray, dir_y: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def split_along(x: Array, y: Array, dir_x: Array, dir_y: Array) -> tuple[Array, Array]:
     """Split (x, y) into components along and across the unit direction (dir_x, dir_y).
 
     Seed §9 ("splitting vectors"): the parallel part is ``v . d``; the perpendicular part
@@ -47,15 +47,12 @@ def split_along(
 
 
 def quadratic_drag(
-    drag_coefficient: float,
-    area_m2: float,
-    density_kgm3: float,
-    rel_x: np.ndarray,
-    rel_y: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
+    drag_area_m2: float, density_kgm3: float, rel_x: Array, rel_y: Array, xp: Any = np
+) -> tuple[Array, Array]:
     """Quadratic drag ``F = -1/2 C_d A rho |v| v`` against the relative velocity (seed §8).
 
-    ``rel`` is the body's velocity relative to the fluid; the force opposes it.
+    ``drag_area_m2`` is ``C_d * A``; ``rel`` is the body's velocity relative to the fluid;
+    the force opposes it.
     """
-    k = -0.5 * drag_coefficient * area_m2 * density_kgm3 * np.hypot(rel_x, rel_y)
+    k = -0.5 * drag_area_m2 * density_kgm3 * xp.hypot(rel_x, rel_y)
     return k * rel_x, k * rel_y

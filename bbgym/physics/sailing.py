@@ -28,10 +28,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
+from typing import Any
 
 import numpy as np
 
-from bbgym.physics.common import AIR_DENSITY_KGM3, WATER_DENSITY_KGM3, split_along
+from bbgym.physics.backend import Array
+from bbgym.physics.common import AIR_DENSITY_KGM3, WATER_DENSITY_KGM3, quadratic_drag, split_along
 
 SAIL_MODELS = ("lift", "seed")
 
@@ -222,8 +224,8 @@ def dinghy_at_rest(
 
 
 def apparent_wind_body(
-    state: DinghyState, wind_x: np.ndarray, wind_y: np.ndarray, cos_h: np.ndarray, sin_h: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+    state: DinghyState, wind_x: Array, wind_y: Array, cos_h: Array, sin_h: Array
+) -> tuple[Array, Array]:
     """Apparent wind ``v_a = v_w - v_s`` (seed §9) in the body frame: (ahead, to port).
 
     The vector points where the air moves relative to the boat.
@@ -231,7 +233,7 @@ def apparent_wind_body(
     return split_along(wind_x - state.vx_mps, wind_y - state.vy_mps, cos_h, sin_h)
 
 
-def sail_normal_coefficient(p: DinghyParams, sin_attack: np.ndarray) -> np.ndarray:
+def sail_normal_coefficient(p: DinghyParams, sin_attack: Array, xp: Any = np) -> Array:
     """Normal-force coefficient ``C_N`` of the flat sail at angle of attack ``alpha``.
 
     ``F_N = 1/2 rho A C_N |v_a|^2``, perpendicular to the sail.
@@ -246,16 +248,16 @@ def sail_normal_coefficient(p: DinghyParams, sin_attack: np.ndarray) -> np.ndarr
     """
     if p.sail_model == "seed":
         return p.sail_drag_coefficient * sin_attack * sin_attack
-    attack = np.arcsin(np.clip(sin_attack, 0.0, 1.0))
+    attack = xp.arcsin(xp.clip(sin_attack, 0.0, 1.0))
     attached = p.sail_cn_peak * sin_attack / math.sin(p.sail_stall_rad)
     separated = p.sail_cn_flat * sin_attack
-    attached_share = 1.0 / (1.0 + np.exp((attack - p.sail_stall_rad) / p.sail_stall_width_rad))
+    attached_share = 1.0 / (1.0 + xp.exp((attack - p.sail_stall_rad) / p.sail_stall_width_rad))
     return attached_share * attached + (1.0 - attached_share) * separated
 
 
 def sail_force(
-    p: DinghyParams, state: DinghyState, aw_u: np.ndarray, aw_v: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    p: DinghyParams, state: DinghyState, aw_u: Array, aw_v: Array, xp: Any = np
+) -> tuple[Array, Array, Array]:
     """Force of the planar, friction-free sail (seed §9): ``(drive, side, normal)``.
 
     Only the apparent-wind component perpendicular to the sail pushes it, so the force is
@@ -264,75 +266,75 @@ def sail_force(
     "tilt"). Returns the body-frame components ``drive`` (ahead) and ``side`` (to port),
     and the signed normal force (``> 0`` pushes the boom to port).
     """
-    normal_x, normal_y = np.sin(state.boom_rad), np.cos(state.boom_rad)
+    normal_x, normal_y = xp.sin(state.boom_rad), xp.cos(state.boom_rad)
     wind_normal = aw_u * normal_x + aw_v * normal_y
     speed_sq = aw_u * aw_u + aw_v * aw_v
-    sin_attack = np.abs(wind_normal) / np.sqrt(np.maximum(speed_sq, 1e-12))
-    area = p.sail_area_m2 * np.cos(state.heel_rad) * ~state.capsized
-    magnitude = 0.5 * AIR_DENSITY_KGM3 * area * sail_normal_coefficient(p, sin_attack) * speed_sq
+    sin_attack = xp.abs(wind_normal) / xp.sqrt(xp.maximum(speed_sq, 1e-12))
+    area = p.sail_area_m2 * xp.cos(state.heel_rad) * xp.logical_not(state.capsized)
+    magnitude = (
+        0.5 * AIR_DENSITY_KGM3 * area * sail_normal_coefficient(p, sin_attack, xp) * speed_sq
+    )
     # By the lee (wind from aft and from the side the boom is on) the air runs over the sail
     # from leech to luff; a soft sail cannot hold its shape that way and is blown across:
     # the force points to the side the air flows to, and the boom jibes.
     by_the_lee = (aw_u > 0.0) & (
-        aw_v * np.sign(state.boom_rad) < -math.sin(p.by_the_lee_rad) * np.sqrt(speed_sq)
+        aw_v * xp.sign(state.boom_rad) < -math.sin(p.by_the_lee_rad) * xp.sqrt(speed_sq)
     )
-    direction = np.where(by_the_lee, -np.sign(state.boom_rad), np.sign(wind_normal))
+    direction = xp.where(by_the_lee, -xp.sign(state.boom_rad), xp.sign(wind_normal))
     normal = direction * magnitude
     return normal * normal_x, normal * normal_y, normal
 
 
-def hull_force(
-    p: DinghyParams, surge: np.ndarray, sway: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def hull_force(p: DinghyParams, surge: Array, sway: Array, xp: Any = np) -> tuple[Array, Array]:
     """Water force on hull and keel in the body frame, from the velocity split (§9).
 
     Ahead the hull is slippery, astern less so; sideways the centreboard resists strongly
     (foil lift ~ ``u * v`` while moving ahead, plus quadratic drag of the hull), so the boat
     drifts (leeway) only a little.
     """
-    forward_area = np.where(surge >= 0.0, p.hull_drag_forward, p.hull_drag_backward)
+    forward_area = xp.where(surge >= 0.0, p.hull_drag_forward, p.hull_drag_backward)
     half_rho = 0.5 * WATER_DENSITY_KGM3
     wave_factor = 1.0 + (surge / p.hull_wave_speed_mps) ** 2
-    along = -half_rho * forward_area * wave_factor * surge * np.abs(surge)
-    across = -(p.keel_lift_slope * np.abs(surge) + half_rho * p.hull_drag_sideways * np.abs(sway))
+    along = -half_rho * forward_area * wave_factor * surge * xp.abs(surge)
+    across = -(p.keel_lift_slope * xp.abs(surge) + half_rho * p.hull_drag_sideways * xp.abs(sway))
     return along, across * sway
 
 
 def yaw_moment(
-    p: DinghyParams, surge: np.ndarray, yaw_rate: np.ndarray, rudder_rad: np.ndarray
-) -> np.ndarray:
+    p: DinghyParams, surge: Array, yaw_rate: Array, rudder_rad: Array, xp: Any = np
+) -> Array:
     """Rudder moment minus yaw damping.
 
     The rudder is a foil: its moment grows with forward speed squared, so a boat at rest
     cannot steer (seed §9: "no steering speed"). Moving astern the rudder acts reversed.
     """
-    rudder = p.rudder_moment_coeff * surge * np.abs(surge) * rudder_rad
-    damping = p.yaw_damping_linear * np.abs(surge) + p.yaw_damping_quadratic * np.abs(yaw_rate)
+    rudder = p.rudder_moment_coeff * surge * xp.abs(surge) * rudder_rad
+    damping = p.yaw_damping_linear * xp.abs(surge) + p.yaw_damping_quadratic * xp.abs(yaw_rate)
     return rudder - damping * yaw_rate
 
 
-def heel_moment(p: DinghyParams, state: DinghyState, sail_side: np.ndarray) -> np.ndarray:
+def heel_moment(p: DinghyParams, state: DinghyState, sail_side: Array, xp: Any = np) -> Array:
     """Heeling moment of the sail's side force against crew, hull and damping (§9 "tilt").
 
     The side force acts at the centre of effort, whose height above the heel axis shrinks
     as ``cos(heel)``. The helmsman's weight (``crew_out``) and the hull's form stability
     right the boat.
     """
-    cos_heel = np.cos(state.heel_rad)
+    cos_heel = xp.cos(state.heel_rad)
     heeling = sail_side * p.sail_ce_height_m * cos_heel
     crew = -p.crew_righting_nm * state.crew_out * cos_heel
-    hull = -p.hull_righting_nm * np.sin(state.heel_rad)
+    hull = -p.hull_righting_nm * xp.sin(state.heel_rad)
     return heeling + crew + hull - p.heel_damping * state.heel_rate_rps
 
 
-def boom_limit_from_sheet(p: DinghyParams, sheet: np.ndarray) -> np.ndarray:
+def boom_limit_from_sheet(p: DinghyParams, sheet: Array, xp: Any = np) -> Array:
     """Largest boom angle the sheet allows: ``sheet`` 0 = fully in, 1 = fully out."""
-    return p.sheet_min_rad + np.clip(sheet, 0.0, 1.0) * (p.sheet_max_rad - p.sheet_min_rad)
+    return p.sheet_min_rad + xp.clip(sheet, 0.0, 1.0) * (p.sheet_max_rad - p.sheet_min_rad)
 
 
 def apply_sheet_stop(
-    boom: np.ndarray, boom_rate: np.ndarray, arrival_rate: np.ndarray, limit: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    boom: Array, boom_rate: Array, arrival_rate: Array, limit: Array, xp: Any = np
+) -> tuple[Array, Array, Array]:
     """The sheet caps the boom angle at ``+-limit``; returns ``(boom, rate, impact_rate)``.
 
     A boom that reaches the cap while swinging out is stopped dead by the sheet (an
@@ -343,68 +345,69 @@ def apply_sheet_stop(
     steadily on the sheet arrives with rate 0 each substep and gives no jolt: the sheet load
     is then an internal force.
     """
-    over = np.abs(boom) > limit
+    over = xp.abs(boom) > limit
     outward = over & (boom * boom_rate > 0.0)
-    impact_rate = np.where(outward & (boom * arrival_rate > 0.0), arrival_rate, 0.0)
-    boom = np.clip(boom, -limit, limit)
-    boom_rate = np.where(outward, 0.0, boom_rate)
+    impact_rate = xp.where(outward & (boom * arrival_rate > 0.0), arrival_rate, 0.0)
+    boom = xp.clip(boom, -limit, limit)
+    boom_rate = xp.where(outward, 0.0, boom_rate)
     return boom, boom_rate, impact_rate
 
 
 def substep(
     p: DinghyParams,
     state: DinghyState,
-    rudder_rad: np.ndarray,
-    boom_limit_rad: np.ndarray,
-    wind_x: np.ndarray,
-    wind_y: np.ndarray,
+    rudder_rad: Array,
+    boom_limit_rad: Array,
+    wind_x: Array,
+    wind_y: Array,
     dt_s: float,
-) -> tuple[DinghyState, np.ndarray]:
+    xp: Any = np,
+) -> tuple[DinghyState, Array]:
     """One semi-implicit Euler step (seed §1, §3): velocities first, then positions.
 
     Returns the new state and the signed boom angular speed at a sheet-stop impact.
     """
-    cos_h, sin_h = np.cos(state.heading_rad), np.sin(state.heading_rad)
+    cos_h, sin_h = xp.cos(state.heading_rad), xp.sin(state.heading_rad)
     surge, sway = split_along(state.vx_mps, state.vy_mps, cos_h, sin_h)
     aw_u, aw_v = apparent_wind_body(state, wind_x, wind_y, cos_h, sin_h)
 
-    drive, side, normal = sail_force(p, state, aw_u, aw_v)
-    hull_along, hull_across = hull_force(p, surge, sway)
+    drive, side, normal = sail_force(p, state, aw_u, aw_v, xp)
+    hull_along, hull_across = hull_force(p, surge, sway, xp)
     # Windage of hull, mast and crew: the only force that pushes a boat in irons astern.
-    windage = 0.5 * AIR_DENSITY_KGM3 * p.windage * np.sqrt(aw_u * aw_u + aw_v * aw_v)
-    force_u = drive + hull_along + windage * aw_u
-    force_v = side + hull_across + windage * aw_v
+    windage_u, windage_v = quadratic_drag(p.windage, AIR_DENSITY_KGM3, -aw_u, -aw_v, xp)
+    force_u = drive + hull_along + windage_u
+    force_v = side + hull_across + windage_v
     down = state.capsized
     force_x = cos_h * force_u - sin_h * force_v
     force_y = sin_h * force_u + cos_h * force_v
 
-    yaw_acc = yaw_moment(p, surge, state.yaw_rate_rps, rudder_rad) / p.yaw_inertia_kgm2
-    heel_acc = np.where(down, 0.0, heel_moment(p, state, side) / p.heel_inertia_kgm2)
-    boom_torque = p.sail_ce_aft_m * normal - p.boom_air_damping * state.boom_rate_rps * np.abs(
+    yaw_acc = yaw_moment(p, surge, state.yaw_rate_rps, rudder_rad, xp) / p.yaw_inertia_kgm2
+    heel_acc = xp.where(down, 0.0, heel_moment(p, state, side, xp) / p.heel_inertia_kgm2)
+    boom_torque = p.sail_ce_aft_m * normal - p.boom_air_damping * state.boom_rate_rps * xp.abs(
         state.boom_rate_rps
     )
 
     vx = state.vx_mps + force_x / p.mass_kg * dt_s
     vy = state.vy_mps + force_y / p.mass_kg * dt_s
     yaw_rate = state.yaw_rate_rps + yaw_acc * dt_s
-    heel_rate = np.where(down, 0.0, state.heel_rate_rps + heel_acc * dt_s)
+    heel_rate = xp.where(down, 0.0, state.heel_rate_rps + heel_acc * dt_s)
     boom_rate = state.boom_rate_rps + boom_torque / p.boom_inertia_kgm2 * dt_s
 
     boom, boom_rate, impact = apply_sheet_stop(
-        state.boom_rad + boom_rate * dt_s, boom_rate, state.boom_rate_rps, boom_limit_rad
+        state.boom_rad + boom_rate * dt_s, boom_rate, state.boom_rate_rps, boom_limit_rad, xp
     )
     # The sheet hands the sail's angular momentum to the hull: all of it to yaw, and a roll
     # impulse from the height where the mast stops the swinging cloth (the jibe's jolt).
     impulse = p.boom_inertia_kgm2 * impact
     yaw_rate = yaw_rate - impulse / p.yaw_inertia_kgm2
     roll_arm = p.boom_impact_heel_arm_m / p.sail_ce_aft_m
-    heel_rate = heel_rate + np.where(down, 0.0, impulse * roll_arm / p.heel_inertia_kgm2)
+    heel_rate = heel_rate + xp.where(down, 0.0, impulse * roll_arm / p.heel_inertia_kgm2)
 
     heel = state.heel_rad + heel_rate * dt_s
-    capsized = down | (np.abs(heel) > p.capsize_heel_rad)
+    capsized = down | (xp.abs(heel) > p.capsize_heel_rad)
     # The helmsman reacts to the heel and to how fast it grows (a sailor feels the gust
     # before the boat lies over); the lead term offsets the time it takes to move.
-    crew_target = np.tanh((heel + p.crew_time_s * heel_rate) / p.crew_response_rad)
+    crew_target = xp.tanh((heel + p.crew_time_s * heel_rate) / p.crew_response_rad)
     crew_out = state.crew_out + (crew_target - state.crew_out) * (dt_s / p.crew_time_s)
 
     new_state = DinghyState(
@@ -418,7 +421,7 @@ def substep(
         heel_rate_rps=heel_rate,
         boom_rad=boom,
         boom_rate_rps=boom_rate,
-        crew_out=np.where(down, state.crew_out, crew_out),
+        crew_out=xp.where(down, state.crew_out, crew_out),
         capsized=capsized,
     )
     return new_state, impact
@@ -427,40 +430,39 @@ def substep(
 def step(
     p: DinghyParams,
     state: DinghyState,
-    rudder_rad: np.ndarray,
-    sheet: np.ndarray,
-    wind_x: np.ndarray,
-    wind_y: np.ndarray,
+    rudder_rad: Array,
+    sheet: Array,
+    wind_x: Array,
+    wind_y: Array,
     dt_s: float,
     n_substeps: int,
+    xp: Any = np,
 ) -> tuple[DinghyState, StepEvents]:
     """Advance ``n_substeps`` substeps of ``dt_s`` with the controls held.
 
     ``rudder_rad`` is clipped to ``+-rudder_max_rad``; ``sheet`` in [0, 1] is how far the
     sheet is eased (0 fully in). Counts jibes (the boom crosses the centerline while the
-    apparent wind comes from aft) and tacks (the bow crosses the true wind).
+    apparent wind comes from aft, checked every substep: a boom crosses in a fraction of a
+    second) and tacks (the bow crosses the true wind between the start and the end of the
+    step: a boat turns far less than half a circle in one control step).
     """
-    rudder = np.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
-    limit = boom_limit_from_sheet(p, sheet)
-    wind_from = np.arctan2(-wind_y, -wind_x)
-    batch = state.x_m.shape[0]
-    jibes = np.zeros(batch, dtype=np.int64)
-    severity = np.zeros(batch)
-    tacks = np.zeros(batch, dtype=np.int64)
-    wind_off_bow = np.sin(wind_from - state.heading_rad)
+    rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
+    limit = boom_limit_from_sheet(p, sheet, xp)
+    wind_from = xp.arctan2(-wind_y, -wind_x)
+    jibes = xp.zeros_like(state.x_m, dtype=int)
+    severity = xp.zeros_like(state.x_m)
+    wind_off_bow = xp.sin(wind_from - state.heading_rad)
     for _ in range(n_substeps):
         previous_boom = state.boom_rad
-        state, _impact = substep(p, state, rudder, limit, wind_x, wind_y, dt_s)
+        state, _impact = substep(p, state, rudder, limit, wind_x, wind_y, dt_s, xp)
         crossed = previous_boom * state.boom_rad < 0.0
-        if crossed.any():
-            cos_h, sin_h = np.cos(state.heading_rad), np.sin(state.heading_rad)
+        if xp.any(crossed):
+            cos_h, sin_h = xp.cos(state.heading_rad), xp.sin(state.heading_rad)
             aw_u, _ = apparent_wind_body(state, wind_x, wind_y, cos_h, sin_h)
             # Air moving forward over the boat (aw_u > 0) means the wind comes from aft.
             jibe = crossed & (aw_u > 0.0)
-            jibes += jibe
-            severity = np.maximum(severity, np.where(jibe, np.abs(state.boom_rate_rps), 0.0))
-        off_bow = np.sin(wind_from - state.heading_rad)
-        bow_crossed = (off_bow * wind_off_bow < 0.0) & (np.cos(wind_from - state.heading_rad) > 0.0)
-        tacks += bow_crossed
-        wind_off_bow = off_bow
-    return state, StepEvents(jibes=jibes, jibe_severity_rps=severity, tacks=tacks)
+            jibes = jibes + jibe
+            severity = xp.maximum(severity, xp.where(jibe, xp.abs(state.boom_rate_rps), 0.0))
+    off_bow = xp.sin(wind_from - state.heading_rad)
+    tacks = (off_bow * wind_off_bow < 0.0) & (xp.cos(wind_from - state.heading_rad) > 0.0)
+    return state, StepEvents(jibes=jibes, jibe_severity_rps=severity, tacks=tacks + 0)

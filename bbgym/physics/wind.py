@@ -11,8 +11,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+
+from bbgym.physics.backend import Array
 
 
 @dataclass(frozen=True)
@@ -57,7 +60,12 @@ def gust_init(params: GustParams, noise: np.ndarray, enabled: np.ndarray) -> Gus
 
 
 def gust_step(
-    state: GustState, params: GustParams, dt_s: float, noise: np.ndarray, enabled: np.ndarray
+    state: GustState,
+    params: GustParams,
+    dt_s: float,
+    noise: Any,
+    enabled: Array,
+    xp: Any = np,
 ) -> GustState:
     """Advance the gust process by ``dt_s`` (exact OU discretisation, then the lag).
 
@@ -70,8 +78,8 @@ def gust_step(
     lag = 1.0 - math.exp(-dt_s / params.smoothing_s)
     speed_raw = decay * state.speed_raw + params.speed_std * noise_scale * noise[0]
     shift_raw = decay * state.shift_raw + params.shift_std_rad * noise_scale * noise[1]
-    speed_raw = np.where(enabled, speed_raw, 0.0)
-    shift_raw = np.where(enabled, shift_raw, 0.0)
+    speed_raw = xp.where(enabled, speed_raw, 0.0)
+    shift_raw = xp.where(enabled, shift_raw, 0.0)
     return GustState(
         speed_raw=speed_raw,
         speed=state.speed + lag * (speed_raw - state.speed),
@@ -81,13 +89,13 @@ def gust_step(
 
 
 def wind_vector(
-    mean_speed_mps: np.ndarray, mean_from_rad: np.ndarray, gusts: GustState
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    mean_speed_mps: Array, mean_from_rad: Array, gusts: GustState, xp: Any = np
+) -> tuple[Array, Array, Array, Array]:
     """True wind now: ``(vx, vy, speed, from)``.
 
     ``from`` is where the wind blows from (sailing usage); the vector points where the air
     moves, so it is ``-speed * (cos(from), sin(from))``. Gusts never reverse the wind.
     """
-    speed = mean_speed_mps * np.maximum(1.0 + gusts.speed, 0.0)
+    speed = mean_speed_mps * xp.maximum(1.0 + gusts.speed, 0.0)
     wind_from = mean_from_rad + gusts.shift
-    return -speed * np.cos(wind_from), -speed * np.sin(wind_from), speed, wind_from
+    return -speed * xp.cos(wind_from), -speed * xp.sin(wind_from), speed, wind_from
