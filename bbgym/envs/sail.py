@@ -41,6 +41,8 @@ WIND_SCALE_MPS = 15.0
 BOAT_SPEED_SCALE_MPS = 6.0
 YAW_RATE_SCALE_RPS = 1.5
 HEEL_RATE_SCALE_RPS = 2.0
+# Zoom of the top view: the 4.2 m hull is about 70 px long.
+RENDER_PIXELS_PER_M = 16.0
 
 
 def _check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
@@ -638,25 +640,36 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
         return self._sim.info()
 
     def render(self) -> np.ndarray | None:
-        if self.render_mode is None:
-            gym.logger.warn(
-                "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
-            )
+        renderer = _renderer(self)
+        if renderer is None:
             return None
-        if self._sim.boat is None:
-            raise gym.error.ResetNeeded("Call reset() before render()")
-        if self._renderer is None:
-            from bbgym.render.sail_view import SailRenderer
-
-            self._renderer = SailRenderer(
-                self.render_mode, render_fps=self.metadata["render_fps"] * 4
-            )
-        return self._renderer.render(_scene(self._sim, 0, tuple(self._wake), self._last_action))
+        return renderer.render(_scene(self._sim, 0, tuple(self._wake), self._last_action))
 
     def close(self) -> None:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def _renderer(env: Any) -> Any:
+    """The env's renderer, made on first use (pygame is imported only then); ``None``, with
+    a warning, for an env made without a ``render_mode``."""
+    if env.render_mode is None:
+        gym.logger.warn(
+            "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
+        )
+        return None
+    if env._sim.boat is None:
+        raise gym.error.ResetNeeded("Call reset() before render()")
+    if env._renderer is None:
+        from bbgym.render.sail_view import SailRenderer
+
+        env._renderer = SailRenderer(
+            env.render_mode,
+            pixels_per_meter=RENDER_PIXELS_PER_M,
+            render_fps=env.metadata["render_fps"] * 4,
+        )
+    return env._renderer
 
 
 def _element(obj: Any, i: int) -> Any:
@@ -822,20 +835,12 @@ class BeachballSailVectorEnv(VectorEnv):
 
     def render(self) -> tuple[np.ndarray, ...] | None:
         """Frames of the first (up to 4) sub-envs."""
-        if self.render_mode is None:
-            gym.logger.warn("render() called without a render_mode.")
+        renderer = _renderer(self)
+        if renderer is None:
             return None
-        if self._sim.boat is None:
-            raise gym.error.ResetNeeded("Call reset() before render()")
-        if self._renderer is None:
-            from bbgym.render.sail_view import SailRenderer
-
-            self._renderer = SailRenderer(
-                self.render_mode, render_fps=self.metadata["render_fps"] * 4
-            )
         count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
         frames = tuple(
-            self._renderer.render(_scene(self._sim, i, tuple(self._wakes[i]), self._last_action[i]))
+            renderer.render(_scene(self._sim, i, tuple(self._wakes[i]), self._last_action[i]))
             for i in range(count)
         )
         return None if self.render_mode == "human" else frames
