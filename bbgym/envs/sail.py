@@ -667,7 +667,7 @@ def _renderer(env: Any) -> Any:
         env._renderer = SailRenderer(
             env.render_mode,
             pixels_per_meter=RENDER_PIXELS_PER_M,
-            render_fps=env.metadata["render_fps"] * 4,
+            render_fps=env.metadata["render_fps"],  # real time: one frame per env step
         )
     return env._renderer
 
