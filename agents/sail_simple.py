@@ -28,22 +28,16 @@ import math
 
 import numpy as np
 
+from bbgym.physics.common import wrap_angle
+from bbgym.physics.sailing import DinghyParams
+
 # Observation indices (see the BeachballSail-v0 docstring).
 OBS_AWA_COS, OBS_AWA_SIN = 0, 1
 OBS_TWA_COS, OBS_TWA_SIN = 3, 4
 OBS_SURGE = 6
 OBS_HEEL = 9
-CAPSIZE_HEEL_RAD = math.radians(60.0)
 OBS_MARK_COS, OBS_MARK_SIN = 12, 13
 OBS_SIZE = 16
-
-BOOM_MIN_RAD = math.radians(4.0)
-BOOM_MAX_RAD = math.radians(85.0)
-
-
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    """Wrap angles to [-pi, pi)."""
-    return (angle + np.pi) % (2.0 * np.pi) - np.pi
 
 
 class SimpleSailController:
@@ -63,6 +57,7 @@ class SimpleSailController:
         tie_deg: float = 10.0,
         ease_heel_deg: float = 25.0,
         ease_gain: float = 3.0,
+        dinghy: DinghyParams | None = None,
     ) -> None:
         self.upwind_angle = math.radians(upwind_angle_deg)
         self.downwind_angle = math.radians(downwind_angle_deg)
@@ -71,6 +66,11 @@ class SimpleSailController:
         self.tie = math.radians(tie_deg)
         self.ease_heel = math.radians(ease_heel_deg)
         self.ease_gain = float(ease_gain)
+        # The boat's documented limits (the env's `dinghy` argument): heel is observed as a
+        # fraction of the capsize heel, the sheet maps to the boom's range.
+        dinghy = dinghy or DinghyParams()
+        self.capsize_heel = dinghy.capsize_heel_rad
+        self.boom_min, self.boom_max = dinghy.sheet_min_rad, dinghy.sheet_max_rad
         # Side of the no-go sector per env: +1 / -1, 0 = not chosen yet.
         self._upwind_side = np.zeros(0)
         self._downwind_side = np.zeros(0)
@@ -105,10 +105,10 @@ class SimpleSailController:
         twa = np.arctan2(o[:, OBS_TWA_SIN], o[:, OBS_TWA_COS])
         bearing = np.arctan2(o[:, OBS_MARK_SIN], o[:, OBS_MARK_COS])
         # Angles measured from the direction the true wind comes from (+ = counterclockwise).
-        mark = _wrap(bearing - twa)
-        bow = _wrap(-twa)
-        mark_downwind = _wrap(mark - np.pi)
-        bow_downwind = _wrap(bow - np.pi)
+        mark = wrap_angle(bearing - twa)
+        bow = wrap_angle(-twa)
+        mark_downwind = wrap_angle(mark - np.pi)
+        bow_downwind = wrap_angle(bow - np.pi)
         self._upwind_side = self._choose_side(self._upwind_side, mark, bow, self.upwind_angle)
         self._downwind_side = self._choose_side(
             self._downwind_side, mark_downwind, bow_downwind, self.downwind_angle
@@ -118,7 +118,7 @@ class SimpleSailController:
         downwind = np.abs(mark_downwind) < self.downwind_angle
         target = np.where(upwind, self._upwind_side * self.upwind_angle, target)
         target = np.where(downwind, np.pi + self._downwind_side * self.downwind_angle, target)
-        return _wrap(target + twa)
+        return wrap_angle(target + twa)
 
     def _choose_side(
         self, side: np.ndarray, mark: np.ndarray, bow: np.ndarray, half_width: float
@@ -144,8 +144,8 @@ class SimpleSailController:
 
     def _sheet(self, o: np.ndarray) -> np.ndarray:
         awa = np.abs(np.arctan2(o[:, OBS_AWA_SIN], o[:, OBS_AWA_COS]))
-        heel = np.abs(o[:, OBS_HEEL]) * CAPSIZE_HEEL_RAD
+        heel = np.abs(o[:, OBS_HEEL]) * self.capsize_heel
         # Ease the sheet (spill wind) when the boat heels too far, as a helmsman would.
         ease = self.ease_gain * np.maximum(heel - self.ease_heel, 0.0)
-        boom = np.clip(awa - self.trim_offset + ease, BOOM_MIN_RAD, BOOM_MAX_RAD)
-        return -1.0 + 2.0 * (boom - BOOM_MIN_RAD) / (BOOM_MAX_RAD - BOOM_MIN_RAD)
+        boom = np.clip(awa - self.trim_offset + ease, self.boom_min, self.boom_max)
+        return -1.0 + 2.0 * (boom - self.boom_min) / (self.boom_max - self.boom_min)
