@@ -19,6 +19,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from bbgym.envs.common import check_positive, check_range, element, make_params
 from bbgym.physics import backend
 from bbgym.physics.backend import Array
 from bbgym.physics.common import wrap_angle
@@ -43,45 +44,6 @@ YAW_RATE_SCALE_RPS = 1.5
 HEEL_RATE_SCALE_RPS = 2.0
 # Zoom of the top view: the 4.2 m hull is about 70 px long.
 RENDER_PIXELS_PER_M = 16.0
-
-
-def _check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
-    """Validate a ``(min, max)`` pair of finite numbers above ``low``."""
-    try:
-        lo, hi = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a (min, max) pair of numbers, got {value!r}") from None
-    ok = math.isfinite(lo) and math.isfinite(hi) and lo <= hi
-    ok = ok and (lo > low if strict else lo >= low)
-    if not ok:
-        bound = ">" if strict else ">="
-        raise ValueError(f"{name} must be finite with {bound} {low} and min <= max, got {value!r}")
-    return lo, hi
-
-
-def _check_positive(name: str, value: Any) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-    return v
-
-
-def _make_params(cls: type, name: str, value: Any, **extra: Any) -> Any:
-    """Build a params dataclass from ``None``, an instance or a mapping of field names."""
-    if value is None:
-        value = {}
-    if isinstance(value, cls):
-        return value if not extra else value.replace(**extra)
-    if not isinstance(value, Mapping):
-        raise ValueError(f"{name} must be a mapping of {cls.__name__} fields, got {value!r}")
-    known = {f.name for f in fields(cls)}
-    unknown = sorted(set(value) - known)
-    if unknown:
-        raise ValueError(f"{name} has unknown keys {unknown}; known: {sorted(known)}")
-    return cls(**{**value, **extra})
 
 
 @dataclass
@@ -119,30 +81,30 @@ class SailTask:
         capsize_penalty: float = 10.0,
         time_penalty: float = 0.01,
     ) -> None:
-        self.params = _make_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
-        self.gust_params = _make_params(GustParams, "gust_params", gust_params)
-        self.wind_speed_range = _check_range("wind_speed_range", wind_speed_range)
+        self.params = make_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
+        self.gust_params = make_params(GustParams, "gust_params", gust_params)
+        self.wind_speed_range = check_range("wind_speed_range", wind_speed_range)
         if not isinstance(gusts, (bool, np.bool_)):
             raise ValueError(f"gusts must be a bool, got {gusts!r}")
         self.gusts = bool(gusts)
-        self.mark_distance_range = _check_range("mark_distance_range", mark_distance_range)
-        self.mark_radius = _check_positive("mark_radius", mark_radius)
+        self.mark_distance_range = check_range("mark_distance_range", mark_distance_range)
+        self.mark_radius = check_positive("mark_radius", mark_radius)
         if self.mark_radius >= self.mark_distance_range[0]:
             raise ValueError(
                 f"mark_radius ({mark_radius!r}) must be smaller than the nearest mark distance "
                 f"({self.mark_distance_range[0]!r})"
             )
-        self.initial_speed_range = _check_range(
+        self.initial_speed_range = check_range(
             "initial_speed_range", initial_speed_range, strict=False
         )
-        self.ctrl_dt = _check_positive("ctrl_dt", ctrl_dt)
-        self.sim_dt = _check_positive("sim_dt", sim_dt)
+        self.ctrl_dt = check_positive("ctrl_dt", ctrl_dt)
+        self.sim_dt = check_positive("sim_dt", sim_dt)
         self.n_substeps = round(self.ctrl_dt / self.sim_dt)
         if self.n_substeps < 1 or abs(self.n_substeps * self.sim_dt - self.ctrl_dt) > 1e-9:
             raise ValueError(
                 f"ctrl_dt ({ctrl_dt!r}) must be a whole multiple of sim_dt ({sim_dt!r})"
             )
-        self.progress_weight = _check_positive("progress_weight", progress_weight)
+        self.progress_weight = check_positive("progress_weight", progress_weight)
         for name, value in (
             ("arrival_bonus", arrival_bonus),
             ("capsize_penalty", capsize_penalty),
@@ -374,7 +336,7 @@ class _SailSim:
         idx = np.flatnonzero(mask)
         scenario, boat, gust = self.task.sample([self.rngs[i] for i in idx], options)
         if self.scalar:
-            self.scenario, self.boat, self.gust = (_element(x, 0) for x in (scenario, boat, gust))
+            self.scenario, self.boat, self.gust = (element(x, 0) for x in (scenario, boat, gust))
             self.jibes = self.tacks = 0
             self.max_jibe_severity = self.elapsed = 0.0
         elif self.boat is None or idx.size == self.batch:
@@ -672,11 +634,6 @@ def _renderer(env: Any) -> Any:
     return env._renderer
 
 
-def _element(obj: Any, i: int) -> Any:
-    """Element ``i`` of a batch dataclass, as Python scalars."""
-    return type(obj)(**{f.name: getattr(obj, f.name)[i].item() for f in fields(obj)})
-
-
 def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
     """Drawing description of env ``i`` (the renderer itself does no physics)."""
     from bbgym.render.sail_view import SailScene
@@ -686,7 +643,7 @@ def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
         boat, gust, scenario = sim.boat, sim.gust, sim.scenario
         jibes, tacks, elapsed = sim.jibes, sim.tacks, sim.elapsed
     else:
-        boat, gust, scenario = (_element(x, i) for x in (sim.boat, sim.gust, sim.scenario))
+        boat, gust, scenario = (element(x, i) for x in (sim.boat, sim.gust, sim.scenario))
         jibes, tacks, elapsed = int(sim.jibes[i]), int(sim.tacks[i]), float(sim.elapsed[i])
     p = sim.task.params
     m = sim.task.measure(boat, gust, scenario, xp)

@@ -54,6 +54,7 @@ scalar = SimpleNamespace(
     remainder=operator.mod,  # Python's float % has NumPy's remainder semantics
     logical_not=operator.not_,
     any=bool,
+    all=bool,
     zeros_like=_zeros_like,
 )
 """Namespace of functions on Python floats, with NumPy's names."""

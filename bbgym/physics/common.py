@@ -47,12 +47,13 @@ def split_along(x: Array, y: Array, dir_x: Array, dir_y: Array) -> tuple[Array, 
 
 
 def quadratic_drag(
-    drag_area_m2: float, density_kgm3: float, rel_x: Array, rel_y: Array, xp: Any = np
-) -> tuple[Array, Array]:
+    drag_area_m2: float, density_kgm3: float, *rel: Array, xp: Any = np
+) -> tuple[Array, ...]:
     """Quadratic drag ``F = -1/2 C_d A rho |v| v`` against the relative velocity (seed §8).
 
-    ``drag_area_m2`` is ``C_d * A``; ``rel`` is the body's velocity relative to the fluid;
-    the force opposes it.
+    ``drag_area_m2`` is ``C_d * A``; ``rel`` are the components (2D or 3D) of the body's
+    velocity relative to the fluid; the force opposes it. Returns the force components.
     """
-    k = -0.5 * drag_area_m2 * density_kgm3 * xp.hypot(rel_x, rel_y)
-    return k * rel_x, k * rel_y
+    speed = xp.sqrt(sum(c * c for c in rel))
+    k = -0.5 * drag_area_m2 * density_kgm3 * speed
+    return tuple(k * c for c in rel)

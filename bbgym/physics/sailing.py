@@ -374,7 +374,7 @@ def substep(
     drive, side, normal = sail_force(p, state, aw_u, aw_v, xp)
     hull_along, hull_across = hull_force(p, surge, sway, xp)
     # Windage of hull, mast and crew: the only force that pushes a boat in irons astern.
-    windage_u, windage_v = quadratic_drag(p.windage, AIR_DENSITY_KGM3, -aw_u, -aw_v, xp)
+    windage_u, windage_v = quadratic_drag(p.windage, AIR_DENSITY_KGM3, -aw_u, -aw_v, xp=xp)
     force_u = drive + hull_along + windage_u
     force_v = side + hull_across + windage_v
     down = state.capsized
