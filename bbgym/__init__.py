@@ -17,4 +17,17 @@ if "BeachballSail-v0" not in registry:
         max_episode_steps=SAIL_MAX_EPISODE_STEPS,
     )
 
+THROW_MAX_EPISODE_STEPS = 100
+
+_CURVE = {"screen": True, "target_distance_range": (7.0, 10.0)}
+for _id, _kwargs in (("BeachballThrow-v0", {}), ("BeachballCurve-v0", _CURVE)):
+    if _id not in registry:
+        register(
+            id=_id,
+            entry_point="bbgym.envs.throw:BeachballThrowEnv",
+            vector_entry_point="bbgym.envs.throw:BeachballThrowVectorEnv",
+            max_episode_steps=THROW_MAX_EPISODE_STEPS,
+            kwargs=_kwargs,
+        )
+
 __all__ = ["__version__"]

@@ -1,5 +1,11 @@
 """Gymnasium environments: one module per task, each with its single and vector env."""
 
 from bbgym.envs.sail import BeachballSailEnv, BeachballSailVectorEnv
+from bbgym.envs.throw import BeachballThrowEnv, BeachballThrowVectorEnv
 
-__all__ = ["BeachballSailEnv", "BeachballSailVectorEnv"]
+__all__ = [
+    "BeachballSailEnv",
+    "BeachballSailVectorEnv",
+    "BeachballThrowEnv",
+    "BeachballThrowVectorEnv",
+]

@@ -7,6 +7,8 @@ from collections.abc import Mapping
 from dataclasses import fields, replace
 from typing import Any
 
+import numpy as np
+
 
 def check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
     """Validate a ``(min, max)`` pair of finite numbers above ``low``."""
@@ -51,3 +53,26 @@ def make_params(cls: type, name: str, value: Any, **extra: Any) -> Any:
 def element(obj: Any, i: int) -> Any:
     """Element ``i`` of a batch dataclass, as Python scalars."""
     return type(obj)(**{f.name: getattr(obj, f.name)[i].item() for f in fields(obj)})
+
+
+def vector_seeds(seed: int | list[int | None] | None, num_envs: int) -> list[int | None]:
+    """Per-sub-env seeds: ``seed + i`` for an int (Gymnasium's convention), a list as given,
+    or fresh entropy for ``None``."""
+    if seed is None:
+        return [None] * num_envs
+    if isinstance(seed, (int, np.integer)):
+        return [int(seed) + i for i in range(num_envs)]
+    seeds = list(seed)
+    if len(seeds) != num_envs:
+        raise ValueError(f"seed must have {num_envs} entries, got {len(seeds)}")
+    return seeds
+
+
+def vector_info(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
+    """Gymnasium's vector info layout: every key with a ``_key`` mask (all envs report)."""
+    mask = np.ones(num_envs, dtype=bool)
+    out: dict[str, Any] = {}
+    for key, value in info.items():
+        out[key] = vector_info(value, num_envs) if isinstance(value, dict) else value
+        out[f"_{key}"] = mask
+    return out

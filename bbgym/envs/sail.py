@@ -19,7 +19,14 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from bbgym.envs.common import check_positive, check_range, element, make_params
+from bbgym.envs.common import (
+    check_positive,
+    check_range,
+    element,
+    make_params,
+    vector_info,
+    vector_seeds,
+)
 from bbgym.physics import backend
 from bbgym.physics.backend import Array
 from bbgym.physics.common import wrap_angle
@@ -725,18 +732,11 @@ class BeachballSailVectorEnv(VectorEnv):
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        if seed is None:
-            seeds: list[int | None] = [None] * self.num_envs
-        elif isinstance(seed, (int, np.integer)):
-            seeds = [int(seed) + i for i in range(self.num_envs)]
-        else:
-            seeds = list(seed)
-            if len(seeds) != self.num_envs:
-                raise ValueError(f"seed must have {self.num_envs} entries, got {len(seeds)}")
         if seed is not None or self._sim.boat is None:
+            seeds = vector_seeds(seed, self.num_envs)
             self._sim.seed(seeds)
-        if seed is not None:
-            self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
+            if seed is not None:
+                self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
         self._sim.reset(np.ones(self.num_envs, dtype=bool), options)
         self._steps[:] = 0
         self._autoreset[:] = False
@@ -777,18 +777,7 @@ class BeachballSailVectorEnv(VectorEnv):
         )
 
     def _vector_info(self) -> dict[str, Any]:
-        info = self._sim.info()
-        mask = np.ones(self.num_envs, dtype=bool)
-        out: dict[str, Any] = {}
-        for key, value in info.items():
-            if key == "reward_terms":
-                terms = {k: v.copy() for k, v in value.items()}
-                terms.update({f"_{k}": mask for k in value})
-                out[key] = terms
-            else:
-                out[key] = value
-            out[f"_{key}"] = mask
-        return out
+        return vector_info(self._sim.info(), self.num_envs)
 
     def render(self) -> tuple[np.ndarray, ...] | None:
         """Frames of the first (up to 4) sub-envs."""

@@ -1,5 +1,6 @@
 """Renderers. pygame is imported lazily by the renderers themselves, not here."""
 
 from bbgym.render.sail_view import SailRenderer, SailScene
+from bbgym.render.throw_view import ThrowRenderer, ThrowScene, ThrowScreen
 
-__all__ = ["SailRenderer", "SailScene"]
+__all__ = ["SailRenderer", "SailScene", "ThrowRenderer", "ThrowScene", "ThrowScreen"]

@@ -10,24 +10,27 @@ Conventions (shared with the physics):
 * angles are counterclockwise, radians.
 
 pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
-:class:`SailRenderer` is created, so importing this module never needs it.
+:class:`SailRenderer` is created (see :mod:`bbgym.render.base`), so importing this module never
+needs it.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
-import numpy as np
-from gymnasium.error import DependencyNotInstalled
-
-Vec2 = tuple[float, float]
-Color = tuple[int, int, int]
-
-RENDER_MODES = ("human", "rgb_array")
+from bbgym.render.base import FAR_AWAY_PX as FAR_AWAY_PX  # re-exported: was defined here
+from bbgym.render.base import FONT_SIZE_PX as FONT_SIZE_PX
+from bbgym.render.base import RENDER_MODES as RENDER_MODES
+from bbgym.render.base import (
+    Color,
+    PygameRenderer,
+    Vec2,
+    blend,
+    check_render_mode,
+    clamp_px,
+)
 
 MPS_TO_KNOTS = 1.943844
 
@@ -81,8 +84,6 @@ WIND_ARROW_CENTER_FROM_CORNER_PX = 52
 WIND_ARROW_PX_PER_MPS = 6.0
 WIND_ARROW_MIN_PX = 12.0
 WIND_ARROW_MAX_PX = 64.0
-FONT_SIZE_PX = 18
-FAR_AWAY_PX = 1.0e5  # coordinates beyond this are clamped before drawing (pygame needs ints)
 
 # Hull outline in units of (length, beam), from the bow along the port side to the stern.
 # The starboard side is the mirror image.
@@ -242,40 +243,17 @@ def edge_arrow_tip(
     return (cx + ux * scale, cy + uy * scale), (ux, uy)
 
 
-def _blend(a: Color, b: Color, t: float) -> Color:
-    """Linear colour mix: t=0 gives a, t=1 gives b."""
-    t = min(max(t, 0.0), 1.0)
-    return (
-        round(a[0] + (b[0] - a[0]) * t),
-        round(a[1] + (b[1] - a[1]) * t),
-        round(a[2] + (b[2] - a[2]) * t),
-    )
-
-
-def _clamp_px(p: Vec2) -> Vec2:
-    return (
-        min(max(p[0], -FAR_AWAY_PX), FAR_AWAY_PX),
-        min(max(p[1], -FAR_AWAY_PX), FAR_AWAY_PX),
-    )
-
-
-def _import_pygame() -> Any:
-    """Import pygame on demand, so the package works without the render extra."""
-    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-    try:
-        import pygame
-    except ImportError as err:
-        raise DependencyNotInstalled(
-            'pygame is not installed, run `pip install "bbgym[render]"`'
-        ) from err
-    return pygame
-
-
 # --- renderer --------------------------------------------------------------------------------
 
 
-class SailRenderer:
-    """Draws :class:`SailScene` frames, either into a window or into an RGB array."""
+class SailRenderer(PygameRenderer[SailScene]):
+    """Draws :class:`SailScene` frames, either into a window or into an RGB array.
+
+    ``render(scene)`` returns a (height, width, 3) uint8 array in ``rgb_array`` mode and None in
+    ``human`` mode; ``close()`` closes the window. Both come from :class:`PygameRenderer`.
+    """
+
+    caption = "bbgym sailing"
 
     def __init__(
         self,
@@ -285,65 +263,12 @@ class SailRenderer:
         pixels_per_meter: float = 12.0,
         render_fps: int = 30,
     ) -> None:
-        if render_mode not in RENDER_MODES:
-            raise ValueError(
-                f"render_mode must be one of {RENDER_MODES}, got render_mode={render_mode!r}"
-            )
+        # Checked here too (not only in the base) so the error order and message stay as before.
+        check_render_mode(render_mode)
         if width <= 0 or height <= 0 or pixels_per_meter <= 0:
             raise ValueError("width, height and pixels_per_meter must be positive")
-        self.render_mode = render_mode
-        self.width = int(width)
-        self.height = int(height)
+        super().__init__(render_mode, width, height, render_fps)
         self.pixels_per_meter = float(pixels_per_meter)
-        self.render_fps = int(render_fps)
-        self._pg = _import_pygame()
-        self._surface: Any = None
-        self._font: Any = None
-        self._window: Any = None
-        self._clock: Any = None
-
-    # -- public API ----------------------------------------------------------------------------
-
-    def render(self, scene: SailScene) -> np.ndarray | None:
-        """Draw one frame. rgb_array: returns (height, width, 3) uint8; human: returns None."""
-        self._ensure_ready()
-        self._draw_scene(scene)
-        pg = self._pg
-        if self.render_mode == "rgb_array":
-            # surfarray is indexed (x, y); images are (row, column).
-            pixels = pg.surfarray.array3d(self._surface)
-            return np.ascontiguousarray(np.transpose(pixels, (1, 0, 2)), dtype=np.uint8)
-        self._window.blit(self._surface, (0, 0))
-        pg.event.pump()  # keeps the window responsive
-        pg.display.flip()
-        self._clock.tick(self.render_fps)
-        return None
-
-    def close(self) -> None:
-        """Close the window (human mode) and drop the drawing resources."""
-        if self._window is not None:
-            self._pg.display.quit()
-        self._window = None
-        self._clock = None
-        self._surface = None
-        self._font = None
-
-    # -- set-up --------------------------------------------------------------------------------
-
-    def _ensure_ready(self) -> None:
-        pg = self._pg
-        size = (self.width, self.height)
-        if self.render_mode == "human" and self._window is None:
-            pg.display.init()
-            self._window = pg.display.set_mode(size)
-            pg.display.set_caption("bbgym sailing")
-            self._clock = pg.time.Clock()
-        if self._surface is None:
-            # Draw off-screen in both modes; human mode blits it to the window.
-            self._surface = pg.Surface(size)
-        if self._font is None:
-            pg.font.init()  # works headless, no display needed
-            self._font = pg.font.Font(None, FONT_SIZE_PX)
 
     # -- coordinate helpers --------------------------------------------------------------------
 
@@ -399,11 +324,11 @@ class SailRenderer:
         points = [*scene.wake_m, scene.position_m]
         if len(points) < 2:
             return
-        screen = [_clamp_px(self._to_screen(scene, p)) for p in points]
+        screen = [clamp_px(self._to_screen(scene, p)) for p in points]
         n = len(screen) - 1
         for k in range(n):
             # k=0 is the oldest segment: nearly water coloured.
-            color = _blend(WATER_COLOR, WAKE_COLOR, (k + 1) / n)
+            color = blend(WATER_COLOR, WAKE_COLOR, (k + 1) / n)
             self._pg.draw.line(self._surface, color, screen[k], screen[k + 1], 2)
 
     def _draw_mark(self, scene: SailScene) -> None:
@@ -482,7 +407,7 @@ class SailRenderer:
             bow, stern = (scene.hull_length_m / 2, 0.0), (-scene.hull_length_m / 2, 0.0)
             half = [bow, *side_pts, stern] if down > 0 else [stern, *side_pts, bow]
             strength = min(abs(scene.heel_rad) / (math.pi / 4), 1.0)
-            shade = _blend(fill, HULL_SHADE_COLOR, 0.25 + 0.75 * strength)
+            shade = blend(fill, HULL_SHADE_COLOR, 0.25 + 0.75 * strength)
             pg.draw.polygon(self._surface, shade, self._body_points(scene, half))
         pg.draw.polygon(self._surface, HULL_OUTLINE_COLOR, outline, 1)
         return beam
@@ -668,10 +593,4 @@ class SailRenderer:
         ]
         if scene.capsized:
             lines.append(("CAPSIZED", WARN_TEXT_COLOR))
-        rendered = [self._font.render(text, True, color) for text, color in lines]
-        line_h = self._font.get_linesize()
-        panel_w = max(r.get_width() for r in rendered) + 12
-        panel_h = line_h * len(rendered) + 8
-        self._pg.draw.rect(self._surface, PANEL_COLOR, (4, 4, panel_w, panel_h))
-        for k, img in enumerate(rendered):
-            self._surface.blit(img, (10, 8 + k * line_h))
+        self._draw_text_panel(lines, (4, 4), PANEL_COLOR)

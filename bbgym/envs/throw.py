@@ -1,0 +1,782 @@
+"""BeachballThrow-v0 and BeachballCurve-v0: throw a beach ball through wind into a ring.
+
+Each env step is one throw, simulated until the ball rests, leaves the field or time runs
+out. The task code (:class:`ThrowTask`) is batched; the single env runs it on Python
+floats, the native vector env on NumPy arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from bbgym.envs.common import (
+    check_positive,
+    check_range,
+    element,
+    make_params,
+    vector_info,
+    vector_seeds,
+)
+from bbgym.physics import backend
+from bbgym.physics.ball import BallParams, Screen, ball_at, simulate_throw
+from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
+
+RESET_OPTIONS = ("wind", "target", "gusts", "screen")
+OBS_SIZE = 19
+DISTANCE_SCALE_M = 10.0
+WIND_SCALE_MPS = 5.0
+BALL_GUSTS = GustParams(speed_std=0.25, shift_std_rad=math.radians(15.0), time_constant_s=10.0,
+                        smoothing_s=2.0)  # fmt: skip
+"""Gusts near the ground: stronger and quicker than on open water."""
+
+
+@dataclass
+class ThrowScenario:
+    """Per env (arrays ``(batch,)`` or floats): target, mean wind, screen, gusts."""
+
+    target_x: Any
+    target_y: Any
+    wind_speed: Any
+    wind_from: Any
+    gusts: Any
+    screen: Any
+
+
+class ThrowTask:
+    """The throwing task over a batch; see :class:`BeachballThrowEnv` for the arguments."""
+
+    def __init__(
+        self,
+        ball: Mapping[str, Any] | BallParams | None = None,
+        throws_per_episode: int = 3,
+        target_distance_range: tuple[float, float] = (3.0, 10.0),
+        target_bearing_range: tuple[float, float] = (-math.pi / 4, math.pi / 4),
+        target_radius: float = 0.75,
+        wind_speed_range: tuple[float, float] = (0.0, 3.0),
+        gusts: bool = True,
+        gust_params: Mapping[str, float] | GustParams | None = None,
+        throw_interval: float = 5.0,
+        windsock_noise: float = 0.3,
+        max_speed: float = 18.0,
+        max_spin: float = 60.0,
+        launch_height: float = 1.5,
+        screen: bool = False,
+        screen_height: float = 8.0,
+        screen_half_width: float = 1.0,
+        screen_position: float = 0.5,
+        sim_dt: float = 0.01,
+        max_flight_time: float = 6.0,
+        field_radius: float = 30.0,
+        miss_scale: float = 2.0,
+        hit_bonus: float = 5.0,
+    ) -> None:
+        self.ball = make_params(BallParams, "ball", ball)
+        if not isinstance(throws_per_episode, (int, np.integer)) or throws_per_episode < 1:
+            raise ValueError(f"throws_per_episode must be an int >= 1, got {throws_per_episode!r}")
+        self.throws_per_episode = int(throws_per_episode)
+        self.target_distance_range = check_range("target_distance_range", target_distance_range)
+        lo, hi = (float(v) for v in target_bearing_range)
+        if not (-math.pi <= lo <= hi <= math.pi):
+            raise ValueError(
+                f"target_bearing_range must lie in [-pi, pi] with min <= max, "
+                f"got {target_bearing_range!r}"
+            )
+        self.target_bearing_range = (lo, hi)
+        self.target_radius = check_positive("target_radius", target_radius)
+        self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, strict=False)
+        for name, flag in (("gusts", gusts), ("screen", screen)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise ValueError(f"{name} must be a bool, got {flag!r}")
+        self.gusts, self.screen = bool(gusts), bool(screen)
+        self.gust_params = (
+            BALL_GUSTS
+            if gust_params is None
+            else make_params(GustParams, "gust_params", gust_params)
+        )
+        self.throw_interval = check_positive("throw_interval", throw_interval)
+        self.windsock_noise = float(windsock_noise)
+        if not math.isfinite(self.windsock_noise) or self.windsock_noise < 0:
+            raise ValueError(f"windsock_noise must be finite and >= 0, got {windsock_noise!r}")
+        self.max_speed = check_positive("max_speed", max_speed)
+        self.max_spin = check_positive("max_spin", max_spin)
+        self.launch_height = check_positive("launch_height", launch_height)
+        self.screen_height = check_positive("screen_height", screen_height)
+        self.screen_half_width = check_positive("screen_half_width", screen_half_width)
+        self.screen_position = check_positive("screen_position", screen_position)
+        if self.screen_position >= 1.0:
+            raise ValueError(f"screen_position must be in (0, 1), got {screen_position!r}")
+        self.sim_dt = check_positive("sim_dt", sim_dt)
+        self.max_flight_time = check_positive("max_flight_time", max_flight_time)
+        if self.max_flight_time < 10 * self.sim_dt:
+            raise ValueError(f"max_flight_time must be >= 10 sim_dt, got {max_flight_time!r}")
+        self.field_radius = check_positive("field_radius", field_radius)
+        if self.field_radius <= self.target_distance_range[1] + self.target_radius:
+            raise ValueError(f"field_radius must exceed the farthest target, got {field_radius!r}")
+        self.miss_scale = check_positive("miss_scale", miss_scale)
+        self.hit_bonus = float(hit_bonus)
+        if not math.isfinite(self.hit_bonus) or self.hit_bonus < 0:
+            raise ValueError(f"hit_bonus must be finite and >= 0, got {hit_bonus!r}")
+
+        self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
+        self.reward_range = (0.0, 1.0 + self.hit_bonus)
+
+    # -- scenario ---------------------------------------------------------------------------
+    def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
+        """Validate ``reset`` options; unknown keys and non-physical values raise."""
+        if options is None:
+            return {}
+        if not isinstance(options, Mapping):
+            raise ValueError(f"options must be a dict, got {options!r}")
+        unknown = sorted(set(options) - set(RESET_OPTIONS))
+        if unknown:
+            raise ValueError(f"unknown reset options {unknown}; known: {list(RESET_OPTIONS)}")
+        checked: dict[str, Any] = {}
+        for key, value in options.items():
+            if key in ("gusts", "screen"):
+                if not isinstance(value, (bool, np.bool_)):
+                    raise ValueError(f"options[{key!r}] must be a bool, got {value!r}")
+                checked[key] = bool(value)
+                continue
+            try:
+                pair = tuple(float(v) for v in value)
+            except (TypeError, ValueError):
+                pair = ()
+            if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
+                raise ValueError(f"options[{key!r}] must be a finite (x, y) pair, got {value!r}")
+            if key == "target" and math.hypot(*pair) <= self.target_radius:
+                raise ValueError(f"options['target'] {value!r} lies within the ring's radius")
+            checked[key] = pair
+        return checked
+
+    def sample(
+        self, rngs: list[np.random.Generator], options: Mapping[str, Any] | None
+    ) -> tuple[ThrowScenario, GustState]:
+        """Draw target, wind and gust state for each generator."""
+        options = self.check_options(options)
+        batch = len(rngs)
+        draws = np.array([rng.random(4) for rng in rngs]).T
+        noise = np.array([rng.standard_normal(2) for rng in rngs]).T
+        if "target" in options:
+            target_x, target_y = options["target"]
+        else:
+            d_lo, d_hi = self.target_distance_range
+            b_lo, b_hi = self.target_bearing_range
+            distance = d_lo + (d_hi - d_lo) * draws[0]
+            bearing = b_lo + (b_hi - b_lo) * draws[1]
+            target_x, target_y = distance * np.cos(bearing), distance * np.sin(bearing)
+        if "wind" in options:
+            wx, wy = options["wind"]
+            wind_speed, wind_from = math.hypot(wx, wy), math.atan2(-wy, -wx)
+        else:
+            w_lo, w_hi = self.wind_speed_range
+            wind_speed = w_lo + (w_hi - w_lo) * draws[2]
+            wind_from = 2.0 * math.pi * draws[3]
+
+        def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
+            return np.broadcast_to(np.asarray(value, dtype=dtype), (batch,)).copy()
+
+        scenario = ThrowScenario(
+            target_x=full(target_x),
+            target_y=full(target_y),
+            wind_speed=full(wind_speed),
+            wind_from=full(wind_from),
+            gusts=full(options.get("gusts", self.gusts), bool),
+            screen=full(options.get("screen", self.screen), bool),
+        )
+        return scenario, gust_init(self.gust_params, noise, scenario.gusts)
+
+    def screen_geometry(self, scenario: ThrowScenario, xp: Any = np) -> Screen:
+        """The screen stands across the line to the target at ``screen_position`` of it."""
+        distance = xp.sqrt(scenario.target_x**2 + scenario.target_y**2)
+        ux, uy = scenario.target_x / distance, scenario.target_y / distance
+        return Screen(
+            center_x=self.screen_position * scenario.target_x,
+            center_y=self.screen_position * scenario.target_y,
+            along_x=-uy,
+            along_y=ux,
+            half_width_m=self.screen_half_width,
+            height_m=self.screen_height,
+            enabled=scenario.screen,
+        )
+
+    # -- dynamics ---------------------------------------------------------------------------
+    def check_action(self, action: Any, batch: int) -> np.ndarray:
+        """Actions as float64 ``(6,)`` or ``(batch, 6)``, clipped to [-1, 1]."""
+        try:
+            a = np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"action must be numeric, got {action!r}") from None
+        expected = (6,) if batch == 0 else (batch, 6)
+        if a.shape != expected:
+            raise ValueError(f"action must have shape {expected}, got {a.shape}")
+        if not np.isfinite(a).all():
+            raise ValueError(f"action must be finite, got {action!r}")
+        return np.clip(a, -1.0, 1.0)
+
+    def launch(self, action: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Launch velocity and spin ``(..., 3)`` from actions: scaled, norms clipped."""
+
+        def scaled(a: np.ndarray, limit: float) -> np.ndarray:
+            v = a * limit
+            norm = np.sqrt((v * v).sum(axis=-1, keepdims=True))
+            return v * np.minimum(1.0, limit / np.maximum(norm, 1e-12))
+
+        return scaled(action[..., :3], self.max_speed), scaled(action[..., 3:], self.max_spin)
+
+    def throw(
+        self,
+        velocity: np.ndarray,
+        spin: np.ndarray,
+        scenario: ThrowScenario,
+        gust: GustState,
+        xp: Any = np,
+    ) -> tuple[Any, Any, Any]:
+        """Simulate one throw per env; returns ``(result, wind_x, wind_y)``."""
+        wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
+        if xp is np:
+            v, w = velocity.T, spin.T
+            zero = np.zeros(velocity.shape[0])
+        else:
+            v, w = (float(c) for c in velocity), (float(c) for c in spin)
+            zero = 0.0
+        start = ball_at(zero, zero, zero + self.launch_height, *v, *w)
+        screen = self.screen_geometry(scenario, xp) if xp.any(scenario.screen) else None
+        result = simulate_throw(
+            self.ball, start, wind_x, wind_y, screen, self.sim_dt, self.max_flight_time,
+            self.field_radius, xp=xp,
+        )  # fmt: skip
+        return result, wind_x, wind_y
+
+    def score(self, result: Any, scenario: ThrowScenario, xp: Any = np) -> tuple[Any, Any, dict]:
+        """Miss distance, hit (first touchdown inside the ring), and reward terms."""
+        dx = result.landing_x - scenario.target_x
+        dy = result.landing_y - scenario.target_y
+        miss = xp.sqrt(dx * dx + dy * dy)
+        hit = miss <= self.target_radius
+        terms = {"closeness": xp.exp(-miss / self.miss_scale), "hit": self.hit_bonus * hit}
+        return miss, hit, terms
+
+    def windsock(self, scenario: ThrowScenario, gust: GustState, noise: Any, xp: Any = np) -> Any:
+        """What the windsock shows: the wind now plus reading noise."""
+        wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
+        return wind_x + self.windsock_noise * noise[0], wind_y + self.windsock_noise * noise[1]
+
+
+class _ThrowSim:
+    """Task state over a batch (NumPy) or for one env (Python floats), with per-env random
+    streams, the last throw's results and episode counters."""
+
+    def __init__(self, task: ThrowTask, batch: int, scalar: bool = False) -> None:
+        self.task = task
+        self.batch = batch
+        self.scalar = scalar
+        self.xp = backend.scalar if scalar else np
+        self.rngs = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.scenario: ThrowScenario | None = None
+
+    def seed(self, seeds: list[int | None]) -> None:
+        for i, s in enumerate(seeds):
+            self.rngs[i] = seeding.np_random(s)[0]
+
+    def _normals(self, mask: np.ndarray) -> np.ndarray:
+        """Two standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``."""
+        noise = np.zeros((2, self.batch))
+        for i in np.flatnonzero(mask):
+            noise[:, i] = self.rngs[i].standard_normal(2)
+        return noise
+
+    def _pick(self, noise: np.ndarray) -> Any:
+        return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
+
+    def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
+        idx = np.flatnonzero(mask)
+        scenario, gust = self.task.sample([self.rngs[i] for i in idx], options)
+        sock = self._normals(mask)
+        n = self.batch
+        if self.scalar:
+            self.scenario, self.gust = element(scenario, 0), element(gust, 0)
+            self.throws_left = self.task.throws_per_episode
+            self.last = _empty_throw(0)
+            self.last_action = np.zeros(6)
+        elif self.scenario is None or idx.size == n:
+            self.scenario, self.gust = scenario, gust
+            self.throws_left = np.full(n, self.task.throws_per_episode)
+            self.last = _empty_throw(n)
+            self.last_action = np.zeros((n, 6))
+        else:
+            for old, new in ((self.scenario, scenario), (self.gust, gust)):
+                for f in fields(old):
+                    getattr(old, f.name)[idx] = getattr(new, f.name)
+            self.throws_left[idx] = self.task.throws_per_episode
+            for key, value in _empty_throw(idx.size).items():
+                if key == "reward_terms":
+                    for term, zeros in value.items():
+                        self.last[key][term][idx] = zeros
+                else:
+                    self.last[key][idx] = value
+            self.last_action[idx] = 0.0
+        self.sock = self.task.windsock(self.scenario, self.gust, self._pick(sock), self.xp)
+
+    def step(self, action: np.ndarray, active: np.ndarray | None = None) -> tuple[Any, Any]:
+        """One throw per env; returns ``(reward, terminated)``."""
+        task, xp = self.task, self.xp
+        velocity, spin = task.launch(action)
+        result, wind_x, wind_y = task.throw(velocity, spin, self.scenario, self.gust, xp)
+        miss, hit, terms = task.score(result, self.scenario, xp)
+        active = np.ones(self.batch, dtype=bool) if active is None else active
+        gust_noise = self._normals(active & np.atleast_1d(self.scenario.gusts))
+        sock_noise = self._normals(active)
+        self.gust = gust_step(
+            self.gust, task.gust_params, task.throw_interval, self._pick(gust_noise),
+            self.scenario.gusts, xp,
+        )  # fmt: skip
+        self.sock = task.windsock(self.scenario, self.gust, self._pick(sock_noise), xp)
+        self.throws_left = self.throws_left - 1
+        self.last_action = action.copy()
+        self.last = _throw_record(result, miss, hit, terms, wind_x, wind_y, self.scalar)
+        reward = terms["closeness"] + terms["hit"]
+        return reward, hit | (self.throws_left <= 0)
+
+    def observation(self) -> np.ndarray:
+        task, sc, last = self.task, self.scenario, self.last
+        screen = task.screen_geometry(sc, self.xp)
+        thrown = np.asarray(last["thrown"], dtype=np.float64)
+        d = DISTANCE_SCALE_M
+        columns = [
+            np.asarray(sc.target_x) / d,
+            np.asarray(sc.target_y) / d,
+            np.asarray(self.sock[0]) / WIND_SCALE_MPS,
+            np.asarray(self.sock[1]) / WIND_SCALE_MPS,
+            thrown * (np.asarray(last["landing_point"])[..., 0] - sc.target_x) / d,
+            thrown * (np.asarray(last["landing_point"])[..., 1] - sc.target_y) / d,
+            np.asarray(self.throws_left) / task.throws_per_episode,
+            thrown,
+        ]
+        columns += [self.last_action[..., k] for k in range(6)]
+        on = np.asarray(sc.screen, dtype=np.float64)
+        columns += [
+            on,
+            on * np.asarray(screen.center_x) / d,
+            on * np.asarray(screen.center_y) / d,
+            on * task.screen_height / d,
+            on * task.screen_half_width / d,
+        ]
+        stacked = np.stack(columns, axis=-1)
+        return np.clip(stacked, -1.0, 1.0).astype(np.float32)
+
+    def info(self) -> dict[str, Any]:
+        info = dict(self.last)
+        info["throws_left"] = self.throws_left
+        info["target"] = _pair(self.scenario.target_x, self.scenario.target_y, self.scalar)
+        info["windsock"] = _pair(self.sock[0], self.sock[1], self.scalar)
+        return info
+
+
+def _pair(x: Any, y: Any, scalar: bool) -> np.ndarray:
+    return np.array([x, y]) if scalar else np.stack([x, y], axis=1)
+
+
+def _empty_throw(n: int) -> dict[str, Any]:
+    """The ``last`` record before any throw: for a batch of ``n``, or for one env (``n=0``:
+    Python scalars, as after a throw)."""
+    if n == 0:
+        record: dict[str, Any] = {}
+        for key, value in _empty_throw(1).items():
+            if key == "reward_terms":
+                record[key] = {k: 0.0 for k in value}
+            elif value.dtype == object or value.ndim == 2:
+                record[key] = value[0]
+            else:
+                record[key] = value[0].item()
+        return record
+    empty = {
+        "thrown": np.zeros(n, dtype=bool),
+        "landing_point": np.zeros((n, 2)),
+        "miss_distance": np.zeros(n),
+        "flight_time": np.zeros(n),
+        "apex_height": np.zeros(n),
+        "spin_parameter": np.zeros(n),
+        "hit_screen": np.zeros(n, dtype=bool),
+        "wind": np.zeros((n, 2)),
+        "is_success": np.zeros(n, dtype=bool),
+        "reward_terms": {"closeness": np.zeros(n), "hit": np.zeros(n)},
+        "trajectory": np.empty(n, dtype=object),
+        "orientations": np.empty(n, dtype=object),
+    }
+    for i in range(n):
+        empty["trajectory"][i] = np.zeros((0, 3))
+        empty["orientations"][i] = np.zeros((0, 4))
+    return empty
+
+
+def _throw_record(
+    result: Any, miss: Any, hit: Any, terms: dict, wind_x: Any, wind_y: Any, scalar: bool
+) -> dict[str, Any]:
+    """What the info reports about a throw (Python scalars for one env, arrays for a batch)."""
+    positions = np.array([(s.x, s.y, s.z) for s in result.trajectory], dtype=np.float64)
+    quats = np.array([(s.qw, s.qx, s.qy, s.qz) for s in result.trajectory], dtype=np.float64)
+    if scalar:
+        k = int(result.steps)
+        return {
+            "thrown": True,
+            "landing_point": np.array([result.landing_x, result.landing_y]),
+            "miss_distance": float(miss),
+            "flight_time": float(result.flight_time_s),
+            "apex_height": float(result.apex_height_m),
+            "spin_parameter": float(result.spin_parameter),
+            "hit_screen": bool(result.hit_screen),
+            "wind": np.array([wind_x, wind_y]),
+            "is_success": bool(hit),
+            "reward_terms": {key: float(v) for key, v in terms.items()},
+            "trajectory": positions[:k],
+            "orientations": quats[:k],
+        }
+    n = miss.shape[0]
+    trajectory = np.empty(n, dtype=object)
+    orientations = np.empty(n, dtype=object)
+    for i in range(n):
+        k = int(result.steps[i])
+        trajectory[i] = positions[:k, :, i]
+        orientations[i] = quats[:k, :, i]
+    return {
+        "thrown": np.ones(n, dtype=bool),
+        "landing_point": np.stack([result.landing_x, result.landing_y], axis=1),
+        "miss_distance": miss,
+        "flight_time": result.flight_time_s,
+        "apex_height": result.apex_height_m,
+        "spin_parameter": result.spin_parameter,
+        "hit_screen": result.hit_screen,
+        "wind": np.stack([wind_x, wind_y], axis=1),
+        "is_success": hit,
+        "reward_terms": {key: np.asarray(v, dtype=np.float64) for key, v in terms.items()},
+        "trajectory": trajectory,
+        "orientations": orientations,
+    }
+
+
+_DOC_ARGS = """
+    ## Arguments
+
+    Keyword arguments of ``gym.make("BeachballThrow-v0", ...)`` and ``gym.make_vec``; the
+    defaults are the preset in ``configs/beachball_throw.yaml`` (``BeachballCurve-v0``:
+    ``screen=True``).
+
+    | argument | default | meaning |
+    |---|---|---|
+    | `render_mode` | `None` | `"rgb_array"` or `"human"` |
+    | `ball` | `None` | mapping of `BallParams` fields (radius, shell density, C_d, ...) |
+    | `throws_per_episode` | `3` | throws at the same target in the same wind |
+    | `target_distance_range` | `(3.0, 10.0)` | m from the thrower |
+    | `target_bearing_range` | `(-pi/4, pi/4)` | rad, counterclockwise from +x |
+    | `target_radius` | `0.75` | ring radius, m |
+    | `wind_speed_range` | `(0.0, 3.0)` | mean wind speed, m/s, from any direction |
+    | `gusts`, `gust_params` | `True`, `None` | gusts and shifts (`GustParams` fields) |
+    | `throw_interval` | `5.0` | s of gusts between two throws |
+    | `windsock_noise` | `0.3` | std of the windsock reading per component, m/s |
+    | `max_speed` | `18.0` | launch speed at full impulse, m/s (norm clipped) |
+    | `max_spin` | `60.0` | spin at full action, rad/s (norm clipped) |
+    | `launch_height` | `1.5` | m |
+    | `screen` | `False` | a screen between thrower and target |
+    | `screen_height`, `screen_half_width` | `8.0`, `1.0` | m |
+    | `screen_position` | `0.5` | fraction of the target distance |
+    | `sim_dt`, `max_flight_time` | `0.01`, `6.0` | s |
+    | `field_radius` | `30.0` | m; a ball beyond it is out |
+    | `miss_scale`, `hit_bonus` | `2.0`, `5.0` | reward shape |
+
+    A non-physical value raises ``ValueError`` naming the argument.
+"""
+
+
+class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
+    """Throw a beach ball through a gusty wind into a ring on the ground.
+
+    ## Description
+
+    A thrower stands at the origin; a target ring lies on the ground 3-10 m away within
+    45 deg of +x. A wind blows from any direction at up to 3 m/s with gusts and shifts. An
+    episode is a few throws (3) at the same target; each step is one throw of a 40 cm,
+    250 g beach ball, simulated (drag, Magnus force from the spin, bounces, rolling) until
+    it rests, leaves the field or 6 s pass. The agent sees where each throw landed before
+    the next, so it can correct for a wind it only senses through a noisy windsock. A
+    spinning ball curves: backspin carries it, topspin drops it, side spin bends it.
+
+    With `screen=True` a screen 8 m high and 2 m wide stands across the line halfway to the
+    target: too tall to lob over, so only a ball curved around it with side spin can reach
+    the ring. `BeachballCurve-v0` is this with targets 7-10 m away (nearer ones leave too
+    little room to curve round the screen).
+
+    World frame: x east, y north, z up, metres.
+
+    ## Action Space
+
+    `Box(-1, 1, (6,), float32)`; NaN/inf raise, values beyond [-1, 1] are clipped.
+
+    | Num | Action | Physical |
+    |-----|--------|----------|
+    | 0-2 | launch impulse x, y, z | x `max_speed` (18 m/s) as launch velocity; norm clipped to it |
+    | 3-5 | spin x, y, z | x `max_spin` (60 rad/s), world frame; norm clipped to it |
+
+    Spin about +y on a throw toward +x is topspin; about -y backspin; about +z it curves
+    the ball to the left (+y).
+
+    ## Observation Space
+
+    `Box(-1, 1, (19,), float32)`; each value is clipped to [-1, 1].
+
+    | Num | Observation | Scale |
+    |-----|-------------|-------|
+    | 0-1 | target position x, y | / 10 m |
+    | 2-3 | windsock reading x, y (where the air moves, noisy) | / 5 m/s |
+    | 4-5 | last landing point relative to the target (0 before the first throw) | / 10 m |
+    | 6 | throws left | / throws per episode |
+    | 7 | 1 after the first throw, else 0 | - |
+    | 8-13 | last action | - |
+    | 14 | 1 if a screen stands, else 0 | - |
+    | 15-16 | screen centre x, y (0 without screen) | / 10 m |
+    | 17 | screen height (0 without screen) | / 10 m |
+    | 18 | screen half width (0 without screen) | / 10 m |
+
+    ## Rewards
+
+    Per throw, in [0, 6]: `closeness` = `exp(-miss / 2 m)` for the first touchdown's
+    distance from the ring's centre, plus `hit` = 5 when it lands inside the ring (radius
+    0.75 m). Terms in `info["reward_terms"]`.
+
+    ## Starting State
+
+    Target distance uniform in 3-10 m, bearing uniform in +-45 deg; mean wind uniform in
+    0-3 m/s from a uniform direction; gusts start from their stationary distribution.
+    `reset(options=...)` pins `wind` ((x, y) mean wind vector, m/s, where the air moves),
+    `target` ((x, y) m), `gusts` (bool), `screen` (bool). Unknown keys raise `ValueError`.
+
+    ## Episode End
+
+    Terminated after a hit (`info["is_success"]`) or the last throw. Registered with
+    `max_episode_steps=100`, which the default 3 throws never reach.
+    {args}
+    ## Info
+
+    `landing_point` (first touchdown x, y), `miss_distance`, `flight_time` (to the first
+    touchdown), `apex_height`, `spin_parameter` (`S = r omega / v` at launch),
+    `trajectory` (`(K, 3)` positions every 0.05 s), `orientations` (`(K, 4)` quaternions),
+    `hit_screen`, `wind` (the wind during the throw), `windsock`, `target`, `throws_left`,
+    `is_success`, `reward_terms`.
+
+    ## Version History
+
+    * v0: Initial version.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.task = ThrowTask(**kwargs)
+        self.render_mode = render_mode
+        self.action_space = self.task.action_space
+        self.observation_space = self.task.observation_space
+        self._sim = _ThrowSim(self.task, 1, scalar=True)
+        self._renderer = None
+        self._landings: list[tuple[float, float]] = []
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self._sim.rngs[0] = self.np_random
+        self._sim.reset(np.ones(1, dtype=bool), options)
+        self._landings = []
+        if self.render_mode == "human":
+            self.render()
+        return self._sim.observation(), self._sim.info()
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if self._sim.scenario is None:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(action, 0)
+        reward, terminated = self._sim.step(a)
+        if self.render_mode == "human":
+            self.render()
+        self._landings.append(tuple(self._sim.last["landing_point"]))
+        return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
+
+    def render(self) -> np.ndarray | None:
+        renderer = _renderer(self)
+        if renderer is None:
+            return None
+        return renderer.render(_scene(self._sim, 0, tuple(self._landings[:-1])))
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+def _renderer(env: Any) -> Any:
+    """The env's renderer, made on first use; ``None`` (with a warning) without a mode."""
+    if env.render_mode is None:
+        gym.logger.warn(
+            "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
+        )
+        return None
+    if env._sim.scenario is None:
+        raise gym.error.ResetNeeded("Call reset() before render()")
+    if env._renderer is None:
+        from bbgym.render.throw_view import ThrowRenderer
+
+        env._renderer = ThrowRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
+    return env._renderer
+
+
+def _scene(sim: _ThrowSim, i: int, previous: tuple) -> Any:
+    """Drawing description of env ``i``'s latest throw (no physics in the renderer)."""
+    from bbgym.render.throw_view import ThrowScene, ThrowScreen
+
+    task = sim.task
+    if sim.scalar:
+        scenario, gust, last = sim.scenario, sim.gust, sim.last
+        sock, throws_left = sim.sock, sim.throws_left
+    else:
+        scenario, gust = element(sim.scenario, i), element(sim.gust, i)
+        last = {k: (v[i] if k != "reward_terms" else None) for k, v in sim.last.items()}
+        sock, throws_left = (sim.sock[0][i], sim.sock[1][i]), int(sim.throws_left[i])
+    xp = backend.scalar
+    wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
+    screen = None
+    if scenario.screen:
+        g = task.screen_geometry(scenario, xp)
+        screen = ThrowScreen(
+            center_m=(g.center_x, g.center_y),
+            along_m=(g.along_x, g.along_y),
+            half_width_m=task.screen_half_width,
+            height_m=task.screen_height,
+        )
+    thrown = bool(last["thrown"])
+    return ThrowScene(
+        trajectory_m=last["trajectory"],
+        orientations=last["orientations"],
+        ball_radius_m=task.ball.radius_m,
+        target_m=(scenario.target_x, scenario.target_y),
+        target_radius_m=task.target_radius,
+        wind_mps=(wind_x, wind_y),
+        windsock_mps=(float(sock[0]), float(sock[1])),
+        screen=screen,
+        landing_m=tuple(float(c) for c in last["landing_point"]) if thrown else None,
+        previous_landings_m=previous,
+        hit=bool(last["is_success"]),
+        throws_left=int(throws_left),
+        throws_total=task.throws_per_episode,
+        miss_distance_m=float(last["miss_distance"]) if thrown else None,
+        spin_parameter=float(last["spin_parameter"]),
+        flight_time_s=float(last["flight_time"]) if thrown else None,
+        apex_height_m=float(last["apex_height"]) if thrown else None,
+    )
+
+
+class BeachballThrowVectorEnv(VectorEnv):
+    """Native vector version of :class:`BeachballThrowEnv`: all throws fly in one batch.
+
+    Sub-env ``i`` reset with ``seed=s`` follows a single env reset with ``seed=s + i``
+    under the same actions. Finished sub-envs reset on the next ``step``
+    (``AutoresetMode.NEXT_STEP``), which then returns reward 0 for them. Infos are arrays
+    with Gymnasium's ``_key`` masks; `trajectory` and `orientations` are object arrays of
+    per-env ``(K, 3)`` / ``(K, 4)`` arrays.
+    """
+
+    metadata = {
+        "render_modes": ["rgb_array", "human"],
+        "render_fps": 20,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int = 100,
+        **kwargs: Any,
+    ) -> None:
+        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
+        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+            raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.task = ThrowTask(**kwargs)
+        self.num_envs = int(num_envs)
+        self.max_episode_steps = int(max_episode_steps)
+        self.render_mode = render_mode
+        self.single_action_space = self.task.action_space
+        self.single_observation_space = self.task.observation_space
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self._sim = _ThrowSim(self.task, self.num_envs)
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        self._renderer = None
+
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        if seed is not None or self._sim.scenario is None:
+            seeds = vector_seeds(seed, self.num_envs)
+            self._sim.seed(seeds)
+            if seed is not None:
+                self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
+        self._sim.reset(np.ones(self.num_envs, dtype=bool), options)
+        self._steps[:] = 0
+        self._autoreset[:] = False
+        return self._sim.observation(), vector_info(self._sim.info(), self.num_envs)
+
+    def step(
+        self, actions: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        if self._sim.scenario is None:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(actions, self.num_envs)
+        restarting = self._autoreset.copy()
+        reward, terminated = self._sim.step(a, ~restarting)
+        self._steps += 1
+        if restarting.any():
+            # Next-step autoreset: finished envs start anew; their throw is discarded.
+            self._sim.reset(restarting, None)
+            self._steps[restarting] = 0
+            reward = np.where(restarting, 0.0, reward)
+            terminated = terminated & ~restarting
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        self._autoreset = terminated | truncated
+        info = vector_info(self._sim.info(), self.num_envs)
+        return self._sim.observation(), reward.astype(np.float64), terminated, truncated, info
+
+    def render(self) -> tuple[np.ndarray, ...] | None:
+        """Frames of the first (up to 4) sub-envs' latest throws."""
+        renderer = _renderer(self)
+        if renderer is None:
+            return None
+        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
+        frames = tuple(renderer.render(_scene(self._sim, i, ())) for i in range(count))
+        return None if self.render_mode == "human" else frames
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+BeachballThrowEnv.__doc__ = BeachballThrowEnv.__doc__.replace("{args}", _DOC_ARGS)
