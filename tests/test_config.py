@@ -32,3 +32,20 @@ def test_preset_builds_the_env():
     obs, _ = env.reset(seed=0)
     assert env.observation_space.contains(obs)
     env.close()
+
+
+def test_throw_preset_matches_code_defaults():
+    from bbgym.envs.throw import BALL_GUSTS, ThrowTask
+    from bbgym.physics.ball import BallParams
+
+    env_id, kwargs = load_preset(CONFIG_DIR / "beachball_throw.yaml")
+    assert env_id == "BeachballThrow-v0"
+    assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
+    assert BallParams(**kwargs.pop("ball")) == BallParams()
+    assert GustParams(**kwargs.pop("gust_params")) == BALL_GUSTS
+    defaults = {
+        k: p.default
+        for k, p in inspect.signature(ThrowTask.__init__).parameters.items()
+        if k not in ("self", "ball", "gust_params")
+    }
+    assert kwargs == defaults

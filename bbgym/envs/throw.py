@@ -302,7 +302,7 @@ class _ThrowSim:
     def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
         idx = np.flatnonzero(mask)
         scenario, gust = self.task.sample([self.rngs[i] for i in idx], options)
-        sock = self._normals(mask)
+        sock_noise = self._normals(mask)
         n = self.batch
         if self.scalar:
             self.scenario, self.gust = element(scenario, 0), element(gust, 0)
@@ -326,7 +326,16 @@ class _ThrowSim:
                 else:
                     self.last[key][idx] = value
             self.last_action[idx] = 0.0
-        self.sock = self.task.windsock(self.scenario, self.gust, self._pick(sock), self.xp)
+        if self.scalar or idx.size == n:
+            self.sock_noise = sock_noise
+        else:
+            self.sock_noise[:, idx] = sock_noise[:, idx]
+        self._read_windsock()
+
+    def _read_windsock(self) -> None:
+        """The windsock now: the wind plus each env's reading noise."""
+        noise = self._pick(self.sock_noise)
+        self.sock = self.task.windsock(self.scenario, self.gust, noise, self.xp)
 
     def step(self, action: np.ndarray, active: np.ndarray | None = None) -> tuple[Any, Any]:
         """One throw per env; returns ``(reward, terminated)``."""
@@ -336,12 +345,12 @@ class _ThrowSim:
         miss, hit, terms = task.score(result, self.scenario, xp)
         active = np.ones(self.batch, dtype=bool) if active is None else active
         gust_noise = self._normals(active & np.atleast_1d(self.scenario.gusts))
-        sock_noise = self._normals(active)
+        self.sock_noise = np.where(active, self._normals(active), self.sock_noise)
         self.gust = gust_step(
             self.gust, task.gust_params, task.throw_interval, self._pick(gust_noise),
             self.scenario.gusts, xp,
         )  # fmt: skip
-        self.sock = task.windsock(self.scenario, self.gust, self._pick(sock_noise), xp)
+        self._read_windsock()
         self.throws_left = self.throws_left - 1
         self.last_action = action.copy()
         self.last = _throw_record(result, miss, hit, terms, wind_x, wind_y, self.scalar)

@@ -54,6 +54,8 @@ def quadratic_drag(
     ``drag_area_m2`` is ``C_d * A``; ``rel`` are the components (2D or 3D) of the body's
     velocity relative to the fluid; the force opposes it. Returns the force components.
     """
-    speed = xp.sqrt(sum(c * c for c in rel))
-    k = -0.5 * drag_area_m2 * density_kgm3 * speed
-    return tuple(k * c for c in rel)
+    speed_sq = rel[0] * rel[0]
+    for c in rel[1:]:
+        speed_sq = speed_sq + c * c
+    k = -0.5 * drag_area_m2 * density_kgm3 * xp.sqrt(speed_sq)
+    return tuple([k * c for c in rel])
