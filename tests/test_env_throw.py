@@ -260,3 +260,24 @@ def test_render_rgb_array_single_and_vector():
     vec = gym.make_vec("BeachballThrow-v0", num_envs=2, render_mode="rgb_array")
     vec.reset(seed=0)
     assert len(vec.render()) == 2
+
+
+@pytest.mark.parametrize("target", [(10.0, 0.0), (7.07, 7.07), (7.07, -7.07)])
+def test_farthest_targets_are_reachable_in_calm_air(target):
+    task = gym.make("BeachballThrow-v0").unwrapped.task
+    assert solve_throw(task, target).predicted_miss_m < 0.5 * task.target_radius
+
+
+def test_human_render_plays_the_flight():
+    pytest.importorskip("pygame")
+    env = gym.make("BeachballThrow-v0", render_mode="human")
+    env.reset(seed=0, options=dict(target=(6.0, 0.0), **CALM))
+    renderer = env.unwrapped._renderer
+    frames = []
+    draw = renderer.render
+    renderer.render = lambda scene: frames.append(scene.frame_index) or draw(scene)
+    _, _, _, _, info = env.step(throw_action(10.0, 35.0, 0.0))
+    k = len(info["trajectory"])
+    # One frame per recorded point of the flight, then the landing.
+    assert k > 10 and frames == [*range(k - 1), None]
+    env.close()

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import gymnasium as gym
@@ -601,6 +601,7 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
         self._sim = _ThrowSim(self.task, 1, scalar=True)
         self._renderer = None
         self._landings: list[tuple[float, float]] = []
+        self._fly_in_window = False
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -618,16 +619,25 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
             raise gym.error.ResetNeeded("Call reset() before step()")
         a = self.task.check_action(action, 0)
         reward, terminated = self._sim.step(a)
-        if self.render_mode == "human":
-            self.render()
         self._landings.append(tuple(self._sim.last["landing_point"]))
+        if self.render_mode == "human":
+            self._fly_in_window = True
+            self.render()
         return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
 
     def render(self) -> np.ndarray | None:
         renderer = _renderer(self)
         if renderer is None:
             return None
-        return renderer.render(_scene(self._sim, 0, tuple(self._landings[:-1])))
+        scene = _scene(self._sim, 0, tuple(self._landings[:-1]))
+        if self._fly_in_window:
+            # Human mode plays a new throw's flight in real time (one recorded point per
+            # frame at render_fps = 1 / 0.05 s), then shows where it landed.
+            self._fly_in_window = False
+            in_flight = replace(scene, landing_m=None, hit=False, miss_distance_m=None)
+            for k in range(len(scene.trajectory_m) - 1):
+                renderer.render(replace(in_flight, frame_index=k))
+        return renderer.render(scene)
 
     def close(self) -> None:
         if self._renderer is not None:
