@@ -66,7 +66,11 @@ def test_vector_env_matches_single_envs():
     obs, _ = vec.reset(seed=100)
     vec_obs, vec_rew, vec_done = [obs], [], []
     for t in range(steps):
-        obs, rew, term, trunc, _ = vec.step(actions[t])
+        obs, rew, term, trunc, info = vec.step(actions[t])
+        # Every env's reward is the sum of its reported terms, also on steps where another
+        # env restarts (a partial reset must not wipe the others' infos).
+        terms = info["reward_terms"]
+        np.testing.assert_allclose(sum(terms[k] for k in terms if not k.startswith("_")), rew)
         vec_obs.append(obs)
         vec_rew.append(rew)
         vec_done.append(term | trunc)

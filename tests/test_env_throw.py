@@ -89,6 +89,9 @@ def test_vector_env_matches_single_envs(env_id):
             assert rew == pytest.approx(vec_rew[i], abs=1e-6)
             assert term == vec_term[i]
             assert info["miss_distance"] == pytest.approx(vec_info["miss_distance"][i], abs=1e-6)
+            assert info["is_success"] == vec_info["is_success"][i]
+            vec_terms = vec_info["reward_terms"]
+            assert sum(vec_terms[k][i] for k in info["reward_terms"]) == pytest.approx(rew)
             np.testing.assert_allclose(info["trajectory"], vec_info["trajectory"][i], atol=1e-6)
             done = term or trunc
 

@@ -1,4 +1,5 @@
-"""Helpers shared by the envs: argument validation and batch/element conversion."""
+"""What the envs share: argument validation, batch/element conversion, rendering set-up
+and the native vector env machinery."""
 
 from __future__ import annotations
 
@@ -7,7 +8,11 @@ from collections.abc import Mapping
 from dataclasses import fields, replace
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
 
 
 def check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
@@ -76,3 +81,136 @@ def vector_info(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
         out[key] = vector_info(value, num_envs) if isinstance(value, dict) else value
         out[f"_{key}"] = mask
     return out
+
+
+def check_render_mode(render_mode: str | None, modes: list[str]) -> None:
+    """``None`` or one of ``modes``, else ``ValueError`` naming ``render_mode``."""
+    if render_mode is not None and render_mode not in modes:
+        raise ValueError(f"render_mode must be one of {modes}, got {render_mode!r}")
+
+
+def ensure_renderer(env: Any) -> Any:
+    """The env's renderer, made on first use by ``env._make_renderer()`` (so pygame is
+    imported only then); ``None``, with a warning, for an env without a ``render_mode``."""
+    if env.render_mode is None:
+        gym.logger.warn(
+            "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
+        )
+        return None
+    if not env._sim.started:
+        raise gym.error.ResetNeeded("Call reset() before render()")
+    if env._renderer is None:
+        env._renderer = env._make_renderer()
+    return env._renderer
+
+
+class NativeVectorEnv(VectorEnv):
+    """What bbgym's native vector envs share: one batched simulation of ``num_envs`` envs.
+
+    A subclass sets ``task_class`` and ``sim_class`` and implements ``_make_renderer`` and
+    ``_render_env``. The simulation object (``sim_class(task, num_envs)``) provides
+    ``started``, ``seed(seeds)``, ``reset(mask, options)``, ``step(actions, active)`` ->
+    ``(reward, terminated)``, ``observation()`` and ``info()``.
+
+    Sub-env ``i`` reset with ``seed=s`` follows a single env reset with ``seed=s + i``
+    under the same actions. Finished sub-envs reset on the next ``step``
+    (``AutoresetMode.NEXT_STEP``), which returns the new episode's first observation with
+    reward 0 for them. The time limit (``max_episode_steps``) is applied here, since
+    ``gym.make_vec`` adds no ``TimeLimit`` wrapper to a native vector env. Infos are arrays
+    with Gymnasium's ``_key`` masks.
+    """
+
+    metadata: dict[str, Any] = {
+        "render_modes": ["rgb_array", "human"],
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+    task_class: type
+    sim_class: type
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int = 1000,
+        **kwargs: Any,
+    ) -> None:
+        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
+        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+            raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
+        check_render_mode(render_mode, self.metadata["render_modes"])
+        self.task = self.task_class(**kwargs)
+        self.num_envs = int(num_envs)
+        self.max_episode_steps = int(max_episode_steps)
+        self.render_mode = render_mode
+        self.single_action_space = self.task.action_space
+        self.single_observation_space = self.task.observation_space
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self._sim = self.sim_class(self.task, self.num_envs)
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        self._renderer: Any = None
+
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        if seed is not None or not self._sim.started:
+            seeds = vector_seeds(seed, self.num_envs)
+            self._sim.seed(seeds)
+            if seed is not None:
+                self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
+        everyone = np.ones(self.num_envs, dtype=bool)
+        self._sim.reset(everyone, options)
+        self._steps[:] = 0
+        self._autoreset[:] = False
+        self._on_reset(everyone)
+        return self._sim.observation(), vector_info(self._sim.info(), self.num_envs)
+
+    def step(
+        self, actions: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        if not self._sim.started:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(actions, self.num_envs)
+        restarting = self._autoreset.copy()
+        reward, terminated = self._sim.step(a, ~restarting)
+        self._steps += 1
+        if restarting.any():
+            # Next-step autoreset: the finished envs start anew and ignore this action.
+            self._sim.reset(restarting, None)
+            self._steps[restarting] = 0
+            reward = np.where(restarting, 0.0, reward)
+            terminated = terminated & ~restarting
+            self._on_reset(restarting)
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        self._autoreset = terminated | truncated
+        self._on_step(a)
+        info = vector_info(self._sim.info(), self.num_envs)
+        return self._sim.observation(), reward.astype(np.float64), terminated, truncated, info
+
+    def _on_reset(self, mask: np.ndarray) -> None:
+        """Hook: envs in ``mask`` have just been reset."""
+
+    def _on_step(self, actions: np.ndarray) -> None:
+        """Hook: a step with ``actions`` has just been taken."""
+
+    def render(self) -> tuple[np.ndarray, ...] | None:
+        """Frames of the first (up to 4) sub-envs; ``human`` shows the first in a window."""
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return None
+        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
+        frames = tuple(self._render_env(renderer, i) for i in range(count))
+        return None if self.render_mode == "human" else frames
+
+    def _make_renderer(self) -> Any:
+        raise NotImplementedError
+
+    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+        raise NotImplementedError
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None

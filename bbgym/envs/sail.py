@@ -16,16 +16,15 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import seeding
-from gymnasium.vector import AutoresetMode, VectorEnv
-from gymnasium.vector.utils import batch_space
 
 from bbgym.envs.common import (
+    NativeVectorEnv,
     check_positive,
     check_range,
+    check_render_mode,
     element,
+    ensure_renderer,
     make_params,
-    vector_info,
-    vector_seeds,
 )
 from bbgym.physics import backend
 from bbgym.physics.backend import Array
@@ -360,10 +359,19 @@ class _SailSim:
             for counter in (self.jibes, self.tacks, self.max_jibe_severity, self.elapsed):
                 counter[idx] = 0
         self.measures = self.task.measure(self.boat, self.gust, self.scenario, self.xp)
-        zero = 0.0 * self.measures["distance_to_mark"]
-        self.terms = {k: zero for k in ("progress", "arrival", "capsize", "time")}
-        self.last_jibe_severity = zero
-        self.arrived = zero > 0.0
+        if self.scalar or idx.size == self.batch:
+            zero = 0.0 * self.measures["distance_to_mark"]
+            self.terms = {k: zero for k in ("progress", "arrival", "capsize", "time")}
+            self.last_jibe_severity = zero
+            self.arrived = zero > 0.0
+        else:  # the other envs keep what their last step reported
+            self.terms = {k: np.where(mask, 0.0, v) for k, v in self.terms.items()}
+            self.last_jibe_severity = np.where(mask, 0.0, self.last_jibe_severity)
+            self.arrived = self.arrived & ~mask
+
+    @property
+    def started(self) -> bool:
+        return self.boat is not None
 
     def _noise(self, active: np.ndarray | None) -> Any:
         """Standard normal draws for the gusts: only envs with gusts (and still running)
@@ -564,10 +572,7 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
-            )
+        check_render_mode(render_mode, self.metadata["render_modes"])
         self.task = SailTask(**kwargs)
         self.render_mode = render_mode
         self.action_space = self.task.action_space
@@ -594,7 +599,7 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
         return self._sim.observation(), self._info()
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        if self._sim.boat is None:
+        if not self._sim.started:
             raise gym.error.ResetNeeded("Call reset() before step()")
         a = self.task.check_action(action, 0)
         self._last_action = a
@@ -608,8 +613,11 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
     def _info(self) -> dict[str, Any]:
         return self._sim.info()
 
+    def _make_renderer(self) -> Any:
+        return _make_renderer(self)
+
     def render(self) -> np.ndarray | None:
-        renderer = _renderer(self)
+        renderer = ensure_renderer(self)
         if renderer is None:
             return None
         return renderer.render(_scene(self._sim, 0, tuple(self._wake), self._last_action))
@@ -620,25 +628,14 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
             self._renderer = None
 
 
-def _renderer(env: Any) -> Any:
-    """The env's renderer, made on first use (pygame is imported only then); ``None``, with
-    a warning, for an env made without a ``render_mode``."""
-    if env.render_mode is None:
-        gym.logger.warn(
-            "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
-        )
-        return None
-    if env._sim.boat is None:
-        raise gym.error.ResetNeeded("Call reset() before render()")
-    if env._renderer is None:
-        from bbgym.render.sail_view import SailRenderer
+def _make_renderer(env: Any) -> Any:
+    from bbgym.render.sail_view import SailRenderer
 
-        env._renderer = SailRenderer(
-            env.render_mode,
-            pixels_per_meter=RENDER_PIXELS_PER_M,
-            render_fps=env.metadata["render_fps"],  # real time: one frame per env step
-        )
-    return env._renderer
+    return SailRenderer(
+        env.render_mode,
+        pixels_per_meter=RENDER_PIXELS_PER_M,
+        render_fps=env.metadata["render_fps"],  # real time: one frame per env step
+    )
 
 
 def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
@@ -683,21 +680,16 @@ def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
     )
 
 
-class BeachballSailVectorEnv(VectorEnv):
+class BeachballSailVectorEnv(NativeVectorEnv):
     """Native vector version of :class:`BeachballSailEnv`: one batched simulation.
 
-    Same task, spaces, arguments and info keys as the single env (infos are arrays with
-    Gymnasium's ``_key`` masks). Sub-env ``i`` reset with ``seed=s`` follows the same
-    trajectory as a single env reset with ``seed=s + i`` under the same actions. Finished
-    sub-envs reset on the next ``step`` (``AutoresetMode.NEXT_STEP``); that step returns
-    the first observation of the new episode with reward 0.
+    Same task, spaces, arguments and info keys as the single env; see
+    :class:`bbgym.envs.common.NativeVectorEnv` for seeding, autoreset and infos.
     """
 
-    metadata = {
-        "render_modes": ["rgb_array", "human"],
-        "render_fps": 4,
-        "autoreset_mode": AutoresetMode.NEXT_STEP,
-    }
+    metadata = {**NativeVectorEnv.metadata, "render_fps": 4}
+    task_class = SailTask
+    sim_class = _SailSim
 
     def __init__(
         self,
@@ -706,95 +698,26 @@ class BeachballSailVectorEnv(VectorEnv):
         max_episode_steps: int = 1200,
         **kwargs: Any,
     ) -> None:
-        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
-            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
-        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
-            raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
-            )
-        self.task = SailTask(**kwargs)
-        self.num_envs = int(num_envs)
-        self.max_episode_steps = int(max_episode_steps)
-        self.render_mode = render_mode
-        self.single_action_space = self.task.action_space
-        self.single_observation_space = self.task.observation_space
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self._sim = _SailSim(self.task, self.num_envs)
-        self._steps = np.zeros(self.num_envs, dtype=np.int64)
-        self._autoreset = np.zeros(self.num_envs, dtype=bool)
-        self._renderer = None
+        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
         self._wakes = [deque(maxlen=120) for _ in range(self.num_envs)]
         self._last_action = np.zeros((self.num_envs, 2))
 
-    def reset(
-        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        if seed is not None or self._sim.boat is None:
-            seeds = vector_seeds(seed, self.num_envs)
-            self._sim.seed(seeds)
-            if seed is not None:
-                self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
-        self._sim.reset(np.ones(self.num_envs, dtype=bool), options)
-        self._steps[:] = 0
-        self._autoreset[:] = False
-        for wake in self._wakes:
-            wake.clear()
-        self._last_action[:] = 0.0
-        return self._sim.observation(), self._vector_info()
+    def _on_reset(self, mask: np.ndarray) -> None:
+        for i in np.flatnonzero(mask):
+            self._wakes[i].clear()
+        self._last_action[mask] = 0.0
 
-    def step(
-        self, actions: Any
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        if self._sim.boat is None:
-            raise gym.error.ResetNeeded("Call reset() before step()")
-        a = self.task.check_action(actions, self.num_envs)
-        self._last_action = a
-        restarting = self._autoreset.copy()
-        reward, terminated = self._sim.step(a, ~restarting)
-        self._steps += 1
-        if restarting.any():
-            # Next-step autoreset: the finished envs start anew and ignore this action.
-            self._sim.reset(restarting, None)
-            self._steps[restarting] = 0
-            reward = np.where(restarting, 0.0, reward)
-            terminated = terminated & ~restarting
-            self._sim.arrived = self._sim.arrived & ~restarting
-            for i in np.flatnonzero(restarting):
-                self._wakes[i].clear()
-        truncated = (self._steps >= self.max_episode_steps) & ~terminated
-        self._autoreset = terminated | truncated
-        for i in range(min(self.num_envs, 4) if self.render_mode else 0):
-            self._wakes[i].append((float(self._sim.boat.x_m[i]), float(self._sim.boat.y_m[i])))
-        return (
-            self._sim.observation(),
-            reward.astype(np.float64),
-            terminated,
-            truncated,
-            self._vector_info(),
-        )
+    def _on_step(self, actions: np.ndarray) -> None:
+        self._last_action = actions
+        if self.render_mode is not None:
+            for i in range(min(self.num_envs, 4)):
+                self._wakes[i].append((float(self._sim.boat.x_m[i]), float(self._sim.boat.y_m[i])))
 
-    def _vector_info(self) -> dict[str, Any]:
-        return vector_info(self._sim.info(), self.num_envs)
+    def _make_renderer(self) -> Any:
+        return _make_renderer(self)
 
-    def render(self) -> tuple[np.ndarray, ...] | None:
-        """Frames of the first (up to 4) sub-envs."""
-        renderer = _renderer(self)
-        if renderer is None:
-            return None
-        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
-        frames = tuple(
-            renderer.render(_scene(self._sim, i, tuple(self._wakes[i]), self._last_action[i]))
-            for i in range(count)
-        )
-        return None if self.render_mode == "human" else frames
-
-    def close_extras(self, **kwargs: Any) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+        return renderer.render(_scene(self._sim, i, tuple(self._wakes[i]), self._last_action[i]))
 
 
 BeachballSailEnv.__doc__ = BeachballSailEnv.__doc__.replace("{args}", _DOC_ARGS)

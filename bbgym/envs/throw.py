@@ -16,16 +16,15 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import seeding
-from gymnasium.vector import AutoresetMode, VectorEnv
-from gymnasium.vector.utils import batch_space
 
 from bbgym.envs.common import (
+    NativeVectorEnv,
     check_positive,
     check_range,
+    check_render_mode,
     element,
+    ensure_renderer,
     make_params,
-    vector_info,
-    vector_seeds,
 )
 from bbgym.physics import backend
 from bbgym.physics.ball import BallParams, Screen, ball_at, simulate_throw
@@ -284,6 +283,10 @@ class _ThrowSim:
         self.xp = backend.scalar if scalar else np
         self.rngs = [seeding.np_random(None)[0] for _ in range(batch)]
         self.scenario: ThrowScenario | None = None
+
+    @property
+    def started(self) -> bool:
+        return self.scenario is not None
 
     def seed(self, seeds: list[int | None]) -> None:
         for i, s in enumerate(seeds):
@@ -590,10 +593,7 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
-            )
+        check_render_mode(render_mode, self.metadata["render_modes"])
         self.task = ThrowTask(**kwargs)
         self.render_mode = render_mode
         self.action_space = self.task.action_space
@@ -615,7 +615,7 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
         return self._sim.observation(), self._sim.info()
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        if self._sim.scenario is None:
+        if not self._sim.started:
             raise gym.error.ResetNeeded("Call reset() before step()")
         a = self.task.check_action(action, 0)
         reward, terminated = self._sim.step(a)
@@ -625,8 +625,11 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
             self.render()
         return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
 
+    def _make_renderer(self) -> Any:
+        return _make_renderer(self)
+
     def render(self) -> np.ndarray | None:
-        renderer = _renderer(self)
+        renderer = ensure_renderer(self)
         if renderer is None:
             return None
         scene = _scene(self._sim, 0, tuple(self._landings[:-1]))
@@ -645,20 +648,10 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
             self._renderer = None
 
 
-def _renderer(env: Any) -> Any:
-    """The env's renderer, made on first use; ``None`` (with a warning) without a mode."""
-    if env.render_mode is None:
-        gym.logger.warn(
-            "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
-        )
-        return None
-    if env._sim.scenario is None:
-        raise gym.error.ResetNeeded("Call reset() before render()")
-    if env._renderer is None:
-        from bbgym.render.throw_view import ThrowRenderer
+def _make_renderer(env: Any) -> Any:
+    from bbgym.render.throw_view import ThrowRenderer
 
-        env._renderer = ThrowRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
-    return env._renderer
+    return ThrowRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
 
 
 def _scene(sim: _ThrowSim, i: int, previous: tuple) -> Any:
@@ -706,21 +699,17 @@ def _scene(sim: _ThrowSim, i: int, previous: tuple) -> Any:
     )
 
 
-class BeachballThrowVectorEnv(VectorEnv):
+class BeachballThrowVectorEnv(NativeVectorEnv):
     """Native vector version of :class:`BeachballThrowEnv`: all throws fly in one batch.
 
-    Sub-env ``i`` reset with ``seed=s`` follows a single env reset with ``seed=s + i``
-    under the same actions. Finished sub-envs reset on the next ``step``
-    (``AutoresetMode.NEXT_STEP``), which then returns reward 0 for them. Infos are arrays
-    with Gymnasium's ``_key`` masks; `trajectory` and `orientations` are object arrays of
-    per-env ``(K, 3)`` / ``(K, 4)`` arrays.
+    Same task, spaces, arguments and info keys as the single env; `trajectory` and
+    `orientations` are object arrays of per-env ``(K, 3)`` / ``(K, 4)`` arrays. See
+    :class:`bbgym.envs.common.NativeVectorEnv` for seeding, autoreset and infos.
     """
 
-    metadata = {
-        "render_modes": ["rgb_array", "human"],
-        "render_fps": 20,
-        "autoreset_mode": AutoresetMode.NEXT_STEP,
-    }
+    metadata = {**NativeVectorEnv.metadata, "render_fps": 20}
+    task_class = ThrowTask
+    sim_class = _ThrowSim
 
     def __init__(
         self,
@@ -729,73 +718,13 @@ class BeachballThrowVectorEnv(VectorEnv):
         max_episode_steps: int = 100,
         **kwargs: Any,
     ) -> None:
-        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
-            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
-        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
-            raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
-            )
-        self.task = ThrowTask(**kwargs)
-        self.num_envs = int(num_envs)
-        self.max_episode_steps = int(max_episode_steps)
-        self.render_mode = render_mode
-        self.single_action_space = self.task.action_space
-        self.single_observation_space = self.task.observation_space
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self._sim = _ThrowSim(self.task, self.num_envs)
-        self._steps = np.zeros(self.num_envs, dtype=np.int64)
-        self._autoreset = np.zeros(self.num_envs, dtype=bool)
-        self._renderer = None
+        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
 
-    def reset(
-        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        if seed is not None or self._sim.scenario is None:
-            seeds = vector_seeds(seed, self.num_envs)
-            self._sim.seed(seeds)
-            if seed is not None:
-                self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
-        self._sim.reset(np.ones(self.num_envs, dtype=bool), options)
-        self._steps[:] = 0
-        self._autoreset[:] = False
-        return self._sim.observation(), vector_info(self._sim.info(), self.num_envs)
+    def _make_renderer(self) -> Any:
+        return _make_renderer(self)
 
-    def step(
-        self, actions: Any
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        if self._sim.scenario is None:
-            raise gym.error.ResetNeeded("Call reset() before step()")
-        a = self.task.check_action(actions, self.num_envs)
-        restarting = self._autoreset.copy()
-        reward, terminated = self._sim.step(a, ~restarting)
-        self._steps += 1
-        if restarting.any():
-            # Next-step autoreset: finished envs start anew; their throw is discarded.
-            self._sim.reset(restarting, None)
-            self._steps[restarting] = 0
-            reward = np.where(restarting, 0.0, reward)
-            terminated = terminated & ~restarting
-        truncated = (self._steps >= self.max_episode_steps) & ~terminated
-        self._autoreset = terminated | truncated
-        info = vector_info(self._sim.info(), self.num_envs)
-        return self._sim.observation(), reward.astype(np.float64), terminated, truncated, info
-
-    def render(self) -> tuple[np.ndarray, ...] | None:
-        """Frames of the first (up to 4) sub-envs' latest throws."""
-        renderer = _renderer(self)
-        if renderer is None:
-            return None
-        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
-        frames = tuple(renderer.render(_scene(self._sim, i, ())) for i in range(count))
-        return None if self.render_mode == "human" else frames
-
-    def close_extras(self, **kwargs: Any) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+        return renderer.render(_scene(self._sim, i, ()))
 
 
 BeachballThrowEnv.__doc__ = BeachballThrowEnv.__doc__.replace("{args}", _DOC_ARGS)
