@@ -55,6 +55,21 @@ def make_params(cls: type, name: str, value: Any, **extra: Any) -> Any:
     return cls(**{**value, **extra})
 
 
+def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
+    """Actions as float64 ``(size,)`` (``batch == 0``: one env) or ``(batch, size)``,
+    clipped to [-1, 1]; a wrong shape or a NaN/inf raises ``ValueError``."""
+    try:
+        a = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"action must be numeric, got {action!r}") from None
+    expected = (size,) if batch == 0 else (batch, size)
+    if a.shape != expected:
+        raise ValueError(f"action must have shape {expected}, got {a.shape}")
+    if not np.isfinite(a).all():
+        raise ValueError(f"action must be finite, got {action!r}")
+    return np.clip(a, -1.0, 1.0)
+
+
 def element(obj: Any, i: int) -> Any:
     """Element ``i`` of a batch dataclass, as Python scalars."""
     return type(obj)(**{f.name: getattr(obj, f.name)[i].item() for f in fields(obj)})

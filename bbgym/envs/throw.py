@@ -19,6 +19,7 @@ from gymnasium.utils import seeding
 
 from bbgym.envs.common import (
     NativeVectorEnv,
+    check_box_action,
     check_positive,
     check_range,
     check_render_mode,
@@ -49,6 +50,20 @@ class ThrowScenario:
     wind_from: Any
     gusts: Any
     screen: Any
+
+
+def launch_from_action(
+    action: np.ndarray, max_speed: float, max_spin: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Launch velocity and spin ``(..., 3)`` from ``(..., 6)`` actions in [-1, 1]: scaled
+    by ``max_speed`` and ``max_spin``, each vector's norm clipped to its limit."""
+
+    def scaled(a: np.ndarray, limit: float) -> np.ndarray:
+        v = a * limit
+        norm = np.sqrt((v * v).sum(axis=-1, keepdims=True))
+        return v * np.minimum(1.0, limit / np.maximum(norm, 1e-12))
+
+    return scaled(action[..., :3], max_speed), scaled(action[..., 3:], max_spin)
 
 
 class ThrowTask:
@@ -212,26 +227,11 @@ class ThrowTask:
     # -- dynamics ---------------------------------------------------------------------------
     def check_action(self, action: Any, batch: int) -> np.ndarray:
         """Actions as float64 ``(6,)`` or ``(batch, 6)``, clipped to [-1, 1]."""
-        try:
-            a = np.asarray(action, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(f"action must be numeric, got {action!r}") from None
-        expected = (6,) if batch == 0 else (batch, 6)
-        if a.shape != expected:
-            raise ValueError(f"action must have shape {expected}, got {a.shape}")
-        if not np.isfinite(a).all():
-            raise ValueError(f"action must be finite, got {action!r}")
-        return np.clip(a, -1.0, 1.0)
+        return check_box_action(action, 6, batch)
 
     def launch(self, action: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Launch velocity and spin ``(..., 3)`` from actions: scaled, norms clipped."""
-
-        def scaled(a: np.ndarray, limit: float) -> np.ndarray:
-            v = a * limit
-            norm = np.sqrt((v * v).sum(axis=-1, keepdims=True))
-            return v * np.minimum(1.0, limit / np.maximum(norm, 1e-12))
-
-        return scaled(action[..., :3], self.max_speed), scaled(action[..., 3:], self.max_spin)
+        return launch_from_action(action, self.max_speed, self.max_spin)
 
     def throw(
         self,

@@ -12,7 +12,7 @@ renderer is created, so importing this module (or a view module built on it) nev
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -153,6 +153,14 @@ class PygameRenderer(Generic[SceneT]):
         self._pg.draw.rect(self._surface, panel_color, (x, y, panel_w, panel_h))
         for k, img in enumerate(rendered):
             self._surface.blit(img, (x + pad_x, y + pad_y + k * line_h))
+
+    def _with_clip(self, rect: tuple[int, int, int, int], draw: Callable[[], None]) -> None:
+        """Run ``draw()`` with drawing limited to ``rect``: nothing spills into other panels."""
+        self._surface.set_clip(self._pg.Rect(rect))
+        try:
+            draw()
+        finally:
+            self._surface.set_clip(None)
 
     # -- internals -----------------------------------------------------------------------------
 

@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import importlib
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -377,12 +378,206 @@ def windsock_fill(speed_mps: float) -> float:
     return min(max(speed_mps / SOCK_FULL_MPS, 0.0), 1.0)
 
 
-def _ghost_indices(last: int) -> list[int]:
+def ghost_indices(last: int) -> list[int]:
     """Trajectory indices that get a ghost ball: every GHOST_EVERY-th before the current one.
 
     Index 0 is left out: at launch the ball is in the thrower's hand and would hide them.
     """
     return list(range(GHOST_EVERY, last, GHOST_EVERY))
+
+
+# --- drawing helpers shared with other views ------------------------------------------------
+# Plain functions on a pygame module ``pg`` and a target ``surface``, so other renderers (e.g.
+# the topple view) draw the same ball, thrower, windsock and wind compass without copies.
+
+
+def rotation_at(orientations: np.ndarray, index: int) -> np.ndarray:
+    """Rotation matrix of ``orientations[index]``; the identity where none is given."""
+    if index < len(orientations):
+        return quat_to_matrix(orientations[index])
+    return np.eye(3)  # no orientation given: draw the ball unrotated
+
+
+def blit_beach_ball(
+    pg: Any,
+    surface: Any,
+    rotation: np.ndarray,
+    right: np.ndarray,
+    up: np.ndarray,
+    center_px: Vec2,
+    radius_px: float,
+    opacity: float = 1.0,
+) -> None:
+    """Draw the shaded, striped beach ball (see :func:`beach_ball_image`) onto ``surface``."""
+    x0, y0, rgb, coverage = beach_ball_image(rotation, right, up, center_px, radius_px)
+    n = rgb.shape[0]
+    img = pg.Surface((n, n), pg.SRCALPHA)
+    # surfarray views are indexed (x, y): transpose from (row, column).
+    color_view = pg.surfarray.pixels3d(img)
+    color_view[...] = np.transpose(rgb, (1, 0, 2))
+    del color_view  # unlock the surface
+    alpha_view = pg.surfarray.pixels_alpha(img)
+    alpha_view[...] = np.rint(np.transpose(coverage) * 255.0 * opacity).astype(np.uint8)
+    del alpha_view
+    surface.blit(img, (x0, y0))
+
+
+def draw_ball_flight(
+    pg: Any,
+    surface: Any,
+    view: ViewMap,
+    plane_m: np.ndarray,
+    orientations: np.ndarray,
+    current: int,
+    right: np.ndarray,
+    up: np.ndarray,
+    radius_px: float,
+    ghost_min_radius_px: float = GHOST_MIN_RADIUS_PX,
+) -> None:
+    """Trace up to ``current``, striped ghost balls along it, then the ball at ``current``.
+
+    ``plane_m`` holds the flight's (a, b) view-plane coordinates (N, 2); ``right``/``up`` are
+    the view's world axes (see :func:`view_axes`), used to turn the stripes with the ball.
+    """
+    pts = [clamp_px(view.to_px(float(a), float(b))) for a, b in plane_m[: current + 1]]
+    if len(pts) >= 2:
+        pg.draw.lines(surface, TRACE_COLOR, False, pts, 2)
+    ghost_r = max(GHOST_SCALE * radius_px, ghost_min_radius_px)
+    last_ghost: Vec2 | None = None
+    for i in ghost_indices(current):
+        p = pts[i]
+        # Skip ghosts that would pile up (slow parts of the flight) or hide the ball.
+        if last_ghost is not None and math.dist(p, last_ghost) < 1.5 * ghost_r:
+            continue
+        if math.dist(p, pts[current]) < radius_px + ghost_r:
+            continue
+        rot = rotation_at(orientations, i)
+        blit_beach_ball(pg, surface, rot, right, up, p, ghost_r, GHOST_OPACITY)
+        last_ghost = p
+    ball = pts[current]
+    blit_beach_ball(pg, surface, rotation_at(orientations, current), right, up, ball, radius_px)
+
+
+def draw_side_thrower(pg: Any, surface: Any, view: ViewMap) -> None:
+    """Stick figure at distance 0 in a side view, facing +a, throwing arm up and forward."""
+    surf = surface
+    ppm = view.pixels_per_meter
+
+    def p(s: float, z: float) -> Vec2:
+        return view.to_px(s, z)
+
+    limb = max(2, round(0.07 * ppm))
+    hip, shoulder = 0.92, 1.42
+    pg.draw.line(surf, LEG_COLOR, p(0.0, hip), p(-0.18, 0.0), limb)
+    pg.draw.line(surf, LEG_COLOR, p(0.0, hip), p(0.2, 0.0), limb)
+    # Shirt: a trapezoid from the hips to the shoulders.
+    shirt = [p(-0.14, hip), p(0.14, hip), p(0.16, shoulder), p(-0.16, shoulder)]
+    pg.draw.polygon(surf, THROWER_COLOR, shirt)
+    pg.draw.line(surf, THROWER_COLOR, p(0.0, shoulder), p(0.3, 1.72), limb)  # sleeve
+    pg.draw.line(surf, SKIN_COLOR, p(0.3, 1.72), p(0.45, 1.95), limb)  # throwing forearm
+    pg.draw.line(surf, THROWER_COLOR, p(0.0, shoulder), p(-0.22, 1.15), limb)
+    head_r = max(3, round(0.13 * ppm))
+    pg.draw.circle(surf, SKIN_COLOR, p(0.02, THROWER_HEIGHT_M - 0.13), head_r)
+
+
+def draw_top_thrower(pg: Any, surface: Any, view: ViewMap, bearing: Vec2) -> None:
+    """Shoulders (orange) and head from above, the throwing arm towards ``bearing``."""
+    ppm = view.pixels_per_meter
+    bx, by = bearing
+    c = view.to_px(0.0, 0.0)
+    # The throwing (right) arm: forward along the bearing, offset to the right of it.
+    shoulder = view.to_px(0.2 * by, -0.2 * bx)
+    hand = view.to_px(0.2 * by + 0.45 * bx, -0.2 * bx + 0.45 * by)
+    pg.draw.line(surface, SKIN_COLOR, shoulder, hand, max(2, round(0.08 * ppm)))
+    body_r = max(6.0, 0.24 * ppm)
+    pg.draw.circle(surface, THROWER_COLOR, c, body_r)
+    pg.draw.circle(surface, SKIN_COLOR, c, max(3.0, 0.11 * ppm))
+
+
+def draw_top_windsock(
+    pg: Any,
+    surface: Any,
+    label_font: Any,
+    view: ViewMap,
+    pole_m: Vec2,
+    windsock_mps: Vec2,
+    label_min_y_px: float = 20.0,
+) -> None:
+    """Windsock seen from above at ``pole_m``, pointing where the (read) wind blows.
+
+    A sock droops in light air, so from above it looks shorter: its length shows the speed.
+    The label ("sock 2.3 m/s") stays inside ``view.rect``, at least ``label_min_y_px`` below
+    its top edge (room for a panel title).
+    """
+    surf = surface
+    pole = view.to_px(*pole_m)
+    wx, wy = windsock_mps
+    speed = math.hypot(wx, wy)
+    fill = windsock_fill(speed)
+    length_px = SOCK_LENGTH_M * view.pixels_per_meter * (0.2 + 0.8 * fill)
+    mouth_half = max(4.0, 0.16 * view.pixels_per_meter)
+    if speed > 1e-6:
+        ux, uy = wx / speed, -wy / speed  # screen y points down
+        nx, ny = -uy, ux
+        bands = 4
+        for k in range(bands):
+            t0, t1 = k / bands, (k + 1) / bands
+            # The sock tapers towards its tail, more so when it hangs limp.
+            h0 = mouth_half * (1.0 - 0.45 * t0)
+            h1 = mouth_half * (1.0 - 0.45 * t1)
+            a = (pole[0] + ux * length_px * t0, pole[1] + uy * length_px * t0)
+            b = (pole[0] + ux * length_px * t1, pole[1] + uy * length_px * t1)
+            quad = [
+                (a[0] + nx * h0, a[1] + ny * h0),
+                (b[0] + nx * h1, b[1] + ny * h1),
+                (b[0] - nx * h1, b[1] - ny * h1),
+                (a[0] - nx * h0, a[1] - ny * h0),
+            ]
+            pg.draw.polygon(surf, SOCK_COLOR if k % 2 == 0 else SOCK_STRIPE_COLOR, quad)
+            pg.draw.polygon(surf, POLE_COLOR, quad, 1)
+        label_dir = (-ux, -uy)  # the label goes on the side the sock does not cover
+    else:
+        label_dir = (0.0, 1.0)
+    pg.draw.circle(surf, POLE_COLOR, pole, 3)
+    label = label_font.render(f"sock {speed:.1f} m/s", True, LABEL_COLOR)
+    lx = pole[0] + label_dir[0] * 14 - label.get_width() / 2
+    ly = pole[1] + label_dir[1] * 14 - label.get_height() / 2
+    x, y, w, h = view.rect
+    lx = min(max(lx, x + 2), x + w - label.get_width() - 2)
+    ly = min(max(ly, y + label_min_y_px), y + h - label.get_height() - 2)
+    surf.blit(label, (lx, ly))
+
+
+def draw_wind_compass(
+    pg: Any,
+    surface: Any,
+    label_font: Any,
+    rect: Rect,
+    wind_mps: Vec2,
+    background: Color = READOUT_COLOR,
+) -> None:
+    """True wind in ``rect``: a disc with an arrow (north up) where the air moves, and its speed."""
+    x, y, w, h = rect
+    radius = max(min(WIND_ARROW_MAX_PX / 2 + 4, h / 2), 6.0)
+    cx, cy = x + radius, y + h / 2
+    pg.draw.circle(surface, blend(background, TEXT_COLOR, 0.15), (cx, cy), radius)
+    wx, wy = wind_mps
+    speed = math.hypot(wx, wy)
+    if speed > 1e-6:
+        length = min(max(speed * WIND_ARROW_PX_PER_MPS, 10.0), 2 * radius - 6)
+        ux, uy = wx / speed, -wy / speed  # screen y points down
+        tail = (cx - ux * length / 2, cy - uy * length / 2)
+        tip = (cx + ux * length / 2, cy + uy * length / 2)
+        pg.draw.line(surface, WIND_ARROW_COLOR, tail, tip, 2)
+        base = (tip[0] - ux * 7, tip[1] - uy * 7)
+        head = [
+            tip,
+            (base[0] - uy * 4, base[1] + ux * 4),
+            (base[0] + uy * 4, base[1] - ux * 4),
+        ]
+        pg.draw.polygon(surface, WIND_ARROW_COLOR, head)
+    text = label_font.render(f"wind {speed:.1f} m/s", True, TEXT_COLOR)
+    surface.blit(text, (cx + radius + 6, cy - text.get_height() / 2))
 
 
 # --- renderer --------------------------------------------------------------------------------
@@ -418,6 +613,9 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
 
     @staticmethod
     def _rotation_at(scene: ThrowScene, index: int) -> np.ndarray:
+        return rotation_at(scene.orientations, index)
+
+    def _rotation_at(scene: ThrowScene, index: int) -> np.ndarray:
         if index < len(scene.orientations):
             return quat_to_matrix(scene.orientations[index])
         return np.eye(3)  # no orientation given: draw the ball unrotated
@@ -442,14 +640,6 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
             self._surface, PANEL_EDGE_COLOR, (0, sy + sh - 1), (self.width, sy + sh - 1), 2
         )
         pg.draw.line(self._surface, PANEL_EDGE_COLOR, (sx + sw - 1, 0), (sx + sw - 1, sy + sh), 2)
-
-    def _with_clip(self, rect: Rect, draw: Callable[[], None]) -> None:
-        """Run ``draw()`` with drawing limited to ``rect``: nothing spills into other panels."""
-        self._surface.set_clip(self._pg.Rect(rect))
-        try:
-            draw()
-        finally:
-            self._surface.set_clip(None)
 
     # -- side view -----------------------------------------------------------------------------
 
@@ -519,24 +709,7 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
 
     def _draw_side_thrower(self, view: ViewMap) -> None:
         """Stick figure at distance 0, facing the target, throwing arm up and forward."""
-        pg, surf = self._pg, self._surface
-        ppm = view.pixels_per_meter
-
-        def p(s: float, z: float) -> Vec2:
-            return view.to_px(s, z)
-
-        limb = max(2, round(0.07 * ppm))
-        hip, shoulder = 0.92, 1.42
-        pg.draw.line(surf, LEG_COLOR, p(0.0, hip), p(-0.18, 0.0), limb)
-        pg.draw.line(surf, LEG_COLOR, p(0.0, hip), p(0.2, 0.0), limb)
-        # Shirt: a trapezoid from the hips to the shoulders.
-        shirt = [p(-0.14, hip), p(0.14, hip), p(0.16, shoulder), p(-0.16, shoulder)]
-        pg.draw.polygon(surf, THROWER_COLOR, shirt)
-        pg.draw.line(surf, THROWER_COLOR, p(0.0, shoulder), p(0.3, 1.72), limb)  # sleeve
-        pg.draw.line(surf, SKIN_COLOR, p(0.3, 1.72), p(0.45, 1.95), limb)  # throwing forearm
-        pg.draw.line(surf, THROWER_COLOR, p(0.0, shoulder), p(-0.22, 1.15), limb)
-        head_r = max(3, round(0.13 * ppm))
-        pg.draw.circle(surf, SKIN_COLOR, p(0.02, THROWER_HEIGHT_M - 0.13), head_r)
+        draw_side_thrower(self._pg, self._surface, view)
 
     # -- top view ------------------------------------------------------------------------------
 
@@ -611,60 +784,12 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
 
     def _draw_top_thrower(self, scene: ThrowScene, view: ViewMap) -> None:
         """Shoulders (orange) and head from above, with the throwing arm towards the target."""
-        pg, surf = self._pg, self._surface
-        ppm = view.pixels_per_meter
-        bx, by = bearing_unit(scene.target_m)
-        c = view.to_px(0.0, 0.0)
-        # The throwing (right) arm: forward along the bearing, offset to the right of it.
-        shoulder = view.to_px(0.2 * by, -0.2 * bx)
-        hand = view.to_px(0.2 * by + 0.45 * bx, -0.2 * bx + 0.45 * by)
-        pg.draw.line(surf, SKIN_COLOR, shoulder, hand, max(2, round(0.08 * ppm)))
-        body_r = max(6.0, 0.24 * ppm)
-        pg.draw.circle(surf, THROWER_COLOR, c, body_r)
-        pg.draw.circle(surf, SKIN_COLOR, c, max(3.0, 0.11 * ppm))
+        draw_top_thrower(self._pg, self._surface, view, bearing_unit(scene.target_m))
 
     def _draw_windsock(self, scene: ThrowScene, view: ViewMap) -> None:
-        """Windsock seen from above, pointing where the (read) wind blows.
-
-        A sock droops in light air, so from above it looks shorter: its length shows the speed.
-        """
-        pg, surf = self._pg, self._surface
-        pole = view.to_px(*SOCK_POLE_M)
-        wx, wy = scene.windsock_mps
-        speed = math.hypot(wx, wy)
-        fill = windsock_fill(speed)
-        length_px = SOCK_LENGTH_M * view.pixels_per_meter * (0.2 + 0.8 * fill)
-        mouth_half = max(4.0, 0.16 * view.pixels_per_meter)
-        if speed > 1e-6:
-            ux, uy = wx / speed, -wy / speed  # screen y points down
-            nx, ny = -uy, ux
-            bands = 4
-            for k in range(bands):
-                t0, t1 = k / bands, (k + 1) / bands
-                # The sock tapers towards its tail, more so when it hangs limp.
-                h0 = mouth_half * (1.0 - 0.45 * t0)
-                h1 = mouth_half * (1.0 - 0.45 * t1)
-                a = (pole[0] + ux * length_px * t0, pole[1] + uy * length_px * t0)
-                b = (pole[0] + ux * length_px * t1, pole[1] + uy * length_px * t1)
-                quad = [
-                    (a[0] + nx * h0, a[1] + ny * h0),
-                    (b[0] + nx * h1, b[1] + ny * h1),
-                    (b[0] - nx * h1, b[1] - ny * h1),
-                    (a[0] - nx * h0, a[1] - ny * h0),
-                ]
-                pg.draw.polygon(surf, SOCK_COLOR if k % 2 == 0 else SOCK_STRIPE_COLOR, quad)
-                pg.draw.polygon(surf, POLE_COLOR, quad, 1)
-            label_dir = (-ux, -uy)  # the label goes on the side the sock does not cover
-        else:
-            label_dir = (0.0, 1.0)
-        pg.draw.circle(surf, POLE_COLOR, pole, 3)
-        label = self._get_font(SMALL_FONT_PX).render(f"sock {speed:.1f} m/s", True, LABEL_COLOR)
-        lx = pole[0] + label_dir[0] * 14 - label.get_width() / 2
-        ly = pole[1] + label_dir[1] * 14 - label.get_height() / 2
-        x, y, w, h = view.rect
-        lx = min(max(lx, x + 2), x + w - label.get_width() - 2)
-        ly = min(max(ly, y + 20), y + h - label.get_height() - 2)
-        surf.blit(label, (lx, ly))
+        """Windsock seen from above, pointing where the (read) wind blows."""
+        font = self._get_font(SMALL_FONT_PX)
+        draw_top_windsock(self._pg, self._surface, font, view, SOCK_POLE_M, scene.windsock_mps)
 
     # -- shared between the views --------------------------------------------------------------
 
@@ -675,46 +800,11 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
             return
         traj = np.asarray(scene.trajectory_m, dtype=float).reshape(-1, 3)
         plane = traj[:, :2] if which == "top" else side_coords(traj, bearing)
-        pts = [clamp_px(view.to_px(float(a), float(b))) for a, b in plane[: current + 1]]
-        if len(pts) >= 2:
-            self._pg.draw.lines(self._surface, TRACE_COLOR, False, pts, 2)
         right, up = view_axes(which, bearing)
         radius = self._ball_radius_px(scene, view)
-        ghost_r = max(GHOST_SCALE * radius, GHOST_MIN_RADIUS_PX)
-        last_ghost: Vec2 | None = None
-        for i in _ghost_indices(current):
-            p = pts[i]
-            # Skip ghosts that would pile up (slow parts of the flight) or hide the ball.
-            if last_ghost is not None and math.dist(p, last_ghost) < 1.5 * ghost_r:
-                continue
-            if math.dist(p, pts[current]) < radius + ghost_r:
-                continue
-            self._blit_ball(self._rotation_at(scene, i), right, up, p, ghost_r, GHOST_OPACITY)
-            last_ghost = p
-        ball = pts[current]
-        self._blit_ball(self._rotation_at(scene, current), right, up, ball, radius, 1.0)
-
-    def _blit_ball(
-        self,
-        rotation: np.ndarray,
-        right: np.ndarray,
-        up: np.ndarray,
-        center_px: Vec2,
-        radius_px: float,
-        opacity: float,
-    ) -> None:
-        pg = self._pg
-        x0, y0, rgb, coverage = beach_ball_image(rotation, right, up, center_px, radius_px)
-        n = rgb.shape[0]
-        img = pg.Surface((n, n), pg.SRCALPHA)
-        # surfarray views are indexed (x, y): transpose from (row, column).
-        color_view = pg.surfarray.pixels3d(img)
-        color_view[...] = np.transpose(rgb, (1, 0, 2))
-        del color_view  # unlock the surface
-        alpha_view = pg.surfarray.pixels_alpha(img)
-        alpha_view[...] = np.rint(np.transpose(coverage) * 255.0 * opacity).astype(np.uint8)
-        del alpha_view
-        self._surface.blit(img, (x0, y0))
+        draw_ball_flight(
+            self._pg, self._surface, view, plane, scene.orientations, current, right, up, radius
+        )
 
     def _landing_color(self, scene: ThrowScene) -> Color:
         return HIT_COLOR if scene.hit else LANDING_COLOR
@@ -767,28 +857,8 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
 
     def _draw_wind_arrow(self, scene: ThrowScene, rect: Rect) -> None:
         """True wind: an arrow (north up) pointing where the air moves, and its speed."""
-        pg = self._pg
-        x, y, w, h = rect
-        radius = max(min(WIND_ARROW_MAX_PX / 2 + 4, h / 2), 6.0)
-        cx, cy = x + radius, y + h / 2
-        pg.draw.circle(self._surface, blend(READOUT_COLOR, TEXT_COLOR, 0.15), (cx, cy), radius)
-        wx, wy = scene.wind_mps
-        speed = math.hypot(wx, wy)
-        if speed > 1e-6:
-            length = min(max(speed * WIND_ARROW_PX_PER_MPS, 10.0), 2 * radius - 6)
-            ux, uy = wx / speed, -wy / speed  # screen y points down
-            tail = (cx - ux * length / 2, cy - uy * length / 2)
-            tip = (cx + ux * length / 2, cy + uy * length / 2)
-            pg.draw.line(self._surface, WIND_ARROW_COLOR, tail, tip, 2)
-            base = (tip[0] - ux * 7, tip[1] - uy * 7)
-            head = [
-                tip,
-                (base[0] - uy * 4, base[1] + ux * 4),
-                (base[0] + uy * 4, base[1] - ux * 4),
-            ]
-            pg.draw.polygon(self._surface, WIND_ARROW_COLOR, head)
-        text = self._get_font(SMALL_FONT_PX + 2).render(f"wind {speed:.1f} m/s", True, TEXT_COLOR)
-        self._surface.blit(text, (cx + radius + 6, cy - text.get_height() / 2))
+        font = self._get_font(SMALL_FONT_PX + 2)
+        draw_wind_compass(self._pg, self._surface, font, rect, scene.wind_mps)
 
 
 def _fmt(value: float | None, unit: str) -> str:

@@ -1,0 +1,327 @@
+"""The falling wall: a panel on a foot, toppled by wind and beach-ball hits (seed §8, §5).
+
+Seed §8, "Buster Keaton": a wall of height ``h`` turns about the bottom edge it tips
+over. The wind force on its face, reduced by ``cos(phi)`` as less area faces the wind,
+acts at half height (torque ``h/2 F_w cos(phi)``); gravity on the centre of mass rights
+it while that is over the foot and overturns it past. The force along the ground at the
+edge is held by friction and fixings up to a limit; past it the wall breaks loose and
+flies as a free panel, pushed by the wind normal to its face (seed §8, loose panels).
+
+2D in the vertical x-z plane: the thrower is at x = 0, the wall's foot is centred on
+``base_x``, its face toward the thrower. ``angle`` (phi) > 0 leans the top away (+x).
+Pure functions over :class:`WallParams` and :class:`WallState`, on the array namespace
+``xp`` (NumPy batch or Python floats), like the rest of the physics.
+
+==========================  ============================================================
+law                         function
+==========================  ============================================================
+wind and gravity torques    :func:`wall_torques`
+rocking, toppling, landing  :func:`wall_step` (semi-implicit Euler about the pivot edge)
+breaking loose              :func:`wall_step` (edge shear against ``hold_n``)
+loose panel flight          :func:`loose_step`
+ball hits                   :func:`ball_hits_wall` (restitution formula of §4, ``r x J``)
+==========================  ============================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+from bbgym.physics.backend import Array
+from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
+
+STANDING, FALLEN_AWAY, FALLEN_TOWARD, LOOSE = 0, 1, 2, 3
+STATE_NAMES = ("standing", "fallen_away", "fallen_toward", "loose")
+
+
+@dataclass(frozen=True)
+class WallParams:
+    """A light stage-set panel on a foot (defaults: 2.4 m x 1.2 m, 12 kg)."""
+
+    height_m: float = 2.4
+    width_m: float = 1.2
+    thickness_m: float = 0.04
+    base_depth_m: float = 0.5
+    """Depth of the foot along x; the panel stands in its middle and tips about its edges."""
+    mass_kg: float = 12.0
+    drag_coefficient: float = 1.2
+    """Flat plate facing the wind (seed §8: about 1.1 for a flat surface)."""
+    base_friction: float = 0.6
+    anchor_n: float = 100.0
+    """What the foot's pegs hold beyond friction."""
+    ball_restitution: float = 0.6
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+                raise ValueError(f"{f.name} must be a finite number >= 0, got {value!r}")
+        for name in ("height_m", "width_m", "thickness_m", "base_depth_m", "mass_kg"):
+            if getattr(self, name) <= 0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)!r}")
+        if self.base_depth_m < self.thickness_m:
+            raise ValueError(f"base_depth_m must be >= thickness_m, got {self.base_depth_m!r}")
+        if self.ball_restitution > 1.0:
+            raise ValueError(f"ball_restitution must be in [0, 1], got {self.ball_restitution!r}")
+
+    @property
+    def half_base_m(self) -> float:
+        return 0.5 * self.base_depth_m
+
+    @property
+    def area_m2(self) -> float:
+        return self.height_m * self.width_m
+
+    @property
+    def inertia_kgm2(self) -> float:
+        """About the foot's edge: the slab's own ``m (h^2 + t^2) / 12`` plus ``m d^2``
+        (parallel axes, ``d`` from the edge to the centre of mass). A thin slab standing
+        on its own edge gives the seed's rod about its end, ``m h^2 / 3`` (§5)."""
+        h, t, b, m = self.height_m, self.thickness_m, self.half_base_m, self.mass_kg
+        return m * (h * h + t * t) / 12.0 + m * (h * h / 4.0 + b * b)
+
+    @property
+    def hold_n(self) -> float:
+        """Largest force along the ground the foot's edge takes before breaking loose."""
+        return self.base_friction * self.mass_kg * GRAVITY_MPS2 + self.anchor_n
+
+    def wind_force_n(self, wind_speed_mps: float) -> float:
+        """Drag on the upright face, ``1/2 rho C_d A u^2`` (seed §8)."""
+        return 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2 * wind_speed_mps**2
+
+    def tipping_wind_speed_mps(self) -> float:
+        """Wind normal to the face that just tips the upright wall over its foot's edge:
+        ``h/2 F_w = m g b``."""
+        k = 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        return math.sqrt(self.mass_kg * GRAVITY_MPS2 * self.half_base_m / (0.5 * self.height_m * k))
+
+    def breakaway_wind_speed_mps(self) -> float:
+        """Wind whose force on the upright face exceeds what the foot holds."""
+        k = 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        return math.sqrt(self.hold_n / k)
+
+
+@dataclass
+class WallState:
+    """Per wall: lean and rate about the pivot edge, which edge (+1 far, -1 near, 0 resting
+    on the foot), status code (:data:`STATE_NAMES`), the foot's position, the largest edge
+    shear as a fraction of what holds it, and the loose panel's centre, angle, velocity."""
+
+    angle: Array
+    rate: Array
+    pivot: Array
+    status: Array
+    base_x: Array
+    stress: Array
+    loose_x: Array
+    loose_z: Array
+    loose_angle: Array
+    loose_vx: Array
+    loose_vz: Array
+    loose_rate: Array
+    landed: Array
+
+
+def wall_at(base_x: Array) -> WallState:
+    """An upright wall resting on its foot at ``base_x``."""
+    zero = 0.0 * base_x
+    return WallState(
+        zero, zero, zero, STANDING + 0 * base_x, base_x, zero,
+        zero, zero, zero, zero, zero, zero, zero != zero,
+    )  # fmt: skip
+
+
+def _lever(p: WallParams, angle: Array, side: Array, xp: Any) -> tuple[Array, Array]:
+    """Centre of mass relative to the pivot edge: the foot's edge is ``side * b`` from the
+    panel, the centre is ``h/2`` up it; rotated by the lean."""
+    b, half_h = p.half_base_m, 0.5 * p.height_m
+    c, s = xp.cos(angle), xp.sin(angle)
+    return -side * b * c + half_h * s, side * b * s + half_h * c
+
+
+def wall_torques(p: WallParams, angle: Array, side: Array, wind_x: Array, xp: Any = np) -> tuple:
+    """``(wind torque, gravity torque, face force)`` about the pivot edge on ``side``.
+
+    The face force is the drag of the wind component along +x on the area facing it,
+    ``F_w cos(phi)``, at half height: torque ``h/2 F_w cos(phi)`` (seed §8). Gravity acts
+    at the centre of mass: its torque ``m g x_cm`` rights the wall while the centre is
+    over the foot and overturns it past.
+    """
+    k = 0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2
+    face = k * wind_x * xp.abs(wind_x) * xp.cos(angle)
+    x_cm, _ = _lever(p, angle, side, xp)
+    return 0.5 * p.height_m * face, p.mass_kg * GRAVITY_MPS2 * x_cm, face
+
+
+def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any = np) -> WallState:
+    """Advance a wall by ``dt_s``: standing walls rock or topple, loose panels fly."""
+    standing = s.status == STANDING
+    m, g, b = p.mass_kg, GRAVITY_MPS2, p.half_base_m
+    # A wall resting on its foot starts to tip only when the wind's torque beats the
+    # righting moment of its weight about an edge, m g b.
+    tau_rest, _, _ = wall_torques(p, 0.0 * s.angle, 0.0 * s.angle, wind_x, xp)
+    start = (s.pivot == 0) & standing
+    pivot = xp.where(start & (tau_rest > m * g * b), 1.0, s.pivot)
+    pivot = xp.where(start & (tau_rest < -m * g * b), -1.0, pivot)
+    tau_wind, tau_gravity, face = wall_torques(p, s.angle, pivot, wind_x, xp)
+    acc = xp.where(pivot == 0, 0.0, (tau_wind + tau_gravity) / p.inertia_kgm2)
+    rate = s.rate + acc * dt_s
+    angle = s.angle + rate * dt_s
+
+    # The edge holds the wall against sliding: the force it must give is m a_cm minus the
+    # face force's horizontal part. Past hold_n the wall breaks loose.
+    c, sn = xp.cos(s.angle), xp.sin(s.angle)
+    a_cm_x = (pivot * b * sn + 0.5 * p.height_m * c) * acc + (
+        pivot * b * c - 0.5 * p.height_m * sn
+    ) * s.rate * s.rate
+    shear = xp.abs(m * a_cm_x - face * c)
+    breaks = standing & (shear > p.hold_n)
+
+    # Back onto the foot (a plastic landing), or down flat on the ground.
+    back = (pivot != 0) & (angle * pivot < 0.0)
+    angle, rate = xp.where(back, 0.0, angle), xp.where(back, 0.0, rate)
+    pivot = xp.where(back, 0.0, pivot)
+    away, toward = angle >= 0.5 * math.pi, angle <= -0.5 * math.pi
+    status = xp.where(standing & away, FALLEN_AWAY, s.status)
+    status = xp.where(standing & toward, FALLEN_TOWARD, status)
+    angle = xp.clip(angle, -0.5 * math.pi, 0.5 * math.pi)
+    rate = xp.where(away | toward, 0.0, rate)
+
+    # Breaking loose: the panel leaves with the motion it had.
+    x_rel, z_rel = _lever(p, s.angle, pivot, xp)
+    pivot_x = s.base_x + pivot * b
+    status = xp.where(breaks, LOOSE, status)
+    loose = _freeze_select(
+        breaks,
+        (pivot_x + x_rel, z_rel, s.angle, s.rate * z_rel, -s.rate * x_rel, s.rate),
+        (s.loose_x, s.loose_z, s.loose_angle, s.loose_vx, s.loose_vz, s.loose_rate),
+        xp,
+    )
+    flying = (s.status == LOOSE) & xp.logical_not(s.landed)
+    flown = loose_step(p, *loose, wind_x, dt_s, xp)
+    loose = _freeze_select(flying, flown[:6], loose, xp)
+    landed = s.landed | (flying & flown[6])
+
+    keep = xp.logical_not(standing)
+    return WallState(
+        angle=xp.where(keep, s.angle, angle),
+        rate=xp.where(keep, s.rate, rate),
+        pivot=xp.where(keep, s.pivot, pivot),
+        status=status,
+        base_x=s.base_x,
+        stress=xp.maximum(s.stress, xp.where(standing, shear / p.hold_n, 0.0)),
+        loose_x=loose[0],
+        loose_z=loose[1],
+        loose_angle=loose[2],
+        loose_vx=loose[3],
+        loose_vz=loose[4],
+        loose_rate=loose[5],
+        landed=landed,
+    )
+
+
+def _freeze_select(mask: Array, new: tuple, old: tuple, xp: Any) -> tuple:
+    return tuple(xp.where(mask, a, b) for a, b in zip(new, old, strict=True))
+
+
+def loose_step(
+    p: WallParams,
+    x: Array,
+    z: Array,
+    angle: Array,
+    vx: Array,
+    vz: Array,
+    rate: Array,
+    wind_x: Array,
+    dt_s: float,
+    xp: Any = np,
+) -> tuple:
+    """A free panel in the wind (seed §8): the air pushes it along its face normal, in
+    proportion to the area seen by the relative wind, ``-1/2 rho C_d A w_n |w_n| n``;
+    gravity pulls it down; air damps its tumbling. Returns the new ``(x, z, angle, vx,
+    vz, rate, landed)``; a panel whose lowest corner reaches the ground has landed."""
+    nx, nz = xp.cos(angle), -xp.sin(angle)
+    w_n = (vx - wind_x) * nx + vz * nz
+    push = -0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2 * w_n * xp.abs(w_n)
+    vx = vx + push * nx / p.mass_kg * dt_s
+    vz = vz + (push * nz / p.mass_kg - GRAVITY_MPS2) * dt_s
+    # Drag on a plate spinning about its centre: 2 * int_0^{h/2} 1/2 rho C_d w (w r)^2 r dr.
+    half = 0.5 * p.height_m
+    tumble = 0.25 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.width_m * half**4
+    inertia_cm = p.mass_kg * (p.height_m**2 + p.thickness_m**2) / 12.0
+    rate = rate - tumble * rate * xp.abs(rate) / inertia_cm * dt_s
+    x, z, angle = x + vx * dt_s, z + vz * dt_s, angle + rate * dt_s
+    lowest = z - half * xp.abs(xp.cos(angle)) - 0.5 * p.thickness_m * xp.abs(xp.sin(angle))
+    landed = lowest <= 0.0
+    z = xp.where(landed, z - lowest, z)
+    zero = 0.0 * x
+    return (
+        x, z, angle, xp.where(landed, zero, vx), xp.where(landed, zero, vz),
+        xp.where(landed, zero, rate), landed,
+    )  # fmt: skip
+
+
+def ball_hits_wall(
+    p: WallParams,
+    s: WallState,
+    ball_mass_kg: float,
+    ball_radius_m: float,
+    bx: Array,
+    by: Array,
+    bz: Array,
+    bvx: Array,
+    bvz: Array,
+    xp: Any = np,
+) -> tuple[WallState, Array, Array, Array]:
+    """A ball striking the face of a standing wall.
+
+    Along the face normal ``n`` the seed's restitution formula (§4) acts between the ball
+    and the wall's effective mass at the hit point, ``I / (k . n)^2`` with ``k`` the
+    point's velocity per unit lean rate about the pivot edge. The wall gains the angular
+    momentum ``r x J`` of the impulse, so a high hit turns it more than a low one, and the
+    ball rebounds. A wall resting on its foot is pushed about its far edge.
+
+    Returns ``(wall, new ball vx, new ball vz, hit height along the face or -1)``.
+    """
+    standing = s.status == STANDING
+    side = xp.where(s.pivot == 0, 1.0, s.pivot)
+    b, t = p.half_base_m, p.thickness_m
+    c, sn = xp.cos(s.angle), xp.sin(s.angle)
+    pivot_x = s.base_x + side * b
+    # The panel's foot point and its near face (toward the thrower).
+    foot_x, foot_z = pivot_x - side * b * c, side * b * sn
+    along = (bx - foot_x) * sn + (bz - foot_z) * c
+    offset = (bx - foot_x) * c - (bz - foot_z) * sn + 0.5 * t  # > 0 behind the near face
+    # k = velocity of the contact point per unit rate: (r_z, -r_x) about the pivot edge.
+    rx = foot_x + along * sn - 0.5 * t * c - pivot_x
+    rz = foot_z + along * c + 0.5 * t * sn
+    k_n = rz * c + rx * sn
+    wall_speed = s.rate * k_n
+    ball_speed = bvx * c - bvz * sn
+    hit = (
+        standing
+        & (xp.abs(by) <= 0.5 * p.width_m)
+        & (along >= 0.0)
+        & (along <= p.height_m)
+        & (offset > -ball_radius_m)
+        & (offset < ball_radius_m)
+        & (ball_speed > wall_speed)
+    )
+    m_eff = p.inertia_kgm2 / xp.maximum(k_n * k_n, 1e-9)
+    e = p.ball_restitution
+    total = ball_mass_kg + m_eff
+    ball_after = (ball_speed * (ball_mass_kg - e * m_eff) + (1 + e) * wall_speed * m_eff) / total
+    wall_after = (
+        (1 + e) * ball_speed * ball_mass_kg + wall_speed * (m_eff - e * ball_mass_kg)
+    ) / total
+    d_ball = xp.where(hit, ball_after - ball_speed, 0.0)
+    new_rate = xp.where(hit, wall_after / xp.where(k_n == 0, 1.0, k_n), s.rate)
+    wall = WallState(
+        s.angle, new_rate, xp.where(hit, side, s.pivot), s.status, s.base_x, s.stress,
+        s.loose_x, s.loose_z, s.loose_angle, s.loose_vx, s.loose_vz, s.loose_rate, s.landed,
+    )  # fmt: skip
+    return wall, bvx + d_ball * c, bvz - d_ball * sn, xp.where(hit, along, -1.0)
