@@ -30,4 +30,12 @@ for _id, _kwargs in (("BeachballThrow-v0", {}), ("BeachballCurve-v0", _CURVE)):
             kwargs=_kwargs,
         )
 
+if "BeachballTopple-v0" not in registry:
+    register(
+        id="BeachballTopple-v0",
+        entry_point="bbgym.envs.topple:BeachballToppleEnv",
+        vector_entry_point="bbgym.envs.topple:BeachballToppleVectorEnv",
+        max_episode_steps=100,
+    )
+
 __all__ = ["__version__"]

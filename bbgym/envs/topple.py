@@ -1,0 +1,690 @@
+"""BeachballTopple-v0: bring down a wall standing in gusty wind by throwing beach balls.
+
+Each step is one throw (or a wait) followed by a fixed interval in which the ball flies,
+the wind gusts, and hits and wind act on the wall. The task code (:class:`ToppleTask`) is
+batched; the single env runs it on Python floats, the native vector env on NumPy.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, fields, replace
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+
+from bbgym.envs.common import (
+    NativeVectorEnv,
+    check_box_action,
+    check_positive,
+    check_range,
+    check_render_mode,
+    element,
+    ensure_renderer,
+    make_params,
+)
+from bbgym.envs.throw import BALL_GUSTS, launch_from_action
+from bbgym.physics import backend
+from bbgym.physics.ball import BallParams, ball_at, ground_contact
+from bbgym.physics.ball import substep as ball_substep
+from bbgym.physics.wall import (
+    FALLEN_AWAY,
+    FALLEN_TOWARD,
+    LOOSE,
+    STANDING,
+    STATE_NAMES,
+    WallParams,
+    ball_hits_wall,
+    wall_at,
+    wall_step,
+)
+from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
+
+RESET_OPTIONS = ("wind", "wall_distance", "gusts")
+OBS_SIZE = 19
+RECORD_DT_S = 0.05
+
+
+@dataclass
+class ToppleScenario:
+    """Per env (arrays ``(batch,)`` or floats): wall distance, mean wind, gusts."""
+
+    wall_distance: Any
+    wind_speed: Any
+    wind_from: Any
+    gusts: Any
+
+
+class ToppleTask:
+    """The toppling task over a batch; see :class:`BeachballToppleEnv` for the arguments."""
+
+    def __init__(
+        self,
+        wall: Mapping[str, Any] | WallParams | None = None,
+        ball: Mapping[str, Any] | BallParams | None = None,
+        throws_per_episode: int = 8,
+        wall_distance_range: tuple[float, float] = (4.0, 8.0),
+        wind_speed_range: tuple[float, float] = (0.0, 3.0),
+        gusts: bool = True,
+        gust_params: Mapping[str, float] | GustParams | None = None,
+        gust_dt: float = 0.25,
+        windsock_noise: float = 0.3,
+        max_speed: float = 18.0,
+        max_spin: float = 60.0,
+        launch_height: float = 1.5,
+        wait_speed: float = 0.5,
+        interval: float = 3.0,
+        sim_dt: float = 0.01,
+        success_bonus: float = 10.0,
+        failure_penalty: float = 5.0,
+        throw_cost: float = 0.2,
+        lean_weight: float = 1.0,
+    ) -> None:
+        self.wall = make_params(WallParams, "wall", wall)
+        self.ball = make_params(BallParams, "ball", ball)
+        if not isinstance(throws_per_episode, (int, np.integer)) or throws_per_episode < 1:
+            raise ValueError(f"throws_per_episode must be an int >= 1, got {throws_per_episode!r}")
+        self.throws_per_episode = int(throws_per_episode)
+        self.wall_distance_range = check_range("wall_distance_range", wall_distance_range)
+        self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, strict=False)
+        if not isinstance(gusts, (bool, np.bool_)):
+            raise ValueError(f"gusts must be a bool, got {gusts!r}")
+        self.gusts = bool(gusts)
+        gust_params = BALL_GUSTS if gust_params is None else gust_params
+        self.gust_params = make_params(GustParams, "gust_params", gust_params)
+        self.windsock_noise = float(windsock_noise)
+        if not math.isfinite(self.windsock_noise) or self.windsock_noise < 0:
+            raise ValueError(f"windsock_noise must be finite and >= 0, got {windsock_noise!r}")
+        self.max_speed = check_positive("max_speed", max_speed)
+        self.max_spin = check_positive("max_spin", max_spin)
+        self.launch_height = check_positive("launch_height", launch_height)
+        self.wait_speed = check_positive("wait_speed", wait_speed)
+        self.sim_dt = check_positive("sim_dt", sim_dt)
+        self.gust_dt = check_positive("gust_dt", gust_dt)
+        self.interval = check_positive("interval", interval)
+        self.n_substeps = round(self.interval / self.sim_dt)
+        self.gust_every = round(self.gust_dt / self.sim_dt)
+        self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
+        for name, value, unit in (
+            ("interval", self.interval, self.n_substeps),
+            ("gust_dt", self.gust_dt, self.gust_every),
+        ):
+            if unit < 1 or abs(unit * self.sim_dt - value) > 1e-9:
+                raise ValueError(f"{name} ({value!r}) must be a whole multiple of sim_dt")
+        self.success_bonus = check_positive("success_bonus", success_bonus)
+        self.failure_penalty = check_positive("failure_penalty", failure_penalty)
+        self.throw_cost = float(throw_cost)
+        self.lean_weight = float(lean_weight)
+        for name, value in (("throw_cost", self.throw_cost), ("lean_weight", self.lean_weight)):
+            if not math.isfinite(value) or value < 0:
+                raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+
+        self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
+        self.reward_range = (
+            -(self.failure_penalty + self.throw_cost + self.lean_weight),
+            self.success_bonus + self.lean_weight,
+        )
+
+    def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
+        """Validate ``reset`` options; unknown keys and non-physical values raise."""
+        if options is None:
+            return {}
+        if not isinstance(options, Mapping):
+            raise ValueError(f"options must be a dict, got {options!r}")
+        unknown = sorted(set(options) - set(RESET_OPTIONS))
+        if unknown:
+            raise ValueError(f"unknown reset options {unknown}; known: {list(RESET_OPTIONS)}")
+        checked: dict[str, Any] = {}
+        for key, value in options.items():
+            if key == "gusts":
+                if not isinstance(value, (bool, np.bool_)):
+                    raise ValueError(f"options['gusts'] must be a bool, got {value!r}")
+                checked[key] = bool(value)
+            elif key == "wind":
+                try:
+                    pair = tuple(float(v) for v in value)
+                except (TypeError, ValueError):
+                    pair = ()
+                if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
+                    raise ValueError(f"options['wind'] must be a finite (x, y) pair, got {value!r}")
+                checked[key] = pair
+            else:
+                try:
+                    distance = float(value)
+                except (TypeError, ValueError):
+                    distance = float("nan")
+                if not math.isfinite(distance) or distance <= self.wall.half_base_m + 1.0:
+                    raise ValueError(
+                        f"options['wall_distance'] must be a finite distance beyond 1 m plus "
+                        f"the foot, got {value!r}"
+                    )
+                checked[key] = distance
+        return checked
+
+    def sample(
+        self, rngs: list[np.random.Generator], options: Mapping[str, Any] | None
+    ) -> tuple[ToppleScenario, GustState]:
+        options = self.check_options(options)
+        batch = len(rngs)
+        draws = np.array([rng.random(3) for rng in rngs]).T
+        noise = np.array([rng.standard_normal(2) for rng in rngs]).T
+        d_lo, d_hi = self.wall_distance_range
+        distance = options.get("wall_distance", d_lo + (d_hi - d_lo) * draws[0])
+        if "wind" in options:
+            wx, wy = options["wind"]
+            wind_speed, wind_from = math.hypot(wx, wy), math.atan2(-wy, -wx)
+        else:
+            w_lo, w_hi = self.wind_speed_range
+            wind_speed = w_lo + (w_hi - w_lo) * draws[1]
+            wind_from = 2.0 * math.pi * draws[2]
+
+        def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
+            return np.broadcast_to(np.asarray(value, dtype=dtype), (batch,)).copy()
+
+        scenario = ToppleScenario(
+            wall_distance=full(distance),
+            wind_speed=full(wind_speed),
+            wind_from=full(wind_from),
+            gusts=full(options.get("gusts", self.gusts), bool),
+        )
+        return scenario, gust_init(self.gust_params, noise, scenario.gusts)
+
+    def check_action(self, action: Any, batch: int) -> np.ndarray:
+        return check_box_action(action, 6, batch)
+
+
+class _ToppleSim:
+    """Task state over a batch (NumPy) or for one env (Python floats), with per-env random
+    streams; ``step`` flies the ball and rocks the wall for one interval."""
+
+    def __init__(self, task: ToppleTask, batch: int, scalar: bool = False) -> None:
+        self.task = task
+        self.batch = batch
+        self.scalar = scalar
+        self.xp = backend.scalar if scalar else np
+        self.rngs = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.scenario: ToppleScenario | None = None
+
+    @property
+    def started(self) -> bool:
+        return self.scenario is not None
+
+    def seed(self, seeds: list[int | None]) -> None:
+        for i, s in enumerate(seeds):
+            self.rngs[i] = seeding.np_random(s)[0]
+
+    def _normals(self, mask: np.ndarray) -> Any:
+        noise = np.zeros((2, self.batch))
+        for i in np.flatnonzero(mask):
+            noise[:, i] = self.rngs[i].standard_normal(2)
+        return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
+
+    def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
+        idx = np.flatnonzero(mask)
+        scenario, gust = self.task.sample([self.rngs[i] for i in idx], options)
+        wall = wall_at(scenario.wall_distance)
+        sock = self._normals(mask)
+        n = self.batch
+        fresh = {
+            "throws_left": np.full(idx.size, self.task.throws_per_episode),
+            "hits": np.zeros(idx.size, dtype=np.int64),
+            "throws": np.zeros(idx.size, dtype=np.int64),
+            "last_hit": np.zeros(idx.size),
+            "hit_height": np.full(idx.size, -1.0),
+            "hit_y": np.zeros(idx.size),
+            "last_action": np.zeros((idx.size, 6)),
+        }
+        if self.scalar:
+            self.scenario, self.gust, self.wall = (element(x, 0) for x in (scenario, gust, wall))
+            self.counters = {k: v[0].item() if v.ndim == 1 else v[0] for k, v in fresh.items()}
+            self.sock_noise = sock
+            self.record = _empty_record()
+            self.terms = {k: 0.0 for k in ("success", "failure", "throw", "lean")}
+        elif self.scenario is None or idx.size == n:
+            self.scenario, self.gust, self.wall = scenario, gust, wall
+            self.counters = fresh
+            self.sock_noise = sock
+            self.record = [_empty_record() for _ in range(n)]
+            self.terms = {k: np.zeros(n) for k in ("success", "failure", "throw", "lean")}
+        else:
+            for old, new in ((self.scenario, scenario), (self.gust, gust), (self.wall, wall)):
+                for f in fields(old):
+                    getattr(old, f.name)[idx] = getattr(new, f.name)
+            for key, value in fresh.items():
+                self.counters[key][idx] = value
+            self.sock_noise[:, idx] = sock[:, idx]
+            for i in idx:
+                self.record[i] = _empty_record()
+            for value in self.terms.values():
+                value[idx] = 0.0
+
+    def windsock(self) -> tuple[Any, Any]:
+        sc = self.scenario
+        wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, self.xp)
+        noise = self.task.windsock_noise
+        return wind_x + noise * self.sock_noise[0], wind_y + noise * self.sock_noise[1]
+
+    def step(self, action: np.ndarray, active: np.ndarray | None = None) -> tuple[Any, Any]:
+        """Throw (or wait), then run the interval; returns ``(reward, terminated)``."""
+        task, xp, p = self.task, self.xp, self.task.ball
+        active = np.ones(self.batch, dtype=bool) if active is None else active
+        velocity, spin = launch_from_action(action, task.max_speed, task.max_spin)
+        speed = np.sqrt((velocity * velocity).sum(axis=-1))
+        thrown = speed >= task.wait_speed
+        if self.scalar:
+            v, w, thrown = [float(c) for c in velocity], [float(c) for c in spin], bool(thrown)
+            zero = 0.0
+        else:
+            v, w = velocity.T, spin.T
+            zero = np.zeros(self.batch)
+        ball = ball_at(zero, zero, zero + task.launch_height, *v, *w)
+        flying = thrown
+        wall = self.wall
+        lean_before = xp.sin(wall.angle)
+        hit_height, hit_y = zero - 1.0, zero
+        hits = 0 * zero
+        wall.stress = 0.0 * wall.stress
+        sc = self.scenario
+        wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, xp)
+        ball_track, wall_track, loose_track = [], [], []
+        gusty = active & np.atleast_1d(sc.gusts)
+        for i in range(task.n_substeps):
+            if i and i % task.gust_every == 0:
+                self.gust = gust_step(
+                    self.gust, task.gust_params, task.gust_dt, self._normals(gusty), sc.gusts, xp
+                )
+                wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, xp)
+            if i % task.record_every == 0:
+                ball_track.append((ball.x, ball.y, ball.z, ball.qw, ball.qx, ball.qy, ball.qz))
+                wall_track.append(wall.angle)
+                loose_track.append((wall.loose_x, wall.loose_z, wall.loose_angle, wall.status))
+            if xp.any(flying):
+                moved = ball_substep(p, ball, wind_x, wind_y, task.sim_dt, xp)
+                moved, _ = ground_contact(p, moved, task.sim_dt, xp)
+                ball = _select(flying, moved, ball, xp)
+                wall, vx, vz, height = ball_hits_wall(
+                    task.wall, wall, p.mass_kg, p.radius_m, ball.x, ball.y, ball.z, ball.vx,
+                    ball.vz, xp,
+                )  # fmt: skip
+                struck = flying & (height >= 0.0)
+                ball.vx, ball.vz = xp.where(struck, vx, ball.vx), xp.where(struck, vz, ball.vz)
+                hits = hits + struck
+                hit_height = xp.where(struck, height, hit_height)
+                hit_y = xp.where(struck, ball.y, hit_y)
+                resting = (ball.z <= p.radius_m * 1.001) & (
+                    ball.vx * ball.vx + ball.vy * ball.vy + ball.vz * ball.vz < 0.01
+                )
+                flying = flying & xp.logical_not(resting)
+            wall = wall_step(task.wall, wall, wind_x, task.sim_dt, xp)
+            settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)
+            if xp.all(settled | xp.logical_not(flying)) and xp.all(wall.status != STANDING):
+                break
+        self.wall = wall
+        self.sock_noise = _where2(active, self._normals(active), self.sock_noise, self.scalar)
+
+        status = wall.status
+        success = (status == FALLEN_AWAY) | (status == LOOSE)
+        failure = status == FALLEN_TOWARD
+        c = self.counters
+        c["throws_left"] = c["throws_left"] - 1
+        c["throws"] = c["throws"] + thrown
+        c["hits"] = c["hits"] + (hits > 0)
+        c["last_hit"] = xp.where(hits > 0, 1.0, xp.where(thrown, -1.0, 0.0))
+        c["hit_height"], c["hit_y"] = hit_height, hit_y
+        c["last_action"] = action.copy()
+        self.terms = {
+            "success": task.success_bonus * success,
+            "failure": -task.failure_penalty * failure,
+            "throw": -task.throw_cost * thrown,
+            "lean": task.lean_weight * (xp.sin(wall.angle) - lean_before),
+        }
+        reward = self.terms["success"] + self.terms["failure"] + self.terms["throw"]
+        reward = reward + self.terms["lean"]
+        self._keep_record(ball_track, wall_track, loose_track, thrown)
+        return reward, success | failure | (c["throws_left"] <= 0)
+
+    def _keep_record(self, ball_track: list, wall_track: list, loose_track: list, thrown) -> None:
+        """Keep the step's samples (for info and rendering) per env."""
+        balls = np.array(ball_track, dtype=np.float64)  # (K, 7) or (K, 7, n)
+        walls = np.array(wall_track, dtype=np.float64)
+        loose = np.array(loose_track, dtype=np.float64)
+        if self.scalar:
+            self.record = _record(balls, walls, loose, thrown)
+            return
+        for i in range(self.batch):
+            self.record[i] = _record(balls[..., i], walls[:, i], loose[..., i], thrown[i])
+
+    def observation(self) -> np.ndarray:
+        task, sc, wall, c = self.task, self.scenario, self.wall, self.counters
+        wp = task.wall
+        sock_x, sock_y = self.windsock()
+        columns = [
+            np.asarray(wall.angle) / (0.5 * math.pi),
+            np.asarray(wall.rate) / 2.0,
+            np.asarray(sc.wall_distance) / 10.0,
+            np.asarray(0.0 * wall.angle + wp.height_m / 5.0),
+            np.asarray(0.0 * wall.angle + wp.width_m / 5.0),
+            np.asarray(sock_x) / 10.0,
+            np.asarray(sock_y) / 10.0,
+            np.asarray(c["throws_left"]) / task.throws_per_episode,
+            np.asarray(c["last_hit"], dtype=np.float64),
+            np.maximum(np.asarray(c["hit_height"]), 0.0) / wp.height_m,
+            np.asarray(c["hit_y"]) / (0.5 * wp.width_m),
+            np.asarray(wall.stress),
+            np.asarray(wall.pivot),
+        ]
+        columns += [np.asarray(c["last_action"])[..., k] for k in range(6)]
+        return np.clip(np.stack(columns, axis=-1), -1.0, 1.0).astype(np.float32)
+
+    def info(self) -> dict[str, Any]:
+        wall, c = self.wall, self.counters
+        sock = self.windsock()
+        names = np.asarray(STATE_NAMES, dtype=object)
+        status = np.asarray(wall.status).astype(int)
+        success = (status == FALLEN_AWAY) | (status == LOOSE)
+        info = {
+            "wall_angle": wall.angle,
+            "wall_angular_velocity": wall.rate,
+            "wall_state": names[status] if not self.scalar else STATE_NAMES[int(status)],
+            "wall_stress": wall.stress,
+            "hits": c["hits"],
+            "throws": c["throws"],
+            "throws_left": c["throws_left"],
+            "is_success": bool(success) if self.scalar else success,
+            "reward_terms": dict(self.terms),
+            "windsock": np.array(sock) if self.scalar else np.stack(sock, axis=1),
+        }
+        for key in _empty_record():
+            if self.scalar:
+                info[key] = self.record[key]
+            else:
+                column = np.empty(self.batch, dtype=object)
+                for i in range(self.batch):
+                    column[i] = self.record[i][key]
+                info[key] = column
+        if not self.scalar:
+            info = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in info.items()}
+        return info
+
+
+def _select(mask: Any, new: Any, old: Any, xp: Any) -> Any:
+    if xp is not np:
+        return new if mask else old
+    return type(old)(
+        *(np.where(mask, getattr(new, f.name), getattr(old, f.name)) for f in fields(old))
+    )
+
+
+def _where2(mask: np.ndarray, new: Any, old: Any, scalar: bool) -> Any:
+    if scalar:
+        return new if mask[0] else old
+    return np.where(mask, new, old)
+
+
+def _empty_record() -> dict[str, np.ndarray]:
+    return {
+        "ball_trajectory": np.zeros((0, 3)),
+        "ball_orientations": np.zeros((0, 4)),
+        "wall_angle_samples": np.zeros(0),
+        "loose_samples": np.zeros((0, 3)),
+        "loose_mask": np.zeros(0, dtype=bool),
+    }
+
+
+def _record(balls: np.ndarray, walls: np.ndarray, loose: np.ndarray, thrown: Any) -> dict:
+    return {
+        "ball_trajectory": balls[:, :3] if thrown else np.zeros((0, 3)),
+        "ball_orientations": balls[:, 3:] if thrown else np.zeros((0, 4)),
+        "wall_angle_samples": walls,
+        "loose_samples": loose[:, :3],
+        "loose_mask": loose[:, 3] == LOOSE,
+    }
+
+
+_DOC_ARGS = """
+    ## Arguments
+
+    Keyword arguments of ``gym.make("BeachballTopple-v0", ...)`` and ``gym.make_vec``; the
+    defaults are the preset in ``configs/beachball_topple.yaml``.
+
+    | argument | default | meaning |
+    |---|---|---|
+    | `render_mode` | `None` | `"rgb_array"` or `"human"` |
+    | `wall` | `None` | mapping of `WallParams` fields (height, width, foot, mass, hold, ...) |
+    | `ball` | `None` | mapping of `BallParams` fields |
+    | `throws_per_episode` | `8` | steps (throws or waits) per episode |
+    | `wall_distance_range` | `(4.0, 8.0)` | m along +x |
+    | `wind_speed_range` | `(0.0, 3.0)` | mean wind, m/s, from any direction |
+    | `gusts`, `gust_params`, `gust_dt` | `True`, `None`, `0.25` | gust renewal period, s |
+    | `windsock_noise` | `0.3` | m/s per component |
+    | `max_speed`, `max_spin` | `18.0`, `60.0` | launch speed (m/s), spin (rad/s) at full action |
+    | `launch_height` | `1.5` | m |
+    | `wait_speed` | `0.5` | a launch slower than this (m/s) is a wait: no ball is thrown |
+    | `interval` | `3.0` | s simulated per step |
+    | `sim_dt` | `0.01` | s |
+    | `success_bonus`, `failure_penalty` | `10.0`, `5.0` | |
+    | `throw_cost`, `lean_weight` | `0.2`, `1.0` | |
+
+    A non-physical value raises ``ValueError`` naming the argument.
+"""
+
+
+class BeachballToppleEnv(gym.Env[np.ndarray, np.ndarray]):
+    """Bring down a wall standing in gusty wind by throwing beach balls at it.
+
+    ## Description
+
+    A light stage-set panel (2.4 m high, 0.7 m wide, 8 kg, on a foot 0.4 m deep) stands
+    4-8 m in front of the thrower along +x, its face toward the thrower, in a gusty wind
+    from any direction. The wind on its face and the beach balls that hit it rock it about
+    the edge of its foot (seed §8, "Buster Keaton"); once its centre of mass passes over the
+    edge it falls. A strong enough push along the ground tears the foot loose, and the
+    panel flies off in the wind. Each step the agent throws a ball (impulse and spin, as in
+    `BeachballThrow-v0`; a launch slower than 0.5 m/s means "wait"), then 3 s pass in which
+    the ball flies and wind and hits act on the wall.
+
+    Success: the wall falls away from the thrower or breaks loose, in as few throws as
+    possible. Failure: it falls toward the thrower, or the 8 steps run out. In calm air one
+    good hit high on the face topples the wall from 4 m; from farther the draggy ball
+    arrives too slow, and a tailwind or a gust timed right must help. The wind alone tips
+    the wall when its component against the face exceeds 3.3 m/s and tears it loose above
+    11 m/s.
+
+    World frame: x east, y north, z up, metres.
+
+    ## Action Space
+
+    `Box(-1, 1, (6,), float32)`: launch velocity x, y, z (x 18 m/s) and spin x, y, z
+    (x 60 rad/s), norms clipped, as in `BeachballThrow-v0`.
+
+    ## Observation Space
+
+    `Box(-1, 1, (19,), float32)`; each value is clipped to [-1, 1].
+
+    | Num | Observation | Scale |
+    |-----|-------------|-------|
+    | 0 | wall lean, + away from the thrower | / (pi/2) |
+    | 1 | wall lean rate | / 2 rad/s |
+    | 2 | wall distance | / 10 m |
+    | 3-4 | wall height, width | / 5 m |
+    | 5-6 | windsock reading x, y (noisy) | / 10 m/s |
+    | 7 | throws left | / throws per episode |
+    | 8 | last step: 1 hit the wall, -1 threw and missed, 0 waited | - |
+    | 9 | height of the last hit on the face (0 if none) | / wall height |
+    | 10 | sideways position of the last hit | / (width / 2) |
+    | 11 | largest force on the foot's edge last step, as a fraction of what holds it | - |
+    | 12 | pivot edge: +1 far, -1 near, 0 resting on the foot | - |
+    | 13-18 | last action | - |
+
+    ## Rewards
+
+    Per step, bounded in [-6.2, 11]: `success` +10 when the wall falls away or breaks loose,
+    `failure` -5 when it falls toward the thrower, `throw` -0.2 per ball thrown, and `lean`
+    = change of `sin(lean)` over the step (so leaning it away pays as it goes). Terms in
+    `info["reward_terms"]`.
+
+    ## Starting State
+
+    The wall stands upright at a uniform distance of 4-8 m; the mean wind is uniform in
+    0-3 m/s from a uniform direction. `reset(options=...)` pins `wind` ((x, y) m/s, where
+    the air moves), `wall_distance` (m), `gusts` (bool). Unknown keys raise `ValueError`.
+
+    ## Episode End
+
+    Terminated when the wall is down (either way) or loose, or after the 8th step.
+    Registered with `max_episode_steps=100`, which the default 8 steps never reach.
+    {args}
+    ## Info
+
+    `wall_angle` (rad, + away from the thrower), `wall_angular_velocity`, `wall_state`
+    (`"standing"`, `"fallen_away"`, `"fallen_toward"`, `"loose"`), `wall_stress`, `hits`,
+    `throws` (balls thrown, not waits), `throws_left`, `is_success`, `reward_terms`,
+    `windsock`, and the last step's samples every 0.05 s: `ball_trajectory`,
+    `ball_orientations`, `wall_angle_samples`, `loose_samples` (loose panel x, z, angle)
+    with `loose_mask` (true once loose).
+
+    ## Version History
+
+    * v0: Initial version.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        check_render_mode(render_mode, self.metadata["render_modes"])
+        self.task = ToppleTask(**kwargs)
+        self.render_mode = render_mode
+        self.action_space = self.task.action_space
+        self.observation_space = self.task.observation_space
+        self._sim = _ToppleSim(self.task, 1, scalar=True)
+        self._renderer = None
+        self._play_in_window = False
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self._sim.rngs[0] = self.np_random
+        self._sim.reset(np.ones(1, dtype=bool), options)
+        if self.render_mode == "human":
+            self.render()
+        return self._sim.observation(), self._sim.info()
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if not self._sim.started:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(action, 0)
+        reward, terminated = self._sim.step(a)
+        if self.render_mode == "human":
+            self._play_in_window = True
+            self.render()
+        return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
+
+    def _make_renderer(self) -> Any:
+        return _make_renderer(self)
+
+    def render(self) -> np.ndarray | None:
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return None
+        scene = _scene(self._sim, 0)
+        if self._play_in_window:
+            # Human mode plays the step's interval in real time, then shows its end.
+            self._play_in_window = False
+            for k in range(len(scene.wall_angle_samples)):
+                renderer.render(replace(scene, frame_index=k))
+        return renderer.render(scene)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+def _make_renderer(env: Any) -> Any:
+    from bbgym.render.topple_view import ToppleRenderer
+
+    return ToppleRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
+
+
+def _scene(sim: _ToppleSim, i: int) -> Any:
+    """Drawing description of env ``i`` (no physics in the renderer)."""
+    from bbgym.render.topple_view import ToppleScene
+
+    task = sim.task
+    if sim.scalar:
+        sc, gust, wall, record = sim.scenario, sim.gust, sim.wall, sim.record
+        counters = sim.counters
+        sock_noise = sim.sock_noise
+    else:
+        sc, gust, wall = (element(x, i) for x in (sim.scenario, sim.gust, sim.wall))
+        record = sim.record[i]
+        counters = {k: np.asarray(v)[i] for k, v in sim.counters.items()}
+        sock_noise = (sim.sock_noise[0][i], sim.sock_noise[1][i])
+    xp = backend.scalar
+    wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, gust, xp)
+    noise = task.windsock_noise
+    status = int(wall.status)
+    hit = float(counters["hit_height"]) >= 0.0 and float(counters["last_hit"]) > 0
+    trajectory = record["ball_trajectory"]
+    hit_point = None
+    if hit:
+        height = float(counters["hit_height"])
+        hit_point = (sc.wall_distance, float(counters["hit_y"]), height)
+    wp = task.wall
+    return ToppleScene(
+        wall_distance_m=float(sc.wall_distance),
+        wall_height_m=wp.height_m,
+        wall_width_m=wp.width_m,
+        wall_thickness_m=wp.thickness_m,
+        base_depth_m=wp.base_depth_m,
+        wall_angle_rad=float(wall.angle),
+        pivot_side=int(wall.pivot),
+        wall_state=STATE_NAMES[status],
+        loose_panel=(wall.loose_x, wall.loose_z, wall.loose_angle) if status == LOOSE else None,
+        ball_trajectory_m=trajectory,
+        ball_orientations=record["ball_orientations"],
+        ball_radius_m=task.ball.radius_m,
+        wall_angle_samples=record["wall_angle_samples"],
+        # The renderer marks samples of an attached wall as NaN rows.
+        loose_samples=np.where(record["loose_mask"][:, None], record["loose_samples"], np.nan),
+        hit_point_m=hit_point,
+        wind_mps=(wind_x, wind_y),
+        windsock_mps=(wind_x + noise * sock_noise[0], wind_y + noise * sock_noise[1]),
+        throws_left=int(counters["throws_left"]),
+        throws_total=task.throws_per_episode,
+        hits=int(counters["hits"]),
+    )
+
+
+class BeachballToppleVectorEnv(NativeVectorEnv):
+    """Native vector version of :class:`BeachballToppleEnv`: all walls and balls in one
+    batch. Same task, spaces, arguments and info keys as the single env (the per-step
+    samples are object arrays); see :class:`bbgym.envs.common.NativeVectorEnv`."""
+
+    metadata = {**NativeVectorEnv.metadata, "render_fps": 20}
+    task_class = ToppleTask
+    sim_class = _ToppleSim
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int = 100,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+
+    def _make_renderer(self) -> Any:
+        return _make_renderer(self)
+
+    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+        return renderer.render(_scene(self._sim, i))
+
+
+BeachballToppleEnv.__doc__ = BeachballToppleEnv.__doc__.replace("{args}", _DOC_ARGS)
