@@ -243,8 +243,9 @@ def loose_step(
 ) -> tuple:
     """A free panel in the wind (seed §8): the air pushes it along its face normal, in
     proportion to the area seen by the relative wind, ``-1/2 rho C_d A w_n |w_n| n``;
-    gravity pulls it down; air damps its tumbling. Returns the new ``(x, z, angle, vx,
-    vz, rate, landed)``; a panel whose lowest corner reaches the ground has landed."""
+    gravity pulls it down; air damps its tumbling. On the ground it rests on its lower end,
+    slides with friction and tips over that end. Returns the new ``(x, z, angle, vx, vz,
+    rate, landed)``; it has landed when it lies (nearly) flat."""
     nx, nz = xp.cos(angle), -xp.sin(angle)
     w_n = (vx - wind_x) * nx + vz * nz
     push = -0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2 * w_n * xp.abs(w_n)
@@ -256,14 +257,37 @@ def loose_step(
     inertia_cm = p.mass_kg * (p.height_m**2 + p.thickness_m**2) / 12.0
     rate = rate - tumble * rate * xp.abs(rate) / inertia_cm * dt_s
     x, z, angle = x + vx * dt_s, z + vz * dt_s, angle + rate * dt_s
-    lowest = z - half * xp.abs(xp.cos(angle)) - 0.5 * p.thickness_m * xp.abs(xp.sin(angle))
-    landed = lowest <= 0.0
-    z = xp.where(landed, z - lowest, z)
+    # On the ground the panel stands on its lower end: the ground holds it up, friction
+    # drags its foot, and its weight tips it over that end until it lies flat.
+    ca, sa = xp.cos(angle), xp.sin(angle)
+    lowest = z - half * xp.abs(ca) - 0.5 * p.thickness_m * xp.abs(sa)
+    touching = lowest <= 0.0
+    z = xp.where(touching, z - lowest, z)
+    vz = xp.where(touching & (vz < 0.0), 0.0, vz)
+    friction = p.base_friction * p.mass_kg * GRAVITY_MPS2
+    sliding = xp.maximum(xp.abs(vx) - friction / p.mass_kg * dt_s, 0.0)
+    drag_foot = xp.where(touching & (vx != 0.0), -xp.sign(vx) * friction, 0.0)
+    vx = xp.where(touching, xp.sign(vx) * sliding, vx)
+    lever = half * sa * xp.sign(ca)  # centre of mass beyond the lower end, along x
+    inertia_end = inertia_cm + p.mass_kg * half * half
+    # Weight about the lower end, and the friction dragging that end (half below the
+    # centre): a panel pushed along the ground trips over its foot.
+    tip = (
+        p.mass_kg * GRAVITY_MPS2 * lever / inertia_end - drag_foot * half * xp.abs(ca) / inertia_cm
+    )
+    rate = xp.where(touching, rate + tip * dt_s, rate)
+    landed = touching & (xp.abs(sa) >= math.sin(0.45 * math.pi))
+    flat = xp.where(sa >= 0.0, 0.5 * math.pi, -0.5 * math.pi)
     zero = 0.0 * x
     return (
-        x, z, angle, xp.where(landed, zero, vx), xp.where(landed, zero, vz),
-        xp.where(landed, zero, rate), landed,
-    )  # fmt: skip
+        x,
+        xp.where(landed, zero + 0.5 * p.thickness_m, z),
+        xp.where(landed, flat, angle),
+        xp.where(landed, zero, vx),
+        xp.where(landed, zero, vz),
+        xp.where(landed, zero, rate),
+        landed,
+    )
 
 
 def ball_hits_wall(

@@ -2,5 +2,14 @@
 
 from bbgym.render.sail_view import SailRenderer, SailScene
 from bbgym.render.throw_view import ThrowRenderer, ThrowScene, ThrowScreen
+from bbgym.render.topple_view import ToppleRenderer, ToppleScene
 
-__all__ = ["SailRenderer", "SailScene", "ThrowRenderer", "ThrowScene", "ThrowScreen"]
+__all__ = [
+    "SailRenderer",
+    "SailScene",
+    "ThrowRenderer",
+    "ThrowScene",
+    "ThrowScreen",
+    "ToppleRenderer",
+    "ToppleScene",
+]

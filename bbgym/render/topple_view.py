@@ -1,0 +1,712 @@
+"""Renderer for the wall-toppling task: a side view of the wall, a top-view inset, a readout.
+
+The renderer only *draws* a :class:`ToppleScene`, a plain snapshot of the latest env step; it
+never steps or recomputes physics, so it can be tested and reused on its own.
+
+Conventions (shared with the physics):
+
+* world frame: x east, y north, z up, metres; the thrower stands at the origin, the wall at
+  x = ``wall_distance_m``, centred on y = 0, its face towards the thrower;
+* lean angle: positive when the top moves away from the thrower (+x); +-pi/2 is lying flat.
+  A wall on its foot can only lean forward by rotating about the foot's far bottom edge and
+  backward about the near one, so the pivot follows the sign of the lean (``pivot_side`` is
+  used only where the lean is exactly 0);
+* the wall (panel and foot) is one rigid body. Its body frame has its origin at the middle of
+  the foot's bottom face, ``u`` across the panel (+x when upright) and ``v`` up along it; a loose
+  panel's (x, z) is the centre of the panel rectangle, body point (0, height/2);
+* ball orientation: unit quaternion (w, x, y, z), as in :mod:`bbgym.render.throw_view`.
+
+Layout: the upper part is a SIDE VIEW looking north (+x to the right, z up) at a fixed scale
+that depends only on the wall distance; below it, the readout (left) and a TOP-VIEW inset
+(right, x east to the right, y north up). The beach ball, thrower, windsock and wind compass
+come from :mod:`bbgym.render.throw_view`.
+
+pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
+:class:`ToppleRenderer` is created, so importing this module never needs it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from bbgym.render.base import Color, PygameRenderer, Vec2, blend, clamp_px
+from bbgym.render.throw_view import (
+    BALL_MIN_RADIUS_PX,
+    DIM_TEXT_COLOR,
+    GROUND_LINE_COLOR,
+    LABEL_COLOR,
+    PANEL_EDGE_COLOR,
+    READOUT_COLOR,
+    SAND_COLOR,
+    SAND_GRID_COLOR,
+    SKY_COLOR,
+    SKY_GRID_COLOR,
+    TEXT_COLOR,
+    Rect,
+    ViewMap,
+    draw_ball_flight,
+    draw_side_thrower,
+    draw_top_thrower,
+    draw_top_windsock,
+    draw_wind_compass,
+    view_axes,
+)
+
+WallState = str  # "standing" | "fallen_away" | "fallen_toward" | "loose"
+WALL_STATES = ("standing", "fallen_away", "fallen_toward", "loose")
+
+# --- colours ---------------------------------------------------------------------------------
+WALL_COLOR: Color = (214, 170, 112)  # a plywood stage flat
+WALL_EDGE_COLOR: Color = (96, 62, 30)
+FOOT_COLOR: Color = (112, 86, 64)
+UPRIGHT_GUIDE_COLOR: Color = (120, 150, 178)  # dashed "where upright would be" line
+PIVOT_COLOR: Color = (200, 30, 30)
+HIT_STAR_COLOR: Color = (255, 226, 0)
+HIT_STAR_EDGE_COLOR: Color = (200, 40, 20)
+SIDE_WIND_COLOR: Color = (30, 62, 120)
+SCAR_COLOR: Color = (120, 86, 52)  # torn-up ground where a loose wall stood
+STATE_COLORS: dict[str, Color] = {
+    "standing": (190, 194, 202),
+    "fallen_away": (46, 204, 84),
+    "fallen_toward": (236, 64, 52),
+    "loose": (255, 150, 20),
+}
+STATE_LABELS: dict[str, str] = {
+    "standing": "STANDING",
+    "fallen_away": "FELL AWAY",
+    "fallen_toward": "FELL TOWARD YOU",
+    "loose": "BROKE LOOSE!",
+}
+BANNER_TEXT_COLOR: Color = (255, 255, 255)
+BANNER_EDGE_COLOR: Color = (150, 70, 0)
+
+# --- geometry (metres unless noted) ----------------------------------------------------------
+SIDE_X_MIN_M = -1.0  # the side view shows x from just behind the thrower...
+SIDE_PAST_WALL_M = 4.0  # ...to this far past the wall (room for a wall lying flat)
+SIDE_HEIGHT_M = 4.5  # at least this much height shows
+FOOT_HEIGHT_M = 0.14
+FOOT_TOP_FRACTION = 0.35  # the foot's top face, as a fraction of its depth: a low trapezoid
+WALL_MIN_THICKNESS_PX = 7.0  # a 4 cm panel would be 2 px wide: exaggerate it to stay visible
+TOP_X_MIN_M = -1.8
+TOP_PAST_WALL_M = 3.0
+TOP_HALF_Y_M = 2.6  # at least this much y either side of the centre line
+SOCK_POLE_M: Vec2 = (1.5, 1.9)  # the top view's windsock: left of the usual flight path
+LOOSE_GHOST_EVERY = 5  # every n-th loose sample leaves a faded outline of the tumbling panel
+LOOSE_GHOST_MAX = 5  # at most this many (the latest) outlines
+FALLEN_TOLERANCE_RAD = 0.03  # within this of +-pi/2 a frame counts as lying flat
+
+# --- screen layout (pixels) ------------------------------------------------------------------
+SIDE_PANEL_HEIGHT_FRACTION = 0.70
+INSET_WIDTH_FRACTION = 0.40
+PANEL_MARGIN_PX = 8
+SIDE_GROUND_BAND_PX = 20
+INSET_BALL_RADIUS_PX = 5.0
+SMALL_FONT_PX = 15
+READOUT_FONT_PX = 21
+STATE_FONT_PX = 40
+BANNER_FONT_PX = 48
+WIND_ARROW_PX_PER_MPS = 8.0
+WIND_ARROW_MAX_PX = 90.0
+HIT_STAR_RADIUS_PX = 9.0
+
+
+@dataclass(frozen=True)
+class ToppleScene:
+    """Everything the renderer needs for one frame; plain numbers, no physics objects."""
+
+    wall_distance_m: float
+    wall_height_m: float
+    wall_width_m: float
+    wall_thickness_m: float
+    base_depth_m: float
+    wall_angle_rad: float  # lean, + = top toward +x (away from the thrower); +-pi/2 = flat
+    pivot_side: int  # +1 far foot edge, -1 near edge, 0 standing on its foot
+    wall_state: WallState  # "standing" | "fallen_away" | "fallen_toward" | "loose"
+    loose_panel: tuple[float, float, float] | None  # when loose: panel centre x, z and angle
+    ball_trajectory_m: np.ndarray  # (K, 3) ball centres of the latest step, 0.05 s apart
+    ball_orientations: np.ndarray  # (K, 4) unit quaternions (w, x, y, z)
+    ball_radius_m: float
+    wall_angle_samples: np.ndarray  # (K2,) lean at the same 0.05 s intervals
+    loose_samples: np.ndarray  # (K2, 3) loose panel (x, z, angle), NaN rows while attached
+    hit_point_m: tuple[float, float, float] | None  # where the last ball hit the face
+    wind_mps: Vec2  # true wind (where the air moves)
+    windsock_mps: Vec2
+    throws_left: int = 0
+    throws_total: int = 8
+    hits: int = 0
+    frame_index: int | None = None  # draw the state at sample k; None = the final state
+
+
+@dataclass(frozen=True)
+class WallPose:
+    """Where the wall's body frame is in the x-z plane: body (u, v) -> world (x, z)."""
+
+    origin_m: Vec2  # world position of the middle of the foot's bottom face
+    angle_rad: float  # + = top toward +x
+
+    def to_world(self, u: float, v: float) -> Vec2:
+        c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
+        return (self.origin_m[0] + u * c + v * s, self.origin_m[1] - u * s + v * c)
+
+    def to_body(self, x: float, z: float) -> Vec2:
+        c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
+        dx, dz = x - self.origin_m[0], z - self.origin_m[1]
+        return (dx * c - dz * s, dx * s + dz * c)
+
+
+@dataclass(frozen=True)
+class FrameState:
+    """What one frame shows: the ball's trajectory index, the wall pose and its state."""
+
+    ball_index: int | None  # None: no throw this step
+    pose: WallPose
+    loose: bool
+    state: WallState  # the state to announce in this frame
+    pivot_side: int  # the edge it rotates about (0: upright or loose)
+    loose_trail: tuple[Triple, ...]  # loose samples (x, z, angle) up to this frame
+    sample: int | None  # the sample index drawn (None: the final scalar state)
+
+
+# --- pure geometry ---------------------------------------------------------------------------
+
+
+def pivot_side_for(angle_rad: float, hint: int = 0) -> int:
+    """Foot edge a wall leaning by ``angle_rad`` rotates about: +1 far, -1 near, 0 upright."""
+    if angle_rad > 0.0:
+        return 1
+    if angle_rad < 0.0:
+        return -1
+    return int(np.sign(hint))
+
+
+def attached_pose(scene: ToppleScene, angle_rad: float, hint: int = 0) -> WallPose:
+    """Pose of a wall on the ground leaning by ``angle_rad`` about its pivot edge."""
+    side = pivot_side_for(angle_rad, hint)
+    pivot_u = side * scene.base_depth_m / 2  # the pivot edge, in body coordinates (v = 0)
+    pivot_world = (scene.wall_distance_m + pivot_u, 0.0)
+    # origin + R(angle) @ (pivot_u, 0) = pivot_world
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return WallPose((pivot_world[0] - pivot_u * c, pivot_world[1] + pivot_u * s), angle_rad)
+
+
+def loose_pose(scene: ToppleScene, panel: tuple[float, float, float]) -> WallPose:
+    """Pose of a loose wall whose panel centre is at (x, z) with the given angle."""
+    x, z, angle = (float(v) for v in panel)
+    c, s = math.cos(angle), math.sin(angle)
+    half_h = scene.wall_height_m / 2  # the centre is body point (0, half_h)
+    return WallPose((x - half_h * s, z - half_h * c), angle)
+
+
+Triple = tuple[float, float, float]
+
+
+def _triple(row: np.ndarray | tuple[float, ...]) -> Triple:
+    return (float(row[0]), float(row[1]), float(row[2]))
+
+
+def wrap_angle(angle_rad: float) -> float:
+    """The same angle in (-pi, pi]."""
+    return math.pi - (math.pi - angle_rad) % (2 * math.pi)
+
+
+def frame_state(scene: ToppleScene) -> FrameState:
+    """Resolve ``frame_index`` into what to draw (see :attr:`ToppleScene.frame_index`)."""
+    traj = np.asarray(scene.ball_trajectory_m, dtype=float).reshape(-1, 3)
+    angles = np.asarray(scene.wall_angle_samples, dtype=float).reshape(-1)
+    loose = np.asarray(scene.loose_samples, dtype=float).reshape(-1, 3)
+    n_samples = min(len(angles), len(loose)) if len(loose) else len(angles)
+    k = scene.frame_index
+    ball_index: int | None = None
+    if len(traj):
+        ball_index = len(traj) - 1 if k is None else min(max(int(k), 0), len(traj) - 1)
+
+    loose_ok = np.all(np.isfinite(loose), axis=1)
+    if k is None or n_samples == 0:
+        # The final state: the scalar fields.
+        trail = tuple(_triple(row) for row in loose[loose_ok])
+        panel = None if scene.loose_panel is None else _triple(scene.loose_panel)
+        if scene.wall_state == "loose" and panel is None and trail:
+            panel = trail[-1]
+        if scene.wall_state == "loose" and panel is not None:
+            pose = loose_pose(scene, panel)
+            return FrameState(ball_index, pose, True, "loose", 0, trail, None)
+        pose = attached_pose(scene, scene.wall_angle_rad, scene.pivot_side)
+        side = pivot_side_for(scene.wall_angle_rad, scene.pivot_side)
+        return FrameState(ball_index, pose, False, scene.wall_state, side, (), None)
+
+    s = min(max(int(k), 0), n_samples - 1)
+    last = s >= n_samples - 1
+    if s < len(loose) and loose_ok[s]:
+        trail = tuple(_triple(row) for row in loose[: s + 1][loose_ok[: s + 1]])
+        return FrameState(
+            ball_index, loose_pose(scene, _triple(loose[s])), True, "loose", 0, trail, s
+        )
+    angle = float(angles[s]) if s < len(angles) and math.isfinite(angles[s]) else 0.0
+    if last and scene.wall_state != "loose":
+        state = scene.wall_state
+    elif (
+        scene.wall_state in ("fallen_away", "fallen_toward")
+        and abs(abs(angle) - math.pi / 2) <= FALLEN_TOLERANCE_RAD
+    ):
+        state = scene.wall_state
+    else:
+        state = "standing"
+    hint = scene.pivot_side if last else 0
+    pose = attached_pose(scene, angle, hint)
+    return FrameState(ball_index, pose, False, state, pivot_side_for(angle, hint), (), s)
+
+
+def hit_body_v(scene: ToppleScene) -> tuple[float, int] | None:
+    """The hit's height along the panel (body v) and the trajectory index of the impact.
+
+    The wall may have moved since: the hit is found on the wall as it stood at the sample
+    nearest the impact, so the mark can ride on the panel afterwards.
+    """
+    if scene.hit_point_m is None:
+        return None
+    hx, _, hz = (float(v) for v in scene.hit_point_m)
+    traj = np.asarray(scene.ball_trajectory_m, dtype=float).reshape(-1, 3)
+    ok = np.all(np.isfinite(traj), axis=1)
+    k_hit = 0
+    if np.any(ok):
+        dist = np.where(ok, np.linalg.norm(traj - np.asarray(scene.hit_point_m), axis=1), np.inf)
+        k_hit = int(np.argmin(dist))
+    angles = np.asarray(scene.wall_angle_samples, dtype=float).reshape(-1)
+    angle = scene.wall_angle_rad if len(angles) == 0 else float(angles[min(k_hit, len(angles) - 1)])
+    if not math.isfinite(angle):
+        angle = 0.0
+    _, v = attached_pose(scene, angle, scene.pivot_side).to_body(hx, hz)
+    return min(max(v, 0.0), scene.wall_height_m), k_hit
+
+
+# --- layout ----------------------------------------------------------------------------------
+
+
+def panel_rects(width: int, height: int) -> tuple[Rect, Rect, Rect]:
+    """(side view, readout, top-view inset) rectangles for a frame of ``width`` x ``height``."""
+    side_h = round(height * SIDE_PANEL_HEIGHT_FRACTION)
+    inset_w = round(width * INSET_WIDTH_FRACTION)
+    low_h = height - side_h
+    return (
+        (0, 0, width, side_h),
+        (0, side_h, width - inset_w, low_h),
+        (width - inset_w, side_h, inset_w, low_h),
+    )
+
+
+def side_view_map(scene: ToppleScene, width: int, height: int) -> ViewMap:
+    """Side view: a = x, b = z, ground at the panel bottom; x in [-1, d + 4] and z in [0, 4.5]
+    always fit (equal scale on both axes, set by the wall distance only)."""
+    rect, _, _ = panel_rects(width, height)
+    x, y, w, h = rect
+    x1 = scene.wall_distance_m + SIDE_PAST_WALL_M
+    ground_y = y + h - SIDE_GROUND_BAND_PX
+    ppm = min(
+        (w - 2 * PANEL_MARGIN_PX) / (x1 - SIDE_X_MIN_M),
+        (ground_y - y - PANEL_MARGIN_PX) / SIDE_HEIGHT_M,
+    )
+    ppm = max(ppm, 1e-6)
+    # Centre the x range horizontally (there is slack when the height limits the scale).
+    left = x + w / 2 - 0.5 * (x1 - SIDE_X_MIN_M) * ppm
+    return ViewMap(rect, (left - SIDE_X_MIN_M * ppm, float(ground_y)), ppm)
+
+
+def top_view_map(scene: ToppleScene, width: int, height: int) -> ViewMap:
+    """Top-view inset: a = x (east), b = y (north); x in [-1.8, d + 3], y centred on 0."""
+    _, _, rect = panel_rects(width, height)
+    x, y, w, h = rect
+    x0, x1 = TOP_X_MIN_M, scene.wall_distance_m + TOP_PAST_WALL_M
+    half_y = max(TOP_HALF_Y_M, scene.wall_width_m / 2 + 0.5)
+    ppm = min((w - 2 * PANEL_MARGIN_PX) / (x1 - x0), (h - 2 * PANEL_MARGIN_PX) / (2 * half_y))
+    ppm = max(ppm, 1e-6)
+    origin = (x + w / 2 - 0.5 * (x0 + x1) * ppm, y + h / 2)
+    return ViewMap(rect, origin, ppm)
+
+
+# --- renderer --------------------------------------------------------------------------------
+
+
+class ToppleRenderer(PygameRenderer[ToppleScene]):
+    """Draws :class:`ToppleScene` frames, either into a window or into an RGB array.
+
+    ``render(scene)`` returns a (height, width, 3) uint8 array in ``rgb_array`` mode and None in
+    ``human`` mode; ``close()`` closes the window.
+    """
+
+    caption = "bbgym beach-ball topple"
+
+    def __init__(
+        self, render_mode: str, width: int = 640, height: int = 480, render_fps: int = 20
+    ) -> None:
+        super().__init__(render_mode, width, height, render_fps)
+
+    # -- frame ---------------------------------------------------------------------------------
+
+    def _draw_scene(self, scene: ToppleScene) -> None:
+        self._surface.fill(READOUT_COLOR)
+        frame = frame_state(scene)
+        side = side_view_map(scene, self.width, self.height)
+        top = top_view_map(scene, self.width, self.height)
+        _, readout, _ = panel_rects(self.width, self.height)
+        self._with_clip(side.rect, lambda: self._draw_side_view(scene, frame, side))
+        self._with_clip(readout, lambda: self._draw_readout(scene, frame, readout))
+        self._with_clip(top.rect, lambda: self._draw_top_view(scene, frame, top))
+        pg = self._pg
+        sx, sy, sw, sh = side.rect
+        tx, ty, tw, th = top.rect
+        pg.draw.line(
+            self._surface, PANEL_EDGE_COLOR, (0, sy + sh - 1), (self.width, sy + sh - 1), 2
+        )
+        pg.draw.line(self._surface, PANEL_EDGE_COLOR, (tx, ty), (tx, ty + th), 2)
+
+    # -- side view -----------------------------------------------------------------------------
+
+    def _draw_side_view(self, scene: ToppleScene, frame: FrameState, view: ViewMap) -> None:
+        pg, surf = self._pg, self._surface
+        x, y, w, h = view.rect
+        ground_y = view.origin_px[1]
+        pg.draw.rect(surf, SKY_COLOR, view.rect)
+        pg.draw.rect(surf, SAND_COLOR, (x, ground_y, w, y + h - ground_y))
+        self._draw_side_grid(view)
+        pg.draw.line(surf, GROUND_LINE_COLOR, (x, ground_y), (x + w, ground_y), 2)
+        draw_side_thrower(pg, surf, view)
+        self._draw_upright_guide(scene, view)
+        if frame.loose:
+            self._draw_loose_wall(scene, frame, view)
+        else:
+            self._draw_wall(scene, frame.pose, view)
+            if frame.pivot_side != 0:
+                px, pz = view.to_px(
+                    scene.wall_distance_m + frame.pivot_side * scene.base_depth_m / 2, 0.0
+                )
+                pg.draw.circle(surf, PIVOT_COLOR, (px, pz), 4)
+        self._draw_side_hit(scene, frame, view)
+        if frame.ball_index is not None:
+            traj = np.asarray(scene.ball_trajectory_m, dtype=float).reshape(-1, 3)
+            right, up = view_axes("side", (1.0, 0.0))
+            radius = max(scene.ball_radius_m * view.pixels_per_meter, BALL_MIN_RADIUS_PX)
+            draw_ball_flight(
+                pg,
+                surf,
+                view,
+                traj[:, [0, 2]],
+                scene.ball_orientations,
+                frame.ball_index,
+                right,
+                up,
+                radius,
+            )
+        self._draw_side_wind(scene, view)
+        self._draw_text("side view (looking north)", (x + 8, y + 6), LABEL_COLOR, SMALL_FONT_PX)
+        if frame.state == "loose":
+            self._draw_banner(STATE_LABELS["loose"], view.rect)
+
+    def _draw_side_grid(self, view: ViewMap) -> None:
+        """Faint height lines every metre and distance ticks with labels along the ground."""
+        pg, surf = self._pg, self._surface
+        x, y, w, h = view.rect
+        top_m = int((view.origin_px[1] - y) / view.pixels_per_meter)
+        for k in range(1, top_m + 1):
+            py = view.to_px(0.0, float(k))[1]
+            pg.draw.line(surf, SKY_GRID_COLOR, (x, py), (x + w, py), 1)
+            self._draw_text(f"{k} m", (x + w - 30, py - 12), LABEL_COLOR, SMALL_FONT_PX)
+        s_first = math.ceil((x - view.origin_px[0]) / view.pixels_per_meter)
+        s_last = int((x + w - view.origin_px[0]) / view.pixels_per_meter)
+        for s in range(s_first, s_last + 1):
+            px, py = view.to_px(float(s), 0.0)
+            pg.draw.line(surf, GROUND_LINE_COLOR, (px, py), (px, py + (5 if s % 2 == 0 else 3)), 1)
+            if s % 2 == 0 and s > 0:
+                label = self._get_font(SMALL_FONT_PX).render(f"{s}", True, LABEL_COLOR)
+                surf.blit(label, (px - label.get_width() / 2, py + 4))
+
+    def _draw_upright_guide(self, scene: ToppleScene, view: ViewMap) -> None:
+        """A dashed vertical line where the upright panel would stand: the lean reads against it."""
+        pg = self._pg
+        d = scene.wall_distance_m
+        n = 12
+        for i in range(0, n, 2):
+            a = view.to_px(d, scene.wall_height_m * i / n)
+            b = view.to_px(d, scene.wall_height_m * (i + 1) / n)
+            pg.draw.line(self._surface, UPRIGHT_GUIDE_COLOR, a, b, 1)
+
+    def _wall_polygons(
+        self, scene: ToppleScene, pose: WallPose, view: ViewMap
+    ) -> tuple[list[Vec2], list[Vec2]]:
+        """Pixel outlines of the panel and its foot (a low trapezoid) for ``pose``."""
+        half_t = max(scene.wall_thickness_m, WALL_MIN_THICKNESS_PX / view.pixels_per_meter) / 2
+        half_b = scene.base_depth_m / 2
+        half_top = max(half_b * FOOT_TOP_FRACTION, 1.5 * half_t)
+        panel_body = [
+            (-half_t, 0.0),
+            (half_t, 0.0),
+            (half_t, scene.wall_height_m),
+            (-half_t, scene.wall_height_m),
+        ]
+        foot_body = [
+            (-half_b, 0.0),
+            (half_b, 0.0),
+            (half_top, FOOT_HEIGHT_M),
+            (-half_top, FOOT_HEIGHT_M),
+        ]
+
+        def px(points: list[Vec2]) -> list[Vec2]:
+            return [clamp_px(view.to_px(*pose.to_world(u, v))) for u, v in points]
+
+        return px(panel_body), px(foot_body)
+
+    def _draw_wall(
+        self, scene: ToppleScene, pose: WallPose, view: ViewMap, fade: float = 0.0
+    ) -> None:
+        """The panel (thin rectangle) and its foot, rotated together; ``fade`` mixes in sky."""
+        pg, surf = self._pg, self._surface
+        panel, foot = self._wall_polygons(scene, pose, view)
+        wall_c = blend(WALL_COLOR, SKY_COLOR, fade)
+        edge_c = blend(WALL_EDGE_COLOR, SKY_COLOR, fade)
+        foot_c = blend(FOOT_COLOR, SKY_COLOR, fade)
+        if fade > 0.0:  # ghosts: the panel's outline only; the current wall is the solid one
+            pg.draw.polygon(surf, edge_c, panel, 2)
+            return
+        pg.draw.polygon(surf, wall_c, panel)
+        pg.draw.polygon(surf, edge_c, panel, 1)
+        pg.draw.polygon(surf, foot_c, foot)
+        pg.draw.polygon(surf, edge_c, foot, 1)
+
+    def _draw_loose_wall(self, scene: ToppleScene, frame: FrameState, view: ViewMap) -> None:
+        """The free panel, faded outlines where it tumbled, and the torn-up spot it left."""
+        pg, surf = self._pg, self._surface
+        d = scene.wall_distance_m
+        # Where it tore off the ground: a jagged burst of churned earth at the foot.
+        cx, cy = view.to_px(d, 0.0)
+        r = max(8.0, scene.base_depth_m * view.pixels_per_meter * 0.7)
+        burst = _star_points((cx, cy), r, r * 0.45, 7, 0.3)
+        pg.draw.polygon(surf, SCAR_COLOR, burst)
+        pg.draw.polygon(surf, WALL_EDGE_COLOR, burst, 1)
+        trail = frame.loose_trail
+        # Faded outlines where it tumbled, counted back from now: older ones fainter.
+        ghosts = list(range(len(trail) - 1 - LOOSE_GHOST_EVERY, -1, -LOOSE_GHOST_EVERY))
+        for age, i in reversed(list(enumerate(ghosts[:LOOSE_GHOST_MAX]))):
+            self._draw_wall(scene, loose_pose(scene, trail[i]), view, fade=0.45 + 0.1 * age)
+        if len(trail) >= 2:
+            centres = [clamp_px(view.to_px(t[0], t[1])) for t in trail]
+            pg.draw.lines(surf, STATE_COLORS["loose"], False, centres, 2)
+        self._draw_wall(scene, frame.pose, view)
+        centre = view.to_px(*frame.pose.to_world(0.0, scene.wall_height_m / 2))
+        self._draw_offscreen_marker(centre, view)
+
+    def _draw_offscreen_marker(self, target_px: Vec2, view: ViewMap) -> None:
+        """An orange triangle at the panel's edge pointing to a loose wall that flew out of view."""
+        x, y, w, h = view.rect
+        m = 14.0
+        tx = min(max(target_px[0], x + m), x + w - m)
+        ty = min(max(target_px[1], y + m), y + h - m)
+        if (tx, ty) == (target_px[0], target_px[1]):
+            return
+        dx, dy = target_px[0] - tx, target_px[1] - ty
+        n = math.hypot(dx, dy)
+        ux, uy = dx / n, dy / n
+        tip = (tx + ux * 10, ty + uy * 10)
+        tri = [tip, (tx - uy * 8, ty + ux * 8), (tx + uy * 8, ty - ux * 8)]
+        self._pg.draw.polygon(self._surface, STATE_COLORS["loose"], tri)
+        self._pg.draw.polygon(self._surface, BANNER_EDGE_COLOR, tri, 1)
+
+    def _hit_world(self, scene: ToppleScene, frame: FrameState) -> tuple[Vec2, float] | None:
+        """Where the hit mark is now (x, z) on the face, and its y; None before the impact."""
+        found = hit_body_v(scene)
+        if found is None or scene.hit_point_m is None:
+            return None
+        v, k_hit = found
+        if frame.ball_index is not None and frame.ball_index < k_hit:
+            return None  # the ball has not got there yet
+        half_t = scene.wall_thickness_m / 2
+        return frame.pose.to_world(-half_t, v), float(scene.hit_point_m[1])
+
+    def _draw_side_hit(self, scene: ToppleScene, frame: FrameState, view: ViewMap) -> None:
+        hit = self._hit_world(scene, frame)
+        if hit is None:
+            return
+        c = view.to_px(*hit[0])
+        self._draw_star(c, HIT_STAR_RADIUS_PX)
+
+    def _draw_star(self, c: Vec2, r: float) -> None:
+        pts = _star_points(clamp_px(c), r, r * 0.45, 8, 0.0)
+        self._pg.draw.polygon(self._surface, HIT_STAR_COLOR, pts)
+        self._pg.draw.polygon(self._surface, HIT_STAR_EDGE_COLOR, pts, 2)
+
+    def _draw_side_wind(self, scene: ToppleScene, view: ViewMap) -> None:
+        """The wind's x component (what pushes the wall) as an arrow in the sky, with speeds."""
+        pg, surf = self._pg, self._surface
+        x, y, _, _ = view.rect
+        wx, wy = scene.wind_mps
+        cx, cy = x + 16 + WIND_ARROW_MAX_PX / 2, y + 40
+        # At least a short arrow for any breath of wind: its direction matters more than speed.
+        length = min(max(abs(wx) * WIND_ARROW_PX_PER_MPS, 16.0), WIND_ARROW_MAX_PX)
+        if abs(wx) >= 0.05:
+            sgn = 1.0 if wx > 0 else -1.0
+            tail = (cx - sgn * length / 2, cy)
+            tip = (cx + sgn * length / 2, cy)
+            pg.draw.line(surf, SIDE_WIND_COLOR, tail, (tip[0] - sgn * 8, cy), 4)
+            pg.draw.polygon(
+                surf,
+                SIDE_WIND_COLOR,
+                [tip, (tip[0] - sgn * 12, cy - 7), (tip[0] - sgn * 12, cy + 7)],
+            )
+        else:
+            pg.draw.circle(surf, SIDE_WIND_COLOR, (cx, cy), 3)
+        speed = math.hypot(wx, wy)
+        self._draw_text(
+            f"wind {speed:.1f} m/s, pushing x {wx:+.1f}",
+            (x + 16, cy + 12),
+            SIDE_WIND_COLOR,
+            SMALL_FONT_PX + 2,
+        )
+
+    def _draw_banner(self, text: str, rect: Rect) -> None:
+        """A big orange banner across the top of ``rect``."""
+        pg = self._pg
+        x, y, w, _ = rect
+        img = self._get_font(BANNER_FONT_PX).render(text, True, BANNER_TEXT_COLOR)
+        bw, bh = img.get_width() + 36, img.get_height() + 14
+        bx, by = x + (w - bw) / 2, y + 34
+        pg.draw.rect(self._surface, STATE_COLORS["loose"], (bx, by, bw, bh), border_radius=8)
+        pg.draw.rect(self._surface, BANNER_EDGE_COLOR, (bx, by, bw, bh), 3, border_radius=8)
+        self._surface.blit(img, (bx + 18, by + 8))
+
+    # -- top-view inset ------------------------------------------------------------------------
+
+    def _draw_top_view(self, scene: ToppleScene, frame: FrameState, view: ViewMap) -> None:
+        pg, surf = self._pg, self._surface
+        x, y, w, h = view.rect
+        pg.draw.rect(surf, SAND_COLOR, view.rect)
+        ppm = view.pixels_per_meter
+        for i in range(math.floor(TOP_X_MIN_M), math.ceil(scene.wall_distance_m + 4)):
+            px = view.to_px(float(i), 0.0)[0]
+            pg.draw.line(surf, SAND_GRID_COLOR, (px, y), (px, y + h), 1)
+        for j in range(-int(h / ppm) - 1, int(h / ppm) + 2):
+            py = view.to_px(0.0, float(j))[1]
+            pg.draw.line(surf, SAND_GRID_COLOR, (x, py), (x + w, py), 1)
+        self._draw_top_wall(scene, frame, view)
+        draw_top_windsock(
+            pg,
+            surf,
+            self._get_font(SMALL_FONT_PX - 2),
+            view,
+            SOCK_POLE_M,
+            scene.windsock_mps,
+            label_min_y_px=4.0,
+        )
+        draw_top_thrower(pg, surf, view, (1.0, 0.0))
+        hit = self._hit_world(scene, frame)
+        if hit is not None:
+            self._draw_star(view.to_px(hit[0][0], hit[1]), HIT_STAR_RADIUS_PX * 0.7)
+        if frame.ball_index is not None:
+            traj = np.asarray(scene.ball_trajectory_m, dtype=float).reshape(-1, 3)
+            right, up = view_axes("top", (1.0, 0.0))
+            radius = max(scene.ball_radius_m * ppm, INSET_BALL_RADIUS_PX)
+            draw_ball_flight(
+                pg,
+                surf,
+                view,
+                traj[:, :2],
+                scene.ball_orientations,
+                frame.ball_index,
+                right,
+                up,
+                radius,
+                ghost_min_radius_px=3.0,
+            )
+        self._draw_text("top view", (x + w - 62, y + 4), LABEL_COLOR, SMALL_FONT_PX)
+
+    def _draw_top_wall(self, scene: ToppleScene, frame: FrameState, view: ViewMap) -> None:
+        """The wall from above: its footprint from foot to top (a line when upright)."""
+        pg, surf = self._pg, self._surface
+        half_w = scene.wall_width_m / 2
+        half_b = scene.base_depth_m / 2
+        if not frame.loose:
+            foot = [view.to_px(*frame.pose.to_world(s * half_b, 0.0)) for s in (-1, 1)]
+            xs = [p[0] for p in foot]
+            y0, y1 = view.to_px(0.0, half_w)[1], view.to_px(0.0, -half_w)[1]
+            pg.draw.rect(surf, FOOT_COLOR, (min(xs), y0, max(xs) - min(xs), y1 - y0), 1)
+        bottom = frame.pose.to_world(0.0, 0.0)[0]
+        top = frame.pose.to_world(0.0, scene.wall_height_m)[0]
+        a, b = min(bottom, top), max(bottom, top)
+        (ax, ay), (bx, by) = view.to_px(a, half_w), view.to_px(b, -half_w)
+        thick = max(4.0, bx - ax)
+        cx = 0.5 * (ax + bx)
+        rect = (cx - thick / 2, ay, thick, by - ay)
+        pg.draw.rect(surf, WALL_COLOR, rect)
+        pg.draw.rect(surf, WALL_EDGE_COLOR, rect, 1)
+
+    # -- readout -------------------------------------------------------------------------------
+
+    def _draw_readout(self, scene: ToppleScene, frame: FrameState, rect: Rect) -> None:
+        """Big wall state, lean, throws, hits, last throw and the wind compass."""
+        x, y, w, h = rect
+        self._pg.draw.rect(self._surface, READOUT_COLOR, rect)
+        left = x + 12
+        line_y = y + 8
+        state = frame.state if frame.state in STATE_LABELS else "standing"
+        _, th = self._draw_text(
+            STATE_LABELS[state], (left, line_y), STATE_COLORS[state], STATE_FONT_PX
+        )
+        line_y += th + 2
+        lean = math.degrees(wrap_angle(frame.pose.angle_rad))
+        edge = {1: "far edge", -1: "near edge"}.get(frame.pivot_side, "on its foot")
+        lines = [
+            f"tumbling, at {lean:+.0f} deg" if frame.loose else f"lean {lean:+.1f} deg ({edge})",
+            f"throws left {scene.throws_left}/{scene.throws_total}    hits {scene.hits}",
+        ]
+        for text in lines:
+            _, th = self._draw_text(text, (left, line_y), TEXT_COLOR, READOUT_FONT_PX)
+            line_y += th + 2
+        found = hit_body_v(scene)
+        if len(scene.ball_trajectory_m) == 0:
+            last, color = "last: waited", DIM_TEXT_COLOR
+        elif frame.ball_index is not None and frame.ball_index < (
+            found[1] if found else len(scene.ball_trajectory_m) - 1
+        ):
+            last, color = "ball in the air...", DIM_TEXT_COLOR
+        elif scene.hit_point_m is not None:
+            last, color = (
+                f"last: HIT at {scene.hit_point_m[2]:.2f} m up",
+                STATE_COLORS["fallen_away"],
+            )
+        else:
+            last, color = "last: missed", STATE_COLORS["fallen_toward"]
+        self._draw_text(last, (left, line_y), color, READOUT_FONT_PX)
+        compass_w = 130
+        draw_wind_compass(
+            self._pg,
+            self._surface,
+            self._get_font(SMALL_FONT_PX + 2),
+            (x + w - compass_w, y + h - 44, compass_w - 4, 40),
+            scene.wind_mps,
+        )
+
+
+def _star_points(c: Vec2, r_out: float, r_in: float, spikes: int, phase: float) -> list[Vec2]:
+    """A star/burst outline around ``c`` with ``spikes`` points."""
+    pts: list[Vec2] = []
+    for i in range(2 * spikes):
+        r = r_out if i % 2 == 0 else r_in
+        a = phase + math.pi * i / spikes - math.pi / 2
+        pts.append((c[0] + r * math.cos(a), c[1] + r * math.sin(a)))
+    return pts
+
+
+__all__ = [
+    "WALL_STATES",
+    "FrameState",
+    "ToppleRenderer",
+    "ToppleScene",
+    "WallPose",
+    "attached_pose",
+    "frame_state",
+    "loose_pose",
+    "panel_rects",
+    "pivot_side_for",
+    "side_view_map",
+    "top_view_map",
+]

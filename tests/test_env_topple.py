@@ -1,0 +1,218 @@
+"""BeachballTopple-v0: contract, determinism, vector env, scenarios, errors."""
+
+from __future__ import annotations
+
+import math
+import os
+import pickle
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import bbgym  # noqa: F401  (registers the ids)
+from bbgym.envs.topple import BeachballToppleEnv, BeachballToppleVectorEnv
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+
+INFO_KEYS = {
+    "wall_angle", "wall_angular_velocity", "wall_state", "hits", "throws", "is_success",
+    "reward_terms", "windsock", "ball_trajectory", "wall_angle_samples",
+}  # fmt: skip
+WAIT = np.zeros(6, np.float32)
+
+
+def throw(speed: float, elevation_deg: float) -> np.ndarray:
+    el = math.radians(elevation_deg)
+    v = speed * np.array([math.cos(el), 0.0, math.sin(el)]) / 18.0
+    return np.concatenate([v, np.zeros(3)]).astype(np.float32)
+
+
+def test_registered_with_entry_points():
+    spec = gym.spec("BeachballTopple-v0")
+    assert spec.entry_point == "bbgym.envs.topple:BeachballToppleEnv"
+    assert spec.vector_entry_point == "bbgym.envs.topple:BeachballToppleVectorEnv"
+    assert spec.max_episode_steps == 100
+    assert isinstance(gym.make("bbgym:BeachballTopple-v0").unwrapped, BeachballToppleEnv)
+    assert isinstance(gym.make_vec("BeachballTopple-v0", num_envs=2), BeachballToppleVectorEnv)
+
+
+def test_check_env_passes():
+    check_env(gym.make("BeachballTopple-v0").unwrapped, skip_render_check=True)
+
+
+def test_deterministic_under_seed():
+    actions = np.random.default_rng(0).uniform(-1, 1, (4, 6)).astype(np.float32)
+
+    def run(seed):
+        env = gym.make("BeachballTopple-v0")
+        out = [env.reset(seed=seed)[0]]
+        for a in actions:
+            obs, _, terminated, _, _ = env.step(a)
+            out.append(obs)
+            if terminated:
+                break
+        return np.array(out)
+
+    np.testing.assert_array_equal(run(3), run(3))
+    assert not np.array_equal(run(3)[0], run(4)[0])
+
+
+def test_vector_env_matches_single_envs():
+    n, steps = 3, 6
+    rng = np.random.default_rng(5)
+    actions = rng.uniform(-1, 1, (steps, n, 6)).astype(np.float32)
+    vec = gym.make_vec("BeachballTopple-v0", num_envs=n)
+    first, _ = vec.reset(seed=20)
+    rows = [vec.step(actions[t]) for t in range(steps)]
+    for i in range(n):
+        env = gym.make("BeachballTopple-v0")
+        obs, _ = env.reset(seed=20 + i)
+        np.testing.assert_allclose(obs, first[i], atol=1e-6)
+        done = False
+        for t in range(steps):
+            vec_obs, vec_rew, vec_term, _, vec_info = rows[t]
+            if done:
+                obs, _ = env.reset()
+                np.testing.assert_allclose(obs, vec_obs[i], atol=1e-5)
+                assert vec_rew[i] == 0.0
+                done = False
+                continue
+            obs, rew, term, trunc, info = env.step(actions[t, i])
+            np.testing.assert_allclose(obs, vec_obs[i], atol=1e-5)
+            assert rew == pytest.approx(vec_rew[i], abs=1e-6)
+            assert term == vec_term[i] and info["wall_state"] == vec_info["wall_state"][i]
+            terms = vec_info["reward_terms"]
+            assert sum(terms[k][i] for k in info["reward_terms"]) == pytest.approx(rew)
+            done = term or trunc
+
+
+def test_calm_air_without_throws_the_wall_stands_all_episode():
+    env = gym.make("BeachballTopple-v0")
+    env.reset(seed=0, options=dict(wind=(0.0, 0.0), gusts=False))
+    for k in range(8):
+        _, reward, terminated, truncated, info = env.step(WAIT)
+        assert terminated == (k == 7) and not truncated
+        assert info["wall_state"] == "standing" and info["wall_angle"] == 0.0
+        assert info["throws"] == 0 and reward == 0.0
+    assert not info["is_success"]
+
+
+def test_a_storm_brings_it_down_by_itself():
+    env = gym.make("BeachballTopple-v0")
+    env.reset(seed=0, options=dict(wind=(12.0, 0.0), gusts=False))
+    _, reward, terminated, _, info = env.step(WAIT)
+    assert terminated and info["is_success"] and info["wall_state"] in ("fallen_away", "loose")
+    assert info["reward_terms"]["success"] == 10.0
+    env.reset(seed=0, options=dict(wind=(-6.0, 0.0), gusts=False))
+    _, reward, terminated, _, info = env.step(WAIT)
+    assert terminated and not info["is_success"] and info["wall_state"] == "fallen_toward"
+    assert info["reward_terms"]["failure"] == -5.0 and reward < -4.0
+
+
+def test_a_good_high_hit_topples_the_near_wall_in_calm_air():
+    env = gym.make("BeachballTopple-v0")
+    obs, _ = env.reset(seed=0, options=dict(wind=(0.0, 0.0), wall_distance=4.0, gusts=False))
+    assert obs[2] == pytest.approx(0.4)
+    obs, reward, terminated, _, info = env.step(throw(16.0, 15.0))
+    assert info["hits"] == 1 and info["throws"] == 1 and obs[8] == 1.0
+    assert terminated and info["is_success"] and info["wall_state"] == "fallen_away"
+    assert info["wall_angle"] == pytest.approx(math.pi / 2)
+    assert reward == pytest.approx(10.0 - 0.2 + 1.0)  # bonus, throw cost, full lean
+    # A low hit only rocks it: it settles back on its foot.
+    env.reset(seed=0, options=dict(wind=(0.0, 0.0), wall_distance=4.0, gusts=False))
+    obs, _, terminated, _, info = env.step(throw(10.0, 15.0))
+    assert info["hits"] == 1 and not terminated and info["wall_state"] == "standing"
+    assert 0.0 < obs[9] < 0.7 and max(info["wall_angle_samples"]) > 0.0
+    # A miss is seen as a miss.
+    env.reset(seed=0, options=dict(wind=(0.0, 0.0), wall_distance=8.0, gusts=False))
+    obs, _, _, _, info = env.step(throw(6.0, 30.0))
+    assert info["hits"] == 0 and obs[8] == -1.0
+
+
+def test_vector_env_autoresets_after_the_episode():
+    vec = BeachballToppleVectorEnv(num_envs=2, throws_per_episode=1)
+    vec.reset(seed=0)
+    _, _, term, _, _ = vec.step(np.zeros((2, 6), np.float32))
+    assert term.all()
+    obs, reward, term, trunc, info = vec.step(np.zeros((2, 6), np.float32))
+    np.testing.assert_array_equal(reward, 0.0)
+    assert not (term | trunc).any() and (obs[:, 7] == 1.0).all()
+    assert INFO_KEYS <= set(info) and info["_wall_state"].all()
+
+
+def test_pickle_round_trip():
+    env = gym.make("BeachballTopple-v0")
+    env.reset(seed=3)
+    env.step(WAIT)
+    clone = pickle.loads(pickle.dumps(env))
+    np.testing.assert_array_equal(env.step(throw(12.0, 20.0))[0], clone.step(throw(12.0, 20.0))[0])
+
+
+@pytest.mark.parametrize(
+    "options, name",
+    [
+        ({"storm": True}, "storm"),
+        ({"wind": (1.0, float("nan"))}, "wind"),
+        ({"wall_distance": 0.5}, "wall_distance"),
+        ({"gusts": "no"}, "gusts"),
+    ],
+)
+def test_bad_reset_options_raise(options, name):
+    with pytest.raises(ValueError, match=name):
+        gym.make("BeachballTopple-v0").reset(seed=0, options=options)
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"wall": {"mass_kg": -1.0}}, "mass_kg"),
+        ({"wall": {"colour": 1}}, "wall"),
+        ({"interval": 0.0}, "interval"),
+        ({"interval": 1.005}, "interval"),
+        ({"wall_distance_range": (8.0, 4.0)}, "wall_distance_range"),
+        ({"throws_per_episode": 0}, "throws_per_episode"),
+        ({"render_mode": "text"}, "render_mode"),
+    ],
+)
+def test_bad_constructor_arguments_raise(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        BeachballToppleEnv(**kwargs)
+
+
+def test_bad_actions_raise():
+    env = gym.make("BeachballTopple-v0")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="finite"):
+        env.step(np.array([np.inf, 0, 0, 0, 0, 0], np.float32))
+    with pytest.raises(ValueError, match="shape"):
+        env.step(np.zeros(5, np.float32))
+
+
+def test_rewards_bounded_and_terms_add_up():
+    env = gym.make("BeachballTopple-v0")
+    low, high = env.unwrapped.task.reward_range
+    rng = np.random.default_rng(0)
+    env.reset(seed=0)
+    for _ in range(30):
+        obs, reward, terminated, truncated, info = env.step(rng.uniform(-1, 1, 6))
+        assert low <= reward <= high
+        assert reward == pytest.approx(sum(info["reward_terms"].values()))
+        assert env.observation_space.contains(obs) and INFO_KEYS <= set(info)
+        if terminated or truncated:
+            env.reset()
+
+
+def test_render_rgb_array_and_human():
+    pytest.importorskip("pygame")
+    env = gym.make("BeachballTopple-v0", render_mode="rgb_array")
+    env.reset(seed=0, options=dict(wind=(0.0, 0.0), wall_distance=4.0, gusts=False))
+    before = env.render()
+    env.step(throw(16.0, 15.0))
+    after = env.render()
+    assert after.shape == (480, 640, 3) and not np.array_equal(before, after)
+    human = gym.make("BeachballTopple-v0", render_mode="human", interval=0.5)
+    human.reset(seed=0)
+    human.step(WAIT)
+    human.close()
