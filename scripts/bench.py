@@ -26,7 +26,7 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 
-BBGYM_ENVS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0")
+BBGYM_ENVS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
 
 
 def time_single(env_id: str, steps: int, seconds: float | None, seed: int) -> float:

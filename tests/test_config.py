@@ -49,3 +49,23 @@ def test_throw_preset_matches_code_defaults():
         if k not in ("self", "ball", "gust_params")
     }
     assert kwargs == defaults
+
+
+def test_topple_preset_matches_code_defaults():
+    from bbgym.envs.throw import BALL_GUSTS
+    from bbgym.envs.topple import ToppleTask
+    from bbgym.physics.ball import BallParams
+    from bbgym.physics.wall import WallParams
+
+    env_id, kwargs = load_preset(CONFIG_DIR / "beachball_topple.yaml")
+    assert env_id == "BeachballTopple-v0"
+    assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
+    assert WallParams(**kwargs.pop("wall")) == WallParams()
+    assert BallParams(**kwargs.pop("ball")) == BallParams()
+    assert GustParams(**kwargs.pop("gust_params")) == BALL_GUSTS
+    defaults = {
+        k: p.default
+        for k, p in inspect.signature(ToppleTask.__init__).parameters.items()
+        if k not in ("self", "wall", "ball", "gust_params")
+    }
+    assert kwargs == defaults
