@@ -229,3 +229,46 @@ class NativeVectorEnv(VectorEnv):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+class NormalStreams:
+    """Each env's own random stream, drawn in blocks.
+
+    An env's randomness comes from its own ``numpy.random.Generator`` (so sub-env ``i`` of
+    a vector env matches a single env seeded ``seed + i``). Drawing from thousands of
+    generators one by one every step is a Python loop over the batch; instead each env
+    draws ``block`` pairs of standard normals at once and hands them out one pair per
+    call, refilling when they run out. The single env uses the same blocks, so both see
+    the same numbers. A reset discards an env's unused pairs.
+    """
+
+    def __init__(self, batch: int, block: int = 64) -> None:
+        self.rngs: list[np.random.Generator] = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.block = block
+        self._buffer = np.zeros((batch, block, 2))
+        self._next = np.full(batch, block)
+        self._rows = np.arange(batch)
+
+    def seed(self, seeds: list[int | None]) -> None:
+        for i, s in enumerate(seeds):
+            self.set(i, seeding.np_random(s)[0])
+
+    def set(self, i: int, rng: np.random.Generator) -> None:
+        """Give env ``i`` the generator ``rng`` (a single env's ``np_random``)."""
+        self.rngs[i] = rng
+        self._next[i] = self.block
+
+    def discard(self, mask: np.ndarray) -> None:
+        self._next[mask] = self.block
+
+    def pairs(self, mask: np.ndarray) -> np.ndarray:
+        """One pair of standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``.
+
+        Envs outside ``mask`` draw nothing, so no env's numbers depend on another's."""
+        mask = np.asarray(mask, dtype=bool)
+        for i in np.flatnonzero(mask & (self._next >= self.block)):
+            self._buffer[i] = self.rngs[i].standard_normal((self.block, 2))
+            self._next[i] = 0
+        picked = self._buffer[self._rows, np.minimum(self._next, self.block - 1)]
+        self._next = self._next + mask
+        return np.where(mask[:, None], picked, 0.0).T

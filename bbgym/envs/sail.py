@@ -15,10 +15,10 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from gymnasium.utils import seeding
 
 from bbgym.envs.common import (
     NativeVectorEnv,
+    NormalStreams,
     check_positive,
     check_range,
     check_render_mode,
@@ -330,17 +330,17 @@ class _SailSim:
         self.batch = batch
         self.scalar = scalar
         self.xp = backend.scalar if scalar else np
-        self.rngs: list[np.random.Generator] = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.streams = NormalStreams(batch)
         self.boat: DinghyState | None = None
 
     def seed(self, seeds: list[int | None]) -> None:
-        for i, s in enumerate(seeds):
-            self.rngs[i] = seeding.np_random(s)[0]
+        self.streams.seed(seeds)
 
     def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
         """Start new episodes where ``mask`` is true."""
         idx = np.flatnonzero(mask)
-        scenario, boat, gust = self.task.sample([self.rngs[i] for i in idx], options)
+        scenario, boat, gust = self.task.sample([self.streams.rngs[i] for i in idx], options)
+        self.streams.discard(mask)
         if self.scalar:
             self.scenario, self.boat, self.gust = (element(x, 0) for x in (scenario, boat, gust))
             self.jibes = self.tacks = 0
@@ -374,18 +374,11 @@ class _SailSim:
         return self.boat is not None
 
     def _noise(self, active: np.ndarray | None) -> Any:
-        """Standard normal draws for the gusts: only envs with gusts (and still running)
+        """Standard normal pairs for the gusts: only envs with gusts (and still running)
         draw, so an env's random stream does not depend on the others."""
-        if self.scalar:
-            if not self.scenario.gusts:
-                return (0.0, 0.0)
-            n = self.rngs[0].standard_normal(2)
-            return (float(n[0]), float(n[1]))
-        noise = np.zeros((2, self.batch))
-        drawing = self.scenario.gusts if active is None else self.scenario.gusts & active
-        for i in np.flatnonzero(drawing):
-            noise[:, i] = self.rngs[i].standard_normal(2)
-        return noise
+        gusts = np.atleast_1d(self.scenario.gusts)
+        noise = self.streams.pairs(gusts if active is None else gusts & active)
+        return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
 
     def step(self, action: Any, active: np.ndarray | None = None) -> tuple[Any, Any]:
         """Advance by one control step; returns ``(reward, terminated)``."""
@@ -590,7 +583,7 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
-        self._sim.rngs[0] = self.np_random
+        self._sim.streams.set(0, self.np_random)
         self._sim.reset(np.ones(1, dtype=bool), options)
         self._wake.clear()
         self._last_action = np.zeros(2)

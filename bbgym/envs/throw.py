@@ -15,10 +15,10 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from gymnasium.utils import seeding
 
 from bbgym.envs.common import (
     NativeVectorEnv,
+    NormalStreams,
     check_box_action,
     check_positive,
     check_range,
@@ -281,7 +281,7 @@ class _ThrowSim:
         self.batch = batch
         self.scalar = scalar
         self.xp = backend.scalar if scalar else np
-        self.rngs = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.streams = NormalStreams(batch)
         self.scenario: ThrowScenario | None = None
 
     @property
@@ -289,22 +289,19 @@ class _ThrowSim:
         return self.scenario is not None
 
     def seed(self, seeds: list[int | None]) -> None:
-        for i, s in enumerate(seeds):
-            self.rngs[i] = seeding.np_random(s)[0]
+        self.streams.seed(seeds)
 
     def _normals(self, mask: np.ndarray) -> np.ndarray:
         """Two standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``."""
-        noise = np.zeros((2, self.batch))
-        for i in np.flatnonzero(mask):
-            noise[:, i] = self.rngs[i].standard_normal(2)
-        return noise
+        return self.streams.pairs(mask)
 
     def _pick(self, noise: np.ndarray) -> Any:
         return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
 
     def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
         idx = np.flatnonzero(mask)
-        scenario, gust = self.task.sample([self.rngs[i] for i in idx], options)
+        scenario, gust = self.task.sample([self.streams.rngs[i] for i in idx], options)
+        self.streams.discard(mask)
         sock_noise = self._normals(mask)
         n = self.batch
         if self.scalar:
@@ -607,7 +604,7 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
-        self._sim.rngs[0] = self.np_random
+        self._sim.streams.set(0, self.np_random)
         self._sim.reset(np.ones(1, dtype=bool), options)
         self._landings = []
         if self.render_mode == "human":

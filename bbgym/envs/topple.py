@@ -15,10 +15,10 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from gymnasium.utils import seeding
 
 from bbgym.envs.common import (
     NativeVectorEnv,
+    NormalStreams,
     check_box_action,
     check_positive,
     check_range,
@@ -207,7 +207,7 @@ class _ToppleSim:
         self.batch = batch
         self.scalar = scalar
         self.xp = backend.scalar if scalar else np
-        self.rngs = [seeding.np_random(None)[0] for _ in range(batch)]
+        self.streams = NormalStreams(batch)
         self.scenario: ToppleScenario | None = None
 
     @property
@@ -215,18 +215,17 @@ class _ToppleSim:
         return self.scenario is not None
 
     def seed(self, seeds: list[int | None]) -> None:
-        for i, s in enumerate(seeds):
-            self.rngs[i] = seeding.np_random(s)[0]
+        self.streams.seed(seeds)
 
     def _normals(self, mask: np.ndarray) -> Any:
-        noise = np.zeros((2, self.batch))
-        for i in np.flatnonzero(mask):
-            noise[:, i] = self.rngs[i].standard_normal(2)
+        """Two standard normals per env where ``mask`` (floats for the single env)."""
+        noise = self.streams.pairs(mask)
         return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
 
     def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
         idx = np.flatnonzero(mask)
-        scenario, gust = self.task.sample([self.rngs[i] for i in idx], options)
+        scenario, gust = self.task.sample([self.streams.rngs[i] for i in idx], options)
+        self.streams.discard(mask)
         wall = wall_at(scenario.wall_distance)
         sock = self._normals(mask)
         n = self.batch
@@ -569,7 +568,7 @@ class BeachballToppleEnv(gym.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
-        self._sim.rngs[0] = self.np_random
+        self._sim.streams.set(0, self.np_random)
         self._sim.reset(np.ones(1, dtype=bool), options)
         if self.render_mode == "human":
             self.render()
