@@ -55,6 +55,46 @@ def make_params(cls: type, name: str, value: Any, **extra: Any) -> Any:
     return cls(**{**value, **extra})
 
 
+def check_option_keys(options: Mapping[str, Any] | None, known: tuple[str, ...]) -> dict:
+    """``reset`` options as a dict; ``None`` is empty; unknown keys raise ``ValueError``."""
+    if options is None:
+        return {}
+    if not isinstance(options, Mapping):
+        raise ValueError(f"options must be a dict, got {options!r}")
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise ValueError(f"unknown reset options {unknown}; known: {list(known)}")
+    return dict(options)
+
+
+def option_bool(key: str, value: Any) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"options[{key!r}] must be a bool, got {value!r}")
+    return bool(value)
+
+
+def option_number(key: str, value: Any, low: float = -math.inf) -> float:
+    """A finite number ``>= low``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not math.isfinite(v) or v < low:
+        raise ValueError(f"options[{key!r}] must be a finite number >= {low}, got {value!r}")
+    return v
+
+
+def option_pair(key: str, value: Any) -> tuple[float, float]:
+    """A finite ``(x, y)`` pair."""
+    try:
+        pair = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        pair = ()
+    if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
+        raise ValueError(f"options[{key!r}] must be a finite (x, y) pair, got {value!r}")
+    return pair
+
+
 def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
     """Actions as float64 ``(size,)`` (``batch == 0``: one env) or ``(batch, size)``,
     clipped to [-1, 1]; a wrong shape or a NaN/inf raises ``ValueError``."""
@@ -141,14 +181,18 @@ class NativeVectorEnv(VectorEnv):
     }
     task_class: type
     sim_class: type
+    default_max_episode_steps: int = 1000
+    """The registered time limit, applied when ``max_episode_steps`` is not given."""
 
     def __init__(
         self,
         num_envs: int = 1,
         render_mode: str | None = None,
-        max_episode_steps: int = 1000,
+        max_episode_steps: int | None = None,
         **kwargs: Any,
     ) -> None:
+        if max_episode_steps is None:
+            max_episode_steps = self.default_max_episode_steps
         if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
         if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:

@@ -19,12 +19,16 @@ from gymnasium import spaces
 from bbgym.envs.common import (
     NativeVectorEnv,
     NormalStreams,
+    check_option_keys,
     check_positive,
     check_range,
     check_render_mode,
     element,
     ensure_renderer,
     make_params,
+    option_bool,
+    option_number,
+    option_pair,
 )
 from bbgym.physics import backend
 from bbgym.physics.backend import Array
@@ -176,41 +180,19 @@ class SailTask:
 
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
         """Validate ``reset`` options; unknown keys and non-physical values raise."""
-        if options is None:
-            return {}
-        if not isinstance(options, Mapping):
-            raise ValueError(f"options must be a dict, got {options!r}")
-        unknown = sorted(set(options) - set(RESET_OPTIONS))
-        if unknown:
-            raise ValueError(f"unknown reset options {unknown}; known: {list(RESET_OPTIONS)}")
-        checked: dict[str, Any] = {}
-        for key, value in options.items():
+        checked = check_option_keys(options, RESET_OPTIONS)
+        for key, value in checked.items():
             if key == "gusts":
-                if not isinstance(value, (bool, np.bool_)):
-                    raise ValueError(f"options['gusts'] must be a bool, got {value!r}")
-                checked[key] = bool(value)
+                checked[key] = option_bool(key, value)
             elif key == "mark":
-                try:
-                    mark = tuple(float(v) for v in value)
-                except (TypeError, ValueError):
-                    mark = ()
-                if len(mark) != 2 or not all(math.isfinite(v) for v in mark):
-                    raise ValueError(f"options['mark'] must be finite (x, y) metres, got {value!r}")
-                if math.hypot(*mark) <= self.mark_radius:
+                checked[key] = option_pair(key, value)
+                if math.hypot(*checked[key]) <= self.mark_radius:
                     raise ValueError(
                         f"options['mark'] {value!r} lies within mark_radius of the start"
                     )
-                checked[key] = mark
             else:
-                try:
-                    v = float(value)
-                except (TypeError, ValueError):
-                    raise ValueError(f"options[{key!r}] must be a number, got {value!r}") from None
-                if not math.isfinite(v):
-                    raise ValueError(f"options[{key!r}] must be finite, got {value!r}")
-                if key in ("wind_speed", "speed") and v < 0.0:
-                    raise ValueError(f"options[{key!r}] must be >= 0, got {value!r}")
-                checked[key] = v
+                low = 0.0 if key in ("wind_speed", "speed") else -math.inf
+                checked[key] = option_number(key, value, low)
         return checked
 
     # -- dynamics ---------------------------------------------------------------------------
@@ -684,11 +666,13 @@ class BeachballSailVectorEnv(NativeVectorEnv):
     task_class = SailTask
     sim_class = _SailSim
 
+    default_max_episode_steps = 1200
+
     def __init__(
         self,
         num_envs: int = 1,
         render_mode: str | None = None,
-        max_episode_steps: int = 1200,
+        max_episode_steps: int | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)

@@ -20,12 +20,15 @@ from bbgym.envs.common import (
     NativeVectorEnv,
     NormalStreams,
     check_box_action,
+    check_option_keys,
     check_positive,
     check_range,
     check_render_mode,
     element,
     ensure_renderer,
     make_params,
+    option_bool,
+    option_pair,
 )
 from bbgym.physics import backend
 from bbgym.physics.ball import BallParams, Screen, ball_at, simulate_throw
@@ -148,29 +151,14 @@ class ThrowTask:
     # -- scenario ---------------------------------------------------------------------------
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
         """Validate ``reset`` options; unknown keys and non-physical values raise."""
-        if options is None:
-            return {}
-        if not isinstance(options, Mapping):
-            raise ValueError(f"options must be a dict, got {options!r}")
-        unknown = sorted(set(options) - set(RESET_OPTIONS))
-        if unknown:
-            raise ValueError(f"unknown reset options {unknown}; known: {list(RESET_OPTIONS)}")
-        checked: dict[str, Any] = {}
-        for key, value in options.items():
+        checked = check_option_keys(options, RESET_OPTIONS)
+        for key, value in checked.items():
             if key in ("gusts", "screen"):
-                if not isinstance(value, (bool, np.bool_)):
-                    raise ValueError(f"options[{key!r}] must be a bool, got {value!r}")
-                checked[key] = bool(value)
-                continue
-            try:
-                pair = tuple(float(v) for v in value)
-            except (TypeError, ValueError):
-                pair = ()
-            if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
-                raise ValueError(f"options[{key!r}] must be a finite (x, y) pair, got {value!r}")
-            if key == "target" and math.hypot(*pair) <= self.target_radius:
-                raise ValueError(f"options['target'] {value!r} lies within the ring's radius")
-            checked[key] = pair
+                checked[key] = option_bool(key, value)
+            else:
+                checked[key] = option_pair(key, value)
+                if key == "target" and math.hypot(*checked[key]) <= self.target_radius:
+                    raise ValueError(f"options['target'] {value!r} lies within the ring's radius")
         return checked
 
     def sample(
@@ -707,15 +695,7 @@ class BeachballThrowVectorEnv(NativeVectorEnv):
     metadata = {**NativeVectorEnv.metadata, "render_fps": 20}
     task_class = ThrowTask
     sim_class = _ThrowSim
-
-    def __init__(
-        self,
-        num_envs: int = 1,
-        render_mode: str | None = None,
-        max_episode_steps: int = 100,
-        **kwargs: Any,
-    ) -> None:
-        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+    default_max_episode_steps = 100
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)

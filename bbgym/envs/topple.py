@@ -20,12 +20,16 @@ from bbgym.envs.common import (
     NativeVectorEnv,
     NormalStreams,
     check_box_action,
+    check_option_keys,
     check_positive,
     check_range,
     check_render_mode,
     element,
     ensure_renderer,
     make_params,
+    option_bool,
+    option_number,
+    option_pair,
 )
 from bbgym.envs.throw import BALL_GUSTS, launch_from_action
 from bbgym.physics import backend
@@ -132,38 +136,14 @@ class ToppleTask:
 
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
         """Validate ``reset`` options; unknown keys and non-physical values raise."""
-        if options is None:
-            return {}
-        if not isinstance(options, Mapping):
-            raise ValueError(f"options must be a dict, got {options!r}")
-        unknown = sorted(set(options) - set(RESET_OPTIONS))
-        if unknown:
-            raise ValueError(f"unknown reset options {unknown}; known: {list(RESET_OPTIONS)}")
-        checked: dict[str, Any] = {}
-        for key, value in options.items():
+        checked = check_option_keys(options, RESET_OPTIONS)
+        for key, value in checked.items():
             if key == "gusts":
-                if not isinstance(value, (bool, np.bool_)):
-                    raise ValueError(f"options['gusts'] must be a bool, got {value!r}")
-                checked[key] = bool(value)
+                checked[key] = option_bool(key, value)
             elif key == "wind":
-                try:
-                    pair = tuple(float(v) for v in value)
-                except (TypeError, ValueError):
-                    pair = ()
-                if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
-                    raise ValueError(f"options['wind'] must be a finite (x, y) pair, got {value!r}")
-                checked[key] = pair
-            else:
-                try:
-                    distance = float(value)
-                except (TypeError, ValueError):
-                    distance = float("nan")
-                if not math.isfinite(distance) or distance <= self.wall.half_base_m + 1.0:
-                    raise ValueError(
-                        f"options['wall_distance'] must be a finite distance beyond 1 m plus "
-                        f"the foot, got {value!r}"
-                    )
-                checked[key] = distance
+                checked[key] = option_pair(key, value)
+            else:  # the wall must stand clear of the thrower
+                checked[key] = option_number(key, value, low=self.wall.half_base_m + 1.0)
         return checked
 
     def sample(
@@ -669,15 +649,7 @@ class BeachballToppleVectorEnv(NativeVectorEnv):
     metadata = {**NativeVectorEnv.metadata, "render_fps": 20}
     task_class = ToppleTask
     sim_class = _ToppleSim
-
-    def __init__(
-        self,
-        num_envs: int = 1,
-        render_mode: str | None = None,
-        max_episode_steps: int = 100,
-        **kwargs: Any,
-    ) -> None:
-        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+    default_max_episode_steps = 100
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
