@@ -305,6 +305,20 @@ class NormalStreams:
     def discard(self, mask: np.ndarray) -> None:
         self._next[mask] = self.block
 
+    def one(self, draw: bool) -> tuple[float, float]:
+        """The single env's next pair as Python floats (zeros if not ``draw``), from the
+        same blocks as :meth:`pairs` (a sim uses one or the other)."""
+        if not draw:
+            return (0.0, 0.0)
+        k = int(self._next[0])
+        if k >= self.block:
+            self._buffer[0] = self.rngs[0].standard_normal((self.block, 2))
+            self._block0 = self._buffer[0].tolist()
+            k = 0
+        self._next[0] = k + 1
+        first, second = self._block0[k]
+        return (first, second)
+
     def pairs(self, mask: np.ndarray) -> np.ndarray:
         """One pair of standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``.
 

@@ -358,9 +358,10 @@ class _SailSim:
     def _noise(self, active: np.ndarray | None) -> Any:
         """Standard normal pairs for the gusts: only envs with gusts (and still running)
         draw, so an env's random stream does not depend on the others."""
-        gusts = np.atleast_1d(self.scenario.gusts)
-        noise = self.streams.pairs(gusts if active is None else gusts & active)
-        return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
+        if self.scalar:
+            return self.streams.one(self.scenario.gusts)
+        gusts = self.scenario.gusts
+        return self.streams.pairs(gusts if active is None else gusts & active)
 
     def step(self, action: Any, active: np.ndarray | None = None) -> tuple[Any, Any]:
         """Advance by one control step; returns ``(reward, terminated)``."""
@@ -388,8 +389,9 @@ class _SailSim:
     def observation(self) -> np.ndarray:
         """Observation(s), float32, clipped to the space's bounds."""
         columns = self.task.observation_columns(self.boat, self.measures, self.xp)
-        stacked = np.array(columns) if self.scalar else np.stack(columns, axis=1)
-        return np.clip(stacked, -1.0, 1.0).astype(np.float32)
+        if self.scalar:  # clip the floats first: one small array, no temporaries
+            return np.array([min(max(c, -1.0), 1.0) for c in columns], dtype=np.float32)
+        return np.clip(np.stack(columns, axis=1), -1.0, 1.0).astype(np.float32)
 
     def info(self) -> dict[str, Any]:
         """Physical quantities: Python scalars for one env, arrays ``(batch,)`` for a batch."""

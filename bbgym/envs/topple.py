@@ -199,8 +199,9 @@ class _ToppleSim:
 
     def _normals(self, mask: np.ndarray) -> Any:
         """Two standard normals per env where ``mask`` (floats for the single env)."""
-        noise = self.streams.pairs(mask)
-        return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
+        if self.scalar:
+            return self.streams.one(bool(mask[0]))
+        return self.streams.pairs(mask)
 
     def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
         idx = np.flatnonzero(mask)
