@@ -191,6 +191,8 @@ def ground_contact(
     Returns the new state and whether the ball touched the ground in this substep.
     """
     r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
+    if not xp.any(s.z <= r):  # all in the air: nothing touches (the common case mid-flight)
+        return s, s.z < 0.0 * s.z
     touching = (s.z <= r) & (s.vz <= 0.0)
     bounce = touching & (-s.vz > p.rest_speed_mps)
     e = xp.where(bounce, p.restitution, 0.0)
@@ -399,7 +401,7 @@ def simulate_throw(
         flight_time = xp.where(first, i * dt_s, flight_time)
         landed = landed | first
         apex = xp.where(done, apex, xp.maximum(apex, new.z))
-        s = _freeze(s, new, done, xp)
+        s = _freeze(s, new, done, xp) if xp.any(done) else new
         if i % record_every == 0:
             trajectory.append(s)
             steps = steps + xp.where(done, 0, 1)
