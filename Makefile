@@ -9,10 +9,15 @@ STAMP := $(VENV)/.installed
 
 .PHONY: run test setup polar bench clean
 
+# torch goes in first, pinned to the CPU wheel this project's machines carry: left to
+# resolve `torch` itself, pip would fetch a multi-GB CUDA build.
+TORCH ?= torch==2.13.0
+
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[dev]"
+	$(PY) -m pip install --quiet "$(TORCH)"
+	$(PY) -m pip install --quiet -e ".[dev,train]"
 	touch $(STAMP)
 
 setup: $(STAMP)

@@ -248,6 +248,19 @@ class NativeVectorEnv(VectorEnv):
         info = vector_info(self._sim.info(), self.num_envs)
         return self._sim.observation(), reward.astype(np.float64), terminated, truncated, info
 
+    def reset_envs(self, mask: np.ndarray) -> np.ndarray:
+        """Restart the envs in ``mask`` now, without seeds (each continues its own random
+        stream), and return every env's observation. Adapters whose API resets on the
+        step that ends an episode (stable-baselines3) use this instead of waiting for the
+        next ``step``."""
+        mask = np.asarray(mask, dtype=bool)
+        if mask.any():
+            self._sim.reset(mask, None)
+            self._steps[mask] = 0
+            self._autoreset[mask] = False
+            self._on_reset(mask)
+        return self._sim.observation()
+
     def _on_reset(self, mask: np.ndarray) -> None:
         """Hook: envs in ``mask`` have just been reset."""
 

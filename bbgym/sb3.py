@@ -1,0 +1,97 @@
+"""Train stable-baselines3 on bbgym's native vector envs (needs the ``train`` extra).
+
+    from stable_baselines3 import PPO
+    from bbgym.sb3 import make_sb3_vec_env
+
+    model = PPO("MlpPolicy", make_sb3_vec_env("BeachballSail-v0", n_envs=8, seed=0))
+
+SB3's ``VecEnv`` resets an env on the very step that ends its episode and puts the last
+observation in ``info["terminal_observation"]``; Gymnasium's native vector envs reset on
+the next step. The adapter restarts finished envs at once (``reset_envs``) and fills the
+infos SB3 reads: ``terminal_observation``, ``TimeLimit.truncated`` and ``is_success`` (and
+any ``info_keys``) for the envs that finished. Other steps carry empty infos, so a step
+costs no Python loop over the batch beyond the finished envs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3.common.vec_env import VecEnv
+
+from bbgym.envs.common import NativeVectorEnv
+
+
+class NativeVecEnvAdapter(VecEnv):
+    """A bbgym native vector env seen through stable-baselines3's ``VecEnv`` interface."""
+
+    def __init__(self, venv: NativeVectorEnv, info_keys: Sequence[str] = ("is_success",)) -> None:
+        if not isinstance(venv, NativeVectorEnv):
+            raise ValueError(f"venv must be a bbgym native vector env, got {type(venv).__name__}")
+        self.venv = venv
+        self.info_keys = tuple(info_keys)
+        self._actions: np.ndarray | None = None
+        super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
+
+    def reset(self) -> np.ndarray:
+        seeds = None if all(s is None for s in self._seeds) else list(self._seeds)
+        options = [o for o in self._options if o]
+        if options and any(o != options[0] for o in self._options):
+            raise ValueError("options must be the same for every env of a native vector env")
+        obs, _ = self.venv.reset(seed=seeds, options=options[0] if options else None)
+        self._reset_seeds()
+        self._reset_options()
+        return obs
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = np.asarray(actions)
+
+    def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+        obs, reward, terminated, truncated, info = self.venv.step(self._actions)
+        dones = terminated | truncated
+        infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
+        finished = np.flatnonzero(dones)
+        for i in finished:
+            infos[i]["terminal_observation"] = obs[i].copy()
+            infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
+            for key in self.info_keys:
+                if key in info:
+                    value = info[key][i]
+                    infos[i][key] = value.item() if isinstance(value, np.generic) else value
+        if finished.size:
+            obs = self.venv.reset_envs(dones)
+        return obs, reward.astype(np.float32), dones, infos
+
+    def close(self) -> None:
+        self.venv.close()
+
+    def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
+        return [getattr(self.venv, attr_name)] * len(self._get_indices(indices))
+
+    def set_attr(self, attr_name: str, value: Any, indices: Any = None) -> None:
+        setattr(self.venv, attr_name, value)
+
+    def env_method(self, method_name: str, *args: Any, indices: Any = None, **kwargs: Any) -> list:
+        result = getattr(self.venv, method_name)(*args, **kwargs)
+        return [result] * len(self._get_indices(indices))
+
+    def env_is_wrapped(self, wrapper_class: type, indices: Any = None) -> list[bool]:
+        return [False] * len(self._get_indices(indices))
+
+    def get_images(self) -> Sequence[np.ndarray | None]:
+        frames = self.venv.render()
+        return list(frames) if frames is not None else [None] * self.num_envs
+
+
+def make_sb3_vec_env(
+    env_id: str, n_envs: int = 8, seed: int | None = None, **kwargs: Any
+) -> NativeVecEnvAdapter:
+    """``gym.make_vec(env_id, n_envs)`` (native) wrapped for stable-baselines3, seeded."""
+    venv = gym.make_vec(env_id, num_envs=n_envs, vectorization_mode="vector_entry_point", **kwargs)
+    adapter = NativeVecEnvAdapter(venv)
+    if seed is not None:
+        adapter.seed(seed)
+    return adapter
