@@ -1,13 +1,23 @@
-"""Benchmark env steps per second of the bbgym envs against Gymnasium's CartPole.
+"""Benchmark the bbgym envs against Gymnasium's CartPole, all measured in one run.
 
-    python scripts/bench.py [--steps 20000] [--num-envs 1024] [--seconds S] [--json PATH]
+    python scripts/bench.py [--quick] [--out runs/bench] [--seconds S] [--repeats R]
 
-Measures, in one run, CartPole-v1 and each bbgym env as single envs with random actions
-(resetting at episode end), then CartPole-v1's native vector env and each bbgym env's
-native vector env with ``--num-envs`` sub-envs. Actions are sampled before timing. Each
-measurement is warmed up, repeated ``--repeats`` times, and the best is kept. Vector rates
-count env-steps (``num_envs`` per vector step). A step of the throw envs is one throw,
-flown until the ball rests (hundreds of physics substeps), so the loops are time-capped.
+Prints a markdown table and writes it (``bench.md``) and the raw numbers (``bench.json``)
+to ``--out``:
+
+* single env steps/s (``gym.make``, actions sampled before the timed loop), beside
+  CartPole-v1, and the ratio;
+* native vector env steps/s (``gym.make_vec(..., vectorization_mode="vector_entry_point")``)
+  at N = 1, 64, 1024, 4096, beside Gymnasium's native vector CartPole at the same N (for
+  the throw envs a step is a whole throw, so these are throws/s);
+* stable-baselines3 PPO training throughput (MlpPolicy, 8 envs, the bbgym envs through
+  :mod:`bbgym.sb3`, CartPole through SB3's DummyVecEnv; same settings for all), if
+  stable-baselines3 is installed;
+* peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc).
+
+Timed loops are capped at ``--seconds`` each; single-env loops are repeated ``--repeats``
+times (best kept).
+``--quick`` shrinks everything so the test suite can run the script.
 """
 
 from __future__ import annotations
@@ -18,6 +28,7 @@ import os
 import platform
 import sys
 import time
+import tracemalloc
 from pathlib import Path
 from typing import Any
 
@@ -27,58 +38,88 @@ import numpy as np
 import bbgym  # noqa: F401  (registers the envs)
 
 BBGYM_ENVS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+THROW_ENVS = ("BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+REFERENCE = "CartPole-v1"
 
 
-def time_single(env_id: str, steps: int, seconds: float | None, seed: int) -> float:
-    """Env-steps per second of one env; ``seconds`` caps the timed loop."""
+def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
+    """Env-steps per second of one env (``gym.make``, with its wrappers)."""
     env = gym.make(env_id)
     env.action_space.seed(seed)
     actions = [env.action_space.sample() for _ in range(steps)]
     env.reset(seed=seed)
-    for action in actions[: min(200, steps)]:  # warm-up
-        _, _, terminated, truncated, _ = env.step(action)
-        if terminated or truncated:
+    for action in actions[:20]:  # warm-up
+        if any(env.step(action)[2:4]):
             env.reset()
     env.reset(seed=seed)
-    done_steps = 0
+    done = 0
     start = time.perf_counter()
-    deadline = start + seconds if seconds else None
     for action in actions:
         _, _, terminated, truncated, _ = env.step(action)
-        done_steps += 1
+        done += 1
         if terminated or truncated:
             env.reset()
-        if deadline is not None and done_steps % 256 == 0 and time.perf_counter() > deadline:
+        if done % 16 == 0 and time.perf_counter() - start > seconds:
             break
     elapsed = time.perf_counter() - start
     env.close()
-    return done_steps / elapsed
+    return done / elapsed
 
 
-def make_vector(env_id: str, num_envs: int) -> gym.vector.VectorEnv:
-    return gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
-
-
-def time_vector(env_id: str, num_envs: int, steps: int, seconds: float | None, seed: int) -> float:
+def time_vector(env_id: str, num_envs: int, steps: int, seconds: float, seed: int) -> float:
     """Env-steps per second (``num_envs`` per vector step) of a native vector env."""
-    env = make_vector(env_id, num_envs)
+    env = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
     env.action_space.seed(seed)
-    vector_steps = max(1, steps // num_envs)
-    actions = [env.action_space.sample() for _ in range(vector_steps)]
+    actions = [env.action_space.sample() for _ in range(steps)]
     env.reset(seed=seed)
-    for action in actions[: min(2, vector_steps)]:  # warm-up; autoreset is built in
-        env.step(action)
-    done_steps = 0
+    env.step(actions[0])  # warm-up
+    done = 0
     start = time.perf_counter()
-    deadline = start + seconds if seconds else None
     for action in actions:
         env.step(action)
-        done_steps += 1
-        if deadline is not None and time.perf_counter() > deadline:
+        done += 1
+        if time.perf_counter() - start > seconds:
             break
     elapsed = time.perf_counter() - start
     env.close()
-    return done_steps * num_envs / elapsed
+    return done * num_envs / elapsed
+
+
+def vector_memory_mb(env_id: str, num_envs: int, steps: int, seed: int) -> float:
+    """Peak memory allocated (tracemalloc: Python objects and NumPy arrays) by making,
+    resetting and stepping a native vector env."""
+    tracemalloc.start()
+    env = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+    env.action_space.seed(seed)
+    env.reset(seed=seed)
+    for _ in range(steps):
+        env.step(env.action_space.sample())
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    env.close()
+    return peak / 2**20
+
+
+def ppo_throughput(env_id: str, timesteps: int, n_steps: int, seed: int) -> float | None:
+    """Timesteps per second of ``PPO("MlpPolicy", ...).learn`` with 8 envs (None without
+    stable-baselines3)."""
+    try:
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.env_util import make_vec_env
+    except ImportError:
+        return None
+    if env_id == REFERENCE:
+        env = make_vec_env(env_id, n_envs=8, seed=seed)
+    else:
+        from bbgym.sb3 import make_sb3_vec_env
+
+        env = make_sb3_vec_env(env_id, n_envs=8, seed=seed)
+    model = PPO("MlpPolicy", env, n_steps=n_steps, seed=seed, device="cpu", verbose=0)
+    start = time.perf_counter()
+    model.learn(total_timesteps=timesteps)
+    elapsed = time.perf_counter() - start
+    env.close()
+    return model.num_timesteps / elapsed
 
 
 def machine_info() -> dict[str, Any]:
@@ -92,85 +133,96 @@ def machine_info() -> dict[str, Any]:
     }
 
 
-def format_table(results: list[dict[str, Any]]) -> str:
-    lines = ["| env | kind | steps/s | ratio to CartPole |", "|---|---|---:|---:|"]
-    for r in results:
-        lines.append(
-            f"| {r['env']} | {r['kind']} | {r['steps_per_s']:,.0f} | {r['ratio_to_cartpole']:.3f} |"
-        )
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
+    rows: list[dict[str, Any]] = []
+
+    reference = best(time_single, REFERENCE, args.steps, args.seconds, args.seed)
+    rows.append({"env": REFERENCE, "kind": "single", "rate": reference, "ratio": 1.0})
+    for env_id in args.envs:
+        rate = best(time_single, env_id, args.steps, args.seconds, args.seed)
+        rows.append({"env": env_id, "kind": "single", "rate": rate, "ratio": rate / reference})
+
+    for n in args.num_envs:
+        vector_steps = max(2, args.steps // n)
+        # Vector loops run once: a throw env's step at N=4096 takes seconds.
+        reference = time_vector(REFERENCE, n, vector_steps, args.seconds, args.seed)
+        rows.append({"env": REFERENCE, "kind": f"vector N={n}", "rate": reference, "ratio": 1.0})
+        for env_id in args.envs:
+            rate = time_vector(env_id, n, vector_steps, args.seconds, args.seed)
+            row = {"env": env_id, "kind": f"vector N={n}", "rate": rate}
+            rows.append({**row, "ratio": rate / reference})
+
+    ppo_reference = ppo_throughput(REFERENCE, args.ppo_timesteps, args.ppo_n_steps, args.seed)
+    if ppo_reference is not None:
+        rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": ppo_reference, "ratio": 1.0})
+        for env_id in args.envs:
+            rate = ppo_throughput(env_id, args.ppo_timesteps, args.ppo_n_steps, args.seed)
+            rows.append({"env": env_id, "kind": "PPO 8 envs", "rate": rate,
+                         "ratio": rate / ppo_reference})  # fmt: skip
+
+    memory = {
+        env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
+    }
+    return {"rows": rows, "memory_mb": memory, "machine": machine_info()}
+
+
+def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
+    lines = [
+        "| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
+        "|---|---|---:|---:|",
+    ]
+    for r in result["rows"]:
+        unit = " throws/s" if r["env"] in THROW_ENVS and r["kind"] != "PPO 8 envs" else ""
+        lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {r['ratio']:.4f} |")
+    lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |", "|---|---:|"]
+    lines += [f"| {env_id} | {mb:.1f} MB |" for env_id, mb in result["memory_mb"].items()]
+    m = result["machine"]
+    lines += [
+        "",
+        f"machine: {m['platform']}, {m['cpu_count']} CPUs, python {m['python']}, "
+        f"numpy {m['numpy']}, gymnasium {m['gymnasium']}",
+        f"settings: {args.steps} steps per loop, loops capped at {args.seconds} s, best of "
+        f"{args.repeats}; PPO: MlpPolicy, 8 envs, n_steps {args.ppo_n_steps}, "
+        f"{args.ppo_timesteps} timesteps",
+    ]
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument(
-        "--steps", type=int, default=20000, help="env-steps per measurement (single and vector)"
-    )
-    parser.add_argument("--vector-steps", type=int, default=None, help="env-steps for vector runs")
-    parser.add_argument("--num-envs", type=int, default=1024, help="sub-envs of vector runs")
-    parser.add_argument(
-        "--seconds",
-        type=float,
-        default=5.0,
-        help="cap each timed loop at this many seconds (0: no cap)",
-    )
-    parser.add_argument("--repeats", type=int, default=3, help="repeats; the best is kept")
+    parser.add_argument("--quick", action="store_true", help="tiny sizes (the test suite)")
+    parser.add_argument("--out", type=Path, default=Path("runs/bench"), help="output folder")
+    parser.add_argument("--steps", type=int, default=20000, help="env-steps per timed loop")
+    parser.add_argument("--seconds", type=float, default=2.0, help="cap of each timed loop")
+    parser.add_argument("--repeats", type=int, default=2, help="repeats, the best is kept")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--json", type=Path, default=None, help="write results to this path")
     args = parser.parse_args(argv)
-    if args.steps < 1 or args.num_envs < 1 or args.repeats < 1:
-        parser.error("--steps, --num-envs and --repeats must be >= 1")
-    if args.seconds is not None and args.seconds < 0:
-        parser.error("--seconds must be >= 0")
-    vector_steps = args.vector_steps or max(args.steps, 200 * args.num_envs)
+    if args.steps < 1 or args.repeats < 1 or args.seconds <= 0:
+        parser.error("--steps and --repeats must be >= 1 and --seconds > 0")
+    args.envs = BBGYM_ENVS
+    args.num_envs = (1, 64, 1024, 4096)
+    args.memory_envs = 4096
+    args.ppo_timesteps, args.ppo_n_steps = 2048, 256
+    if args.quick:
+        args.steps, args.seconds, args.repeats = 40, 0.2, 1
+        args.num_envs = (1, 8)
+        args.memory_envs = 64
+        args.ppo_timesteps, args.ppo_n_steps = 64, 8
+    return args
 
-    def best(fn, *fn_args) -> float:
-        return max(fn(*fn_args) for _ in range(args.repeats))
 
-    t0 = time.perf_counter()
-    n = args.num_envs
-    cart_single = best(time_single, "CartPole-v1", args.steps, args.seconds, args.seed)
-    results = [{"env": "CartPole-v1", "kind": "single", "steps_per_s": cart_single}]
-    for env_id in BBGYM_ENVS:
-        rate = best(time_single, env_id, args.steps, args.seconds, args.seed)
-        results.append({"env": env_id, "kind": "single", "steps_per_s": rate})
-    cart_vector = best(time_vector, "CartPole-v1", n, vector_steps, args.seconds, args.seed)
-    results.append({"env": "CartPole-v1", "kind": f"vector x{n}", "steps_per_s": cart_vector})
-    for env_id in BBGYM_ENVS:
-        rate = best(time_vector, env_id, n, vector_steps, args.seconds, args.seed)
-        results.append({"env": env_id, "kind": f"vector x{n}", "steps_per_s": rate})
-    total = time.perf_counter() - t0
-    for r in results:
-        reference = cart_single if r["kind"] == "single" else cart_vector
-        r["ratio_to_cartpole"] = r["steps_per_s"] / reference
-
-    info = machine_info()
-    print(format_table(results))
-    print()
-    print(
-        f"machine: {info['platform']}, {info['cpu_count']} CPUs, python {info['python']}, "
-        f"numpy {info['numpy']}, gymnasium {info['gymnasium']}"
-    )
-    print(
-        f"settings: {args.steps} steps single, {vector_steps} env-steps vector "
-        f"({vector_steps // n} vector steps x {n} envs), best of {args.repeats}, "
-        f"timed loops capped at {args.seconds or 'no'} s; total {total:.1f} s"
-    )
-    if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        payload = {
-            "results": results,
-            "machine": info,
-            "settings": {
-                "steps": args.steps,
-                "vector_steps": vector_steps,
-                "num_envs": n,
-                "repeats": args.repeats,
-                "seconds": args.seconds,
-            },
-        }
-        args.json.write_text(json.dumps(payload, indent=2) + "\n")
-        print(f"wrote {args.json}")
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
+    start = time.perf_counter()
+    result = run(args)
+    table = format_table(result, args)
+    print(table)
+    print(f"total {time.perf_counter() - start:.0f} s")
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "bench.md").write_text(table + "\n")
+    (args.out / "bench.json").write_text(json.dumps(result, indent=2) + "\n")
+    print(f"wrote {args.out / 'bench.md'} and {args.out / 'bench.json'}")
     return 0
 
 

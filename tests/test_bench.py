@@ -1,0 +1,30 @@
+"""The benchmark script runs end to end (in its --quick mode), so it cannot rot."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "bench.py"
+
+
+def test_bench_quick_writes_the_table(tmp_path):
+    done = subprocess.run(
+        [sys.executable, str(SCRIPT), "--quick", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    table = (tmp_path / "bench.md").read_text()
+    result = json.loads((tmp_path / "bench.json").read_text())
+    for env_id in ("CartPole-v1", "BeachballSail-v0", "BeachballThrow-v0", "BeachballTopple-v0"):
+        assert env_id in table
+    kinds = {row["kind"] for row in result["rows"]}
+    assert {"single", "vector N=1", "vector N=8"} <= kinds
+    assert all(row["rate"] > 0 for row in result["rows"])
+    assert set(result["memory_mb"]) == {
+        "BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0"
+    }  # fmt: skip
