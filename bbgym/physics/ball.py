@@ -335,6 +335,24 @@ class Screen:
 
 
 @dataclass
+class BallPose:
+    """Where a ball is and how it is turned: what a trajectory records (for plots and for
+    drawing the stripes), without the velocities and spin."""
+
+    x: Array
+    y: Array
+    z: Array
+    qw: Array
+    qx: Array
+    qy: Array
+    qz: Array
+
+
+def pose_of(s: BallState) -> BallPose:
+    return BallPose(s.x, s.y, s.z, s.qw, s.qx, s.qy, s.qz)
+
+
+@dataclass
 class ThrowResult:
     """Outcome of :func:`simulate_throw`, per ball."""
 
@@ -349,7 +367,7 @@ class ThrowResult:
     hit_screen: Array
     final: BallState
     trajectory: list
-    """Ball states every ``record_dt_s``, first at launch (list of :class:`BallState`)."""
+    """Ball poses every ``record_dt_s``, first at launch (list of :class:`BallPose`)."""
     steps: Array
     """Number of recorded samples that belong to each ball's flight."""
 
@@ -382,7 +400,7 @@ def simulate_throw(
     flight_time = 0.0 * s.x
     apex = s.z
     hit_screen = done
-    trajectory = [s]
+    trajectory = [pose_of(s)]
     steps = 1 + 0 * flight_time
     n_max = int(round(max_time_s / dt_s))
     for i in range(1, n_max + 1):
@@ -403,7 +421,7 @@ def simulate_throw(
         apex = xp.where(done, apex, xp.maximum(apex, new.z))
         s = _freeze(s, new, done, xp) if xp.any(done) else new
         if i % record_every == 0:
-            trajectory.append(s)
+            trajectory.append(pose_of(s))
             steps = steps + xp.where(done, 0, 1)
         speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
         at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01)
