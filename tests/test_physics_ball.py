@@ -264,3 +264,14 @@ def test_params_validation_names_the_argument():
         BallParams(restitution=1.5)
     with pytest.raises(ValueError, match="drag_coefficient"):
         BallParams(drag_coefficient=float("nan"))
+
+
+def test_roll_cap_ends_a_flight_after_landing():
+    # In a steady 4 m/s wind a beach ball never stops rolling (drag beats rolling
+    # resistance above ~2.6 m/s), so only the caps end the throw.
+    start = ball_at(0.0, 0.0, 1.5, 6.0, 0.0, 4.0, 0.0, 0.0, 0.0)
+    free = simulate_throw(BALL, start, 4.0, 0.0, max_time_s=6.0, xp=scalar)
+    capped = simulate_throw(BALL, start, 4.0, 0.0, max_time_s=6.0, max_roll_s=0.5, xp=scalar)
+    assert capped.landing_x == free.landing_x and capped.flight_time_s == free.flight_time_s
+    assert (free.steps - 1) * 0.05 == pytest.approx(6.0)
+    assert (capped.steps - 1) * 0.05 == pytest.approx(capped.flight_time_s + 0.5, abs=0.06)

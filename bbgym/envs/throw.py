@@ -93,6 +93,7 @@ class ThrowTask:
         screen_position: float = 0.5,
         sim_dt: float = 0.01,
         max_flight_time: float = 6.0,
+        max_roll_time: float = 2.0,
         field_radius: float = 30.0,
         miss_scale: float = 2.0,
         hit_bonus: float = 5.0,
@@ -136,6 +137,7 @@ class ThrowTask:
         self.max_flight_time = check_positive("max_flight_time", max_flight_time)
         if self.max_flight_time < 10 * self.sim_dt:
             raise ValueError(f"max_flight_time must be >= 10 sim_dt, got {max_flight_time!r}")
+        self.max_roll_time = check_positive("max_roll_time", max_roll_time)
         self.field_radius = check_positive("field_radius", field_radius)
         if self.field_radius <= self.target_distance_range[1] + self.target_radius:
             raise ValueError(f"field_radius must exceed the farthest target, got {field_radius!r}")
@@ -241,7 +243,7 @@ class ThrowTask:
         screen = self.screen_geometry(scenario, xp) if xp.any(scenario.screen) else None
         result = simulate_throw(
             self.ball, start, wind_x, wind_y, screen, self.sim_dt, self.max_flight_time,
-            self.field_radius, xp=xp,
+            self.max_roll_time, self.field_radius, xp=xp,
         )  # fmt: skip
         return result, wind_x, wind_y
 
@@ -488,6 +490,7 @@ _DOC_ARGS = """
     | `screen_height`, `screen_half_width` | `8.0`, `1.0` | m |
     | `screen_position` | `0.5` | fraction of the target distance |
     | `sim_dt`, `max_flight_time` | `0.01`, `6.0` | s |
+    | `max_roll_time` | `2.0` | s a ball may roll after landing before the throw ends |
     | `field_radius` | `30.0` | m; a ball beyond it is out |
     | `miss_scale`, `hit_bonus` | `2.0`, `5.0` | reward shape |
 
@@ -504,7 +507,8 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
     45 deg of +x. A wind blows from any direction at up to 3 m/s with gusts and shifts. An
     episode is a few throws (3) at the same target; each step is one throw of a 40 cm,
     250 g beach ball, simulated (drag, Magnus force from the spin, bounces, rolling) until
-    it rests, leaves the field or 6 s pass. The agent sees where each throw landed before
+    it rests, leaves the field, has rolled 2 s after landing (a beach ball blown along the
+    ground may never stop) or 6 s pass. The agent sees where each throw landed before
     the next, so it can correct for a wind it only senses through a noisy windsock. A
     spinning ball curves: backspin carries it, topspin drops it, side spin bends it.
 

@@ -380,11 +380,13 @@ def simulate_throw(
     screen: Screen | None = None,
     dt_s: float = 0.01,
     max_time_s: float = 6.0,
+    max_roll_s: float | None = None,
     field_radius_m: float = 30.0,
     record_dt_s: float = 0.05,
     xp: Any = np,
 ) -> ThrowResult:
-    """Fly balls from launch until they rest on the ground, leave the field or time runs out.
+    """Fly balls from launch until they rest on the ground, leave the field or time runs out
+    (``max_time_s`` in all, or ``max_roll_s`` after the first touchdown).
 
     The wind is held during the flight (a gust outlasts a throw). Balls that are done stop
     moving; the loop ends when every ball is done (early exit).
@@ -425,6 +427,8 @@ def simulate_throw(
             steps = steps + xp.where(done, 0, 1)
         speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
         at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01)
+        if max_roll_s is not None:  # a ball blown along the ground may never stop
+            at_rest = at_rest | (landed & (i * dt_s - flight_time > max_roll_s))
         outside = s.x * s.x + s.y * s.y > field_radius_m * field_radius_m
         done = done | at_rest | outside
         if xp.all(done):
