@@ -388,72 +388,141 @@ def simulate_throw(
     """Fly balls from launch until they rest on the ground, leave the field or time runs out
     (``max_time_s`` in all, or ``max_roll_s`` after the first touchdown).
 
-    The wind is held during the flight (a gust outlasts a throw). Balls that are done stop
-    moving; the loop ends when every ball is done (early exit).
+    The wind is held during the flight (a gust outlasts a throw). A batch keeps only the
+    balls still flying in its working set (early exit: a finished ball costs nothing more,
+    and the loop ends with the last one); a finished ball stays where it stopped.
     """
-    s = launch
-    record_every = max(1, round(record_dt_s / dt_s))
     _, _, _, spin_parameter = magnus_force(
-        p, s.vx - wind_x, s.vy - wind_y, s.vz, s.wx, s.wy, s.wz, xp
+        p, launch.vx - wind_x, launch.vy - wind_y, launch.vz, launch.wx, launch.wy, launch.wz, xp
     )
-    done = s.x != s.x  # all false, shaped like the batch
-    landed = done
-    landing_x, landing_y = s.x, s.y
-    flight_time = 0.0 * s.x
-    apex = s.z
-    hit_screen = done
-    trajectory = [pose_of(s)]
-    steps = 1 + 0 * flight_time
-    n_max = int(round(max_time_s / dt_s))
-    for i in range(1, n_max + 1):
-        new = substep(p, s, wind_x, wind_y, dt_s, xp)
+    if xp is np:
+        return _simulate_batch(
+            p, launch, wind_x, wind_y, screen, dt_s, max_time_s, max_roll_s, field_radius_m,
+            record_dt_s, spin_parameter,
+        )  # fmt: skip
+    record_every = max(1, round(record_dt_s / dt_s))
+    s, landed, hit_screen = launch, False, False
+    landing_x, landing_y, flight_time, apex = s.x, s.y, 0.0, s.z
+    trajectory, steps = [pose_of(s)], 1
+    for i in range(1, int(round(max_time_s / dt_s)) + 1):
+        s = substep(p, s, wind_x, wind_y, dt_s, xp)
         if screen is not None:
-            new, hit = panel_contact(
-                new, p.radius_m, screen.center_x, screen.center_y, screen.along_x,
-                screen.along_y, screen.half_width_m, screen.height_m, screen.restitution,
-                screen.enabled, xp,
-            )  # fmt: skip
-            hit_screen = hit_screen | (hit & xp.logical_not(done))
-        new, touching = ground_contact(p, new, dt_s, xp)
-        first = touching & xp.logical_not(landed) & xp.logical_not(done)
-        landing_x = xp.where(first, new.x, landing_x)
-        landing_y = xp.where(first, new.y, landing_y)
-        flight_time = xp.where(first, i * dt_s, flight_time)
-        landed = landed | first
-        apex = xp.where(done, apex, xp.maximum(apex, new.z))
-        s = _freeze(s, new, done, xp) if xp.any(done) else new
+            s, hit = _screen_contact(p, s, screen, xp)
+            hit_screen = hit_screen or bool(hit)
+        s, touching = ground_contact(p, s, dt_s, xp)
+        if touching and not landed:
+            landed, landing_x, landing_y, flight_time = True, s.x, s.y, i * dt_s
+        apex = max(apex, s.z)
         if i % record_every == 0:
             trajectory.append(pose_of(s))
-            steps = steps + xp.where(done, 0, 1)
-        speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
-        at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01)
-        if max_roll_s is not None:  # a ball blown along the ground may never stop
-            at_rest = at_rest | (landed & (i * dt_s - flight_time > max_roll_s))
-        outside = s.x * s.x + s.y * s.y > field_radius_m * field_radius_m
-        done = done | at_rest | outside
-        if xp.all(done):
+            steps += 1
+        if _finished(p, s, landed, flight_time, i * dt_s, max_roll_s, field_radius_m, xp):
             break
-    # A ball that never touched down (left the field, or still flying) lands where it is.
-    landing_x = xp.where(landed, landing_x, s.x)
-    landing_y = xp.where(landed, landing_y, s.y)
-    flight_time = xp.where(landed, flight_time, i * dt_s)
+    if not landed:  # it left the field, or time ran out: it "lands" where it is
+        landing_x, landing_y, flight_time = s.x, s.y, i * dt_s
     return ThrowResult(
-        landing_x=landing_x,
-        landing_y=landing_y,
-        flight_time_s=flight_time,
-        apex_height_m=apex,
-        spin_parameter=spin_parameter,
-        hit_screen=hit_screen,
-        final=s,
-        trajectory=trajectory,
-        steps=steps,
+        landing_x, landing_y, flight_time, apex, spin_parameter, hit_screen, s, trajectory, steps
     )
 
 
-def _freeze(old: BallState, new: BallState, done: Array, xp: Any) -> BallState:
-    """``new`` where the ball is still flying, ``old`` where it is done."""
-    if xp is not np:
-        return old if done else new
-    return BallState(
-        *(np.where(done, getattr(old, f.name), getattr(new, f.name)) for f in fields(old))
-    )
+def _screen_contact(p: BallParams, s: BallState, screen: Screen, xp: Any) -> tuple:
+    return panel_contact(
+        s, p.radius_m, screen.center_x, screen.center_y, screen.along_x, screen.along_y,
+        screen.half_width_m, screen.height_m, screen.restitution, screen.enabled, xp,
+    )  # fmt: skip
+
+
+def _finished(
+    p: BallParams, s: BallState, landed: Any, flight_time: Any, t: float, max_roll_s: Any,
+    field_radius_m: float, xp: Any,
+) -> Any:  # fmt: skip
+    """Resting on the ground (or rolled long enough after landing), or out of the field."""
+    speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
+    at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01)
+    if max_roll_s is not None:  # a ball blown along the ground may never stop
+        at_rest = at_rest | (landed & (t - flight_time > max_roll_s))
+    return at_rest | (s.x * s.x + s.y * s.y > field_radius_m * field_radius_m)
+
+
+def _simulate_batch(
+    p: BallParams, launch: BallState, wind_x: Array, wind_y: Array, screen: Screen | None,
+    dt_s: float, max_time_s: float, max_roll_s: float | None, field_radius_m: float,
+    record_dt_s: float, spin_parameter: Array,
+) -> ThrowResult:  # fmt: skip
+    """:func:`simulate_throw` for a batch, on the working set of balls still flying."""
+    n = launch.x.shape[0]
+    record_every = max(1, round(record_dt_s / dt_s))
+    names = [f.name for f in fields(BallState)]
+    final = BallState(*(np.array(getattr(launch, k), dtype=np.float64) for k in names))
+    pose = pose_of(BallState(*(getattr(final, k).copy() for k in names)))
+    out = {
+        "landing_x": final.x.copy(), "landing_y": final.y.copy(), "flight_time": np.zeros(n),
+        "apex": final.z.copy(), "hit_screen": np.zeros(n, dtype=bool),
+        "landed": np.zeros(n, dtype=bool), "end_time": np.zeros(n),
+    }  # fmt: skip
+    steps = np.ones(n, dtype=np.int64)
+    trajectory = [pose_of(BallState(*(getattr(final, k).copy() for k in names)))]
+
+    # The working set: indices of flying balls and their own copies of everything per ball.
+    act = np.arange(n)
+    s = final
+    wx, wy = np.broadcast_to(wind_x, (n,)), np.broadcast_to(wind_y, (n,))
+    scr = None
+    if screen is not None:
+        scr = Screen(*(np.broadcast_to(getattr(screen, k), (n,)) for k in
+                       ("center_x", "center_y", "along_x", "along_y", "half_width_m",
+                        "height_m", "enabled")), restitution=screen.restitution)  # fmt: skip
+    w = {k: v.copy() for k, v in out.items()}
+
+    def store(rows: np.ndarray, keep: np.ndarray) -> None:
+        """Write the working set's rows ``keep`` back into the full arrays at ``rows``."""
+        for k in names:
+            getattr(final, k)[rows] = getattr(s, k)[keep]
+        for k in out:
+            out[k][rows] = w[k][keep]
+
+    for i in range(1, int(round(max_time_s / dt_s)) + 1):
+        s = substep(p, s, wx, wy, dt_s)
+        if scr is not None:
+            s, hit = _screen_contact(p, s, scr, np)
+            w["hit_screen"] = w["hit_screen"] | hit
+        s, touching = ground_contact(p, s, dt_s)
+        first = touching & ~w["landed"]
+        w["landing_x"] = np.where(first, s.x, w["landing_x"])
+        w["landing_y"] = np.where(first, s.y, w["landing_y"])
+        w["flight_time"] = np.where(first, i * dt_s, w["flight_time"])
+        w["landed"] = w["landed"] | first
+        w["apex"] = np.maximum(w["apex"], s.z)
+        if i % record_every == 0:
+            for k in ("x", "y", "z", "qw", "qx", "qy", "qz"):
+                getattr(pose, k)[act] = getattr(s, k)
+            trajectory.append(BallPose(*(getattr(pose, k).copy() for k in
+                                         ("x", "y", "z", "qw", "qx", "qy", "qz"))))  # fmt: skip
+            steps[act] += 1
+        done = _finished(p, s, w["landed"], w["flight_time"], i * dt_s, max_roll_s,
+                         field_radius_m, np)  # fmt: skip
+        w["end_time"] = np.full(act.size, i * dt_s)
+        if done.any():
+            store(act[done], done)
+            keep = ~done
+            act = act[keep]
+            if act.size == 0:
+                break
+            s = BallState(*(getattr(s, k)[keep] for k in names))
+            w = {k: v[keep] for k, v in w.items()}
+            wx, wy = wx[keep], wy[keep]
+            if scr is not None:
+                scr = Screen(*(getattr(scr, k)[keep] for k in
+                               ("center_x", "center_y", "along_x", "along_y", "half_width_m",
+                                "height_m", "enabled")), restitution=scr.restitution)  # fmt: skip
+    if act.size:
+        store(act, np.ones(act.size, dtype=bool))
+    # A ball that never touched down (left the field, or still flying) lands where it is.
+    never = ~out["landed"]
+    out["landing_x"] = np.where(never, final.x, out["landing_x"])
+    out["landing_y"] = np.where(never, final.y, out["landing_y"])
+    out["flight_time"] = np.where(never, out["end_time"], out["flight_time"])
+    return ThrowResult(
+        out["landing_x"], out["landing_y"], out["flight_time"], out["apex"], spin_parameter,
+        out["hit_screen"], final, trajectory, steps,
+    )  # fmt: skip
