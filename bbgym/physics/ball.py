@@ -405,13 +405,16 @@ def simulate_throw(
     landing_x, landing_y, flight_time, apex = s.x, s.y, 0.0, s.z
     trajectory, steps = [pose_of(s)], 1
     for i in range(1, int(round(max_time_s / dt_s)) + 1):
+        before = s
         s = substep(p, s, wind_x, wind_y, dt_s, xp)
         if screen is not None:
             s, hit = _screen_contact(p, s, screen, xp)
             hit_screen = hit_screen or bool(hit)
+        flown = s
         s, touching = ground_contact(p, s, dt_s, xp)
         if touching and not landed:
-            landed, landing_x, landing_y, flight_time = True, s.x, s.y, i * dt_s
+            landed = True
+            landing_x, landing_y, flight_time = _touchdown(p, before, flown, i, dt_s, xp)
         apex = max(apex, s.z)
         if i % record_every == 0:
             trajectory.append(pose_of(s))
@@ -423,6 +426,19 @@ def simulate_throw(
     return ThrowResult(
         landing_x, landing_y, flight_time, apex, spin_parameter, hit_screen, s, trajectory, steps
     )
+
+
+def _touchdown(
+    p: BallParams, before: BallState, after: BallState, i: int, dt_s: float, xp: Any
+) -> tuple[Array, Array, Array]:
+    """Where and when the ball first touched the ground during substep ``i``: linear
+    interpolation to the moment its centre was one radius up, so the landing point does
+    not depend on where the substep happened to end."""
+    drop = before.z - after.z
+    f = xp.clip((before.z - p.radius_m) / xp.where(drop > 0.0, drop, 1.0), 0.0, 1.0)
+    x = before.x + f * (after.x - before.x)
+    y = before.y + f * (after.y - before.y)
+    return x, y, (i - 1 + f) * dt_s
 
 
 def _screen_contact(p: BallParams, s: BallState, screen: Screen, xp: Any) -> tuple:
@@ -482,15 +498,19 @@ def _simulate_batch(
             out[k][rows] = w[k][keep]
 
     for i in range(1, int(round(max_time_s / dt_s)) + 1):
+        before = s
         s = substep(p, s, wx, wy, dt_s)
         if scr is not None:
             s, hit = _screen_contact(p, s, scr, np)
             w["hit_screen"] = w["hit_screen"] | hit
+        flown = s
         s, touching = ground_contact(p, s, dt_s)
         first = touching & ~w["landed"]
-        w["landing_x"] = np.where(first, s.x, w["landing_x"])
-        w["landing_y"] = np.where(first, s.y, w["landing_y"])
-        w["flight_time"] = np.where(first, i * dt_s, w["flight_time"])
+        if first.any():
+            x, y, t = _touchdown(p, before, flown, i, dt_s, np)
+            w["landing_x"] = np.where(first, x, w["landing_x"])
+            w["landing_y"] = np.where(first, y, w["landing_y"])
+            w["flight_time"] = np.where(first, t, w["flight_time"])
         w["landed"] = w["landed"] | first
         w["apex"] = np.maximum(w["apex"], s.z)
         if i % record_every == 0:
