@@ -95,6 +95,18 @@ def option_pair(key: str, value: Any) -> tuple[float, float]:
     return pair
 
 
+def mean_wind(
+    options: Mapping[str, Any], speed_range: tuple[float, float], speed_draw: Any, from_draw: Any
+) -> tuple[Any, Any]:
+    """Mean wind ``(speed, from)``: the ``wind`` option (a vector, where the air moves) if
+    given, else a speed uniform in ``speed_range`` from a uniform direction (draws in [0, 1))."""
+    if "wind" in options:
+        wx, wy = options["wind"]
+        return math.hypot(wx, wy), math.atan2(-wy, -wx)
+    lo, hi = speed_range
+    return lo + (hi - lo) * speed_draw, 2.0 * math.pi * from_draw
+
+
 def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
     """Actions as float64 ``(size,)`` (``batch == 0``: one env) or ``(batch, size)``,
     clipped to [-1, 1]; a wrong shape or a NaN/inf raises ``ValueError``."""
@@ -343,3 +355,64 @@ class NormalStreams:
         picked = self._buffer[self._rows, np.minimum(self._next, self.block - 1)]
         self._next = self._next + mask
         return np.where(mask[:, None], picked, 0.0).T
+
+
+class SingleEnv(gym.Env[np.ndarray, np.ndarray]):
+    """What bbgym's single envs share: the task's simulation run for one env on Python
+    floats (``sim_class(task, 1, scalar=True)``), seeded from the env's ``np_random``.
+
+    A subclass sets ``metadata``, ``task_class`` and ``sim_class``, implements
+    ``_make_renderer`` and ``render``, and may use the ``_on_reset`` / ``_on_step`` hooks.
+    In human mode every reset and step is shown; ``_animate`` tells ``render`` that a step
+    just happened (envs whose step spans seconds of simulated time play it back).
+    """
+
+    metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"]}
+    task_class: type
+    sim_class: type
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        check_render_mode(render_mode, self.metadata["render_modes"])
+        self.task = self.task_class(**kwargs)
+        self.render_mode = render_mode
+        self.action_space = self.task.action_space
+        self.observation_space = self.task.observation_space
+        self._sim = self.sim_class(self.task, 1, scalar=True)
+        self._renderer: Any = None
+        self._animate = False
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self._sim.streams.set(0, self.np_random)
+        self._sim.reset(np.ones(1, dtype=bool), options)
+        self._on_reset()
+        if self.render_mode == "human":
+            self.render()
+        return self._sim.observation(), self._sim.info()
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if not self._sim.started:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(action, 0)
+        reward, terminated = self._sim.step(a)
+        self._on_step(a)
+        if self.render_mode == "human":
+            self._animate = True
+            self.render()
+        return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
+
+    def _on_reset(self) -> None:
+        """Hook: the env has just been reset."""
+
+    def _on_step(self, action: Any) -> None:
+        """Hook: a step with ``action`` has just been taken."""
+
+    def _make_renderer(self) -> Any:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None

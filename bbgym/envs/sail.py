@@ -12,17 +12,16 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
 from bbgym.envs.common import (
     NativeVectorEnv,
     NormalStreams,
+    SingleEnv,
     check_option_keys,
     check_positive,
     check_range,
-    check_render_mode,
     element,
     ensure_renderer,
     make_params,
@@ -456,7 +455,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
+class BeachballSailEnv(SingleEnv):
     """Sail a dinghy from the start to a mark, in any direction from the wind, upright.
 
     ## Description
@@ -547,15 +546,11 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
+    task_class = SailTask
+    sim_class = _SailSim
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        check_render_mode(render_mode, self.metadata["render_modes"])
-        self.task = SailTask(**kwargs)
-        self.render_mode = render_mode
-        self.action_space = self.task.action_space
-        self.observation_space = self.task.observation_space
-        self._sim = _SailSim(self.task, 1, scalar=True)
-        self._renderer = None
+        super().__init__(render_mode, **kwargs)
         self._wake: deque[tuple[float, float]] = deque(maxlen=120)
         self._last_action = np.zeros(2)
 
@@ -563,32 +558,14 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
     def params(self) -> DinghyParams:
         return self.task.params
 
-    def reset(
-        self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        super().reset(seed=seed)
-        self._sim.streams.set(0, self.np_random)
-        self._sim.reset(np.ones(1, dtype=bool), options)
+    def _on_reset(self) -> None:
         self._wake.clear()
         self._last_action = np.zeros(2)
-        if self.render_mode == "human":
-            self.render()
-        return self._sim.observation(), self._info()
 
-    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        if not self._sim.started:
-            raise gym.error.ResetNeeded("Call reset() before step()")
-        a = self.task.check_action(action, 0)
-        self._last_action = a
-        reward, terminated = self._sim.step(a)
+    def _on_step(self, action: Any) -> None:
+        self._last_action = action
         if self.render_mode is not None:
             self._wake.append((self._sim.boat.x_m, self._sim.boat.y_m))
-        if self.render_mode == "human":
-            self.render()
-        return self._sim.observation(), reward, terminated, False, self._info()
-
-    def _info(self) -> dict[str, Any]:
-        return self._sim.info()
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
@@ -598,11 +575,6 @@ class BeachballSailEnv(gym.Env[np.ndarray, np.ndarray]):
         if renderer is None:
             return None
         return renderer.render(_scene(self._sim, 0, tuple(self._wake), self._last_action))
-
-    def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
 
 
 def _make_renderer(env: Any) -> Any:

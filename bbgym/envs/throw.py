@@ -12,21 +12,21 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
 from bbgym.envs.common import (
     NativeVectorEnv,
     NormalStreams,
+    SingleEnv,
     check_box_action,
     check_option_keys,
     check_positive,
     check_range,
-    check_render_mode,
     element,
     ensure_renderer,
     make_params,
+    mean_wind,
     option_bool,
     option_pair,
 )
@@ -179,13 +179,7 @@ class ThrowTask:
             distance = d_lo + (d_hi - d_lo) * draws[0]
             bearing = b_lo + (b_hi - b_lo) * draws[1]
             target_x, target_y = distance * np.cos(bearing), distance * np.sin(bearing)
-        if "wind" in options:
-            wx, wy = options["wind"]
-            wind_speed, wind_from = math.hypot(wx, wy), math.atan2(-wy, -wx)
-        else:
-            w_lo, w_hi = self.wind_speed_range
-            wind_speed = w_lo + (w_hi - w_lo) * draws[2]
-            wind_from = 2.0 * math.pi * draws[3]
+        wind_speed, wind_from = mean_wind(options, self.wind_speed_range, draws[2], draws[3])
 
         def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
             return np.broadcast_to(np.asarray(value, dtype=dtype), (batch,)).copy()
@@ -498,7 +492,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
+class BeachballThrowEnv(SingleEnv):
     """Throw a beach ball through a gusty wind into a ring on the ground.
 
     ## Description
@@ -580,39 +574,14 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
+    task_class = ThrowTask
+    sim_class = _ThrowSim
 
-    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        check_render_mode(render_mode, self.metadata["render_modes"])
-        self.task = ThrowTask(**kwargs)
-        self.render_mode = render_mode
-        self.action_space = self.task.action_space
-        self.observation_space = self.task.observation_space
-        self._sim = _ThrowSim(self.task, 1, scalar=True)
-        self._renderer = None
+    def _on_reset(self) -> None:
         self._landings: list[tuple[float, float]] = []
-        self._fly_in_window = False
 
-    def reset(
-        self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        super().reset(seed=seed)
-        self._sim.streams.set(0, self.np_random)
-        self._sim.reset(np.ones(1, dtype=bool), options)
-        self._landings = []
-        if self.render_mode == "human":
-            self.render()
-        return self._sim.observation(), self._sim.info()
-
-    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        if not self._sim.started:
-            raise gym.error.ResetNeeded("Call reset() before step()")
-        a = self.task.check_action(action, 0)
-        reward, terminated = self._sim.step(a)
+    def _on_step(self, action: Any) -> None:
         self._landings.append(tuple(self._sim.last["landing_point"]))
-        if self.render_mode == "human":
-            self._fly_in_window = True
-            self.render()
-        return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
@@ -622,19 +591,14 @@ class BeachballThrowEnv(gym.Env[np.ndarray, np.ndarray]):
         if renderer is None:
             return None
         scene = _scene(self._sim, 0, tuple(self._landings[:-1]))
-        if self._fly_in_window:
+        if self._animate:
             # Human mode plays a new throw's flight in real time (one recorded point per
             # frame at render_fps = 1 / 0.05 s), then shows where it landed.
-            self._fly_in_window = False
+            self._animate = False
             in_flight = replace(scene, landing_m=None, hit=False, miss_distance_m=None)
             for k in range(len(scene.trajectory_m) - 1):
                 renderer.render(replace(in_flight, frame_index=k))
         return renderer.render(scene)
-
-    def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
 
 
 def _make_renderer(env: Any) -> Any:

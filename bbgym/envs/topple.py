@@ -12,21 +12,21 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
 from bbgym.envs.common import (
     NativeVectorEnv,
     NormalStreams,
+    SingleEnv,
     check_box_action,
     check_option_keys,
     check_positive,
     check_range,
-    check_render_mode,
     element,
     ensure_renderer,
     make_params,
+    mean_wind,
     option_bool,
     option_number,
     option_pair,
@@ -155,13 +155,7 @@ class ToppleTask:
         noise = np.array([rng.standard_normal(2) for rng in rngs]).T
         d_lo, d_hi = self.wall_distance_range
         distance = options.get("wall_distance", d_lo + (d_hi - d_lo) * draws[0])
-        if "wind" in options:
-            wx, wy = options["wind"]
-            wind_speed, wind_from = math.hypot(wx, wy), math.atan2(-wy, -wx)
-        else:
-            w_lo, w_hi = self.wind_speed_range
-            wind_speed = w_lo + (w_hi - w_lo) * draws[1]
-            wind_from = 2.0 * math.pi * draws[2]
+        wind_speed, wind_from = mean_wind(options, self.wind_speed_range, draws[1], draws[2])
 
         def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
             return np.broadcast_to(np.asarray(value, dtype=dtype), (batch,)).copy()
@@ -454,7 +448,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballToppleEnv(gym.Env[np.ndarray, np.ndarray]):
+class BeachballToppleEnv(SingleEnv):
     """Bring down a wall standing in gusty wind by throwing beach balls at it.
 
     ## Description
@@ -534,36 +528,8 @@ class BeachballToppleEnv(gym.Env[np.ndarray, np.ndarray]):
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
-
-    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        check_render_mode(render_mode, self.metadata["render_modes"])
-        self.task = ToppleTask(**kwargs)
-        self.render_mode = render_mode
-        self.action_space = self.task.action_space
-        self.observation_space = self.task.observation_space
-        self._sim = _ToppleSim(self.task, 1, scalar=True)
-        self._renderer = None
-        self._play_in_window = False
-
-    def reset(
-        self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        super().reset(seed=seed)
-        self._sim.streams.set(0, self.np_random)
-        self._sim.reset(np.ones(1, dtype=bool), options)
-        if self.render_mode == "human":
-            self.render()
-        return self._sim.observation(), self._sim.info()
-
-    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        if not self._sim.started:
-            raise gym.error.ResetNeeded("Call reset() before step()")
-        a = self.task.check_action(action, 0)
-        reward, terminated = self._sim.step(a)
-        if self.render_mode == "human":
-            self._play_in_window = True
-            self.render()
-        return self._sim.observation(), float(reward), bool(terminated), False, self._sim.info()
+    task_class = ToppleTask
+    sim_class = _ToppleSim
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
@@ -573,17 +539,12 @@ class BeachballToppleEnv(gym.Env[np.ndarray, np.ndarray]):
         if renderer is None:
             return None
         scene = _scene(self._sim, 0)
-        if self._play_in_window:
+        if self._animate:
             # Human mode plays the step's interval in real time, then shows its end.
-            self._play_in_window = False
+            self._animate = False
             for k in range(len(scene.wall_angle_samples)):
                 renderer.render(replace(scene, frame_index=k))
         return renderer.render(scene)
-
-    def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
 
 
 def _make_renderer(env: Any) -> Any:
