@@ -1,0 +1,155 @@
+"""Evaluate policies on a bbgym env over the same seeded episodes; write a results table.
+
+    python scripts/evaluate.py --env BeachballSail-v0 [--policies random,scripted]
+        [--model runs/ppo/model.zip] [--episodes 100] [--seed 0] [--out runs/eval]
+
+Every policy meets the same scenarios (episode ``k`` is reset with ``seed + k``). Reports
+the success rate with a 95% Wilson interval, the mean return, the mean episode length
+(steps; throws for the ball envs) and, for sailing, the mean time to the mark of the
+successful episodes. Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
+
+Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent from
+``agents/``), ``ppo`` (a stable-baselines3 model saved at ``--model``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import bbgym  # noqa: F401  (registers the envs)
+
+Policy = Callable[[np.ndarray], np.ndarray]
+
+
+def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """95% Wilson score interval of a success rate (sound at 0% and 100% too)."""
+    if n == 0:
+        return (0.0, 1.0)
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> Any:
+    """A callable ``obs -> action`` (with an optional ``reset()``)."""
+    env_id = env.spec.id if env.spec else ""
+    if name == "random":
+        space = env.action_space
+        space.seed(seed)
+        return lambda obs: space.sample()
+    if name == "scripted":
+        if env_id.startswith("BeachballSail"):
+            from agents import SimpleSailController
+
+            return SimpleSailController()
+        if env_id.startswith(("BeachballThrow", "BeachballCurve")):
+            from agents.throw_agent import ThrowSolverAgent
+
+            return ThrowSolverAgent(env.unwrapped.task)
+        if env_id.startswith("BeachballTopple"):
+            from agents.throw_agent import ToppleAgent
+
+            return ToppleAgent()
+        raise ValueError(f"no scripted policy for {env_id!r}")
+    if name == "ppo":
+        if model_path is None:
+            raise ValueError("--policies ppo needs --model")
+        from stable_baselines3 import PPO
+
+        model = PPO.load(model_path, device="cpu")
+        return lambda obs: model.predict(obs, deterministic=True)[0]
+    raise ValueError(f"unknown policy {name!r}; known: random, scripted, ppo")
+
+
+def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
+    env = gym.make(env_id)
+    policy = make_policy(policy_name, env, model, seed)
+    successes, returns, lengths, times = 0, [], [], []
+    start = time.perf_counter()
+    for k in range(episodes):
+        obs, info = env.reset(seed=seed + k)
+        if hasattr(policy, "reset"):
+            policy.reset()
+        total, steps, done = 0.0, 0, False
+        while not done:
+            obs, reward, terminated, truncated, info = env.step(policy(obs))
+            total += reward
+            steps += 1
+            done = terminated or truncated
+        successes += bool(info["is_success"])
+        returns.append(total)
+        lengths.append(steps)
+        if info["is_success"] and "elapsed_time" in info:
+            times.append(info["elapsed_time"])
+    env.close()
+    low, high = wilson_interval(successes, episodes)
+    return {
+        "env": env_id,
+        "policy": policy_name,
+        "episodes": episodes,
+        "seeds": [seed, seed + episodes - 1],
+        "success_rate": successes / episodes,
+        "success_ci95": [low, high],
+        "mean_return": float(np.mean(returns)),
+        "mean_length": float(np.mean(lengths)),
+        "mean_time_to_mark_s": float(np.mean(times)) if times else None,
+        "wall_time_s": time.perf_counter() - start,
+    }
+
+
+def format_table(results: list[dict]) -> str:
+    lines = [
+        "| env | policy | episodes | success (95% CI) | mean return | mean length | "
+        "time to mark | wall time |",
+        "|---|---|---:|---|---:|---:|---:|---:|",
+    ]
+    for r in results:
+        low, high = r["success_ci95"]
+        ttm = f"{r['mean_time_to_mark_s']:.1f} s" if r["mean_time_to_mark_s"] else "-"
+        lines.append(
+            f"| {r['env']} | {r['policy']} | {r['episodes']} | {100 * r['success_rate']:.0f}% "
+            f"({100 * low:.0f}-{100 * high:.0f}%) | {r['mean_return']:.2f} | "
+            f"{r['mean_length']:.1f} | {ttm} | {r['wall_time_s']:.0f} s |"
+        )
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--env", required=True, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--policies", default="random,scripted", help="comma-separated")
+    parser.add_argument("--model", type=Path, default=None, help="saved PPO model (.zip)")
+    parser.add_argument("--episodes", type=int, default=100)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--out", type=Path, default=Path("runs/eval"))
+    args = parser.parse_args(argv)
+    if args.episodes < 1:
+        parser.error("--episodes must be >= 1")
+    gym.spec(args.env)  # unknown ids fail here, with Gymnasium's message
+    results = [
+        evaluate(args.env, name.strip(), args.episodes, args.seed, args.model)
+        for name in args.policies.split(",")
+        if name.strip()
+    ]
+    table = format_table(results)
+    print(table)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / f"{args.env}.json").write_text(json.dumps(results, indent=2) + "\n")
+    (args.out / f"{args.env}.md").write_text(table + "\n")
+    print(f"wrote {args.out / (args.env + '.json')} and {args.out / (args.env + '.md')}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
