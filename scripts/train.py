@@ -73,8 +73,10 @@ def main(argv: list[str] | None = None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     shutil.copy(args.config, args.out / "config.yaml")
     env = VecMonitor(make_sb3_vec_env(args.env, n_envs=n_envs, seed=args.seed, **env_kwargs))
+    # Several envs evaluate at once: a native vector env of one is NumPy on one element.
+    n_eval = min(n_envs, train["eval_episodes"])
     eval_env = VecMonitor(
-        make_sb3_vec_env(args.env, n_envs=1, seed=args.seed + EVAL_SEED_OFFSET, **env_kwargs)
+        make_sb3_vec_env(args.env, n_envs=n_eval, seed=args.seed + EVAL_SEED_OFFSET, **env_kwargs)
     )
     callbacks = [
         EvalCallback(
