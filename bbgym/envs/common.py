@@ -14,6 +14,8 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from bbgym.physics import backend
+
 
 def check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
     """Validate a ``(min, max)`` pair of finite numbers above ``low``."""
@@ -298,6 +300,27 @@ class NativeVectorEnv(VectorEnv):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+class TaskSim:
+    """What the task simulations share: the task, the batch size, the array namespace
+    (Python floats for one env, NumPy for a batch) and each env's random stream. A
+    subclass sets ``scenario`` at its first ``reset``."""
+
+    def __init__(self, task: Any, batch: int, scalar: bool = False) -> None:
+        self.task = task
+        self.batch = batch
+        self.scalar = scalar
+        self.xp = backend.scalar if scalar else np
+        self.streams = NormalStreams(batch)
+        self.scenario: Any = None
+
+    @property
+    def started(self) -> bool:
+        return self.scenario is not None
+
+    def seed(self, seeds: list[int | None]) -> None:
+        self.streams.seed(seeds)
 
 
 class NormalStreams:

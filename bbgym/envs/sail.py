@@ -17,8 +17,8 @@ from gymnasium import spaces
 
 from bbgym.envs.common import (
     NativeVectorEnv,
-    NormalStreams,
     SingleEnv,
+    TaskSim,
     check_option_keys,
     check_positive,
     check_range,
@@ -302,20 +302,11 @@ class SailTask:
         return terms["progress"] + terms["arrival"] + terms["capsize"] + terms["time"], terms
 
 
-class _SailSim:
+class _SailSim(TaskSim):
     """Task state over a batch (NumPy arrays) or for one env (Python floats, ``scalar``),
     with per-env random streams and episode counters."""
 
-    def __init__(self, task: SailTask, batch: int, scalar: bool = False) -> None:
-        self.task = task
-        self.batch = batch
-        self.scalar = scalar
-        self.xp = backend.scalar if scalar else np
-        self.streams = NormalStreams(batch)
-        self.boat: DinghyState | None = None
-
-    def seed(self, seeds: list[int | None]) -> None:
-        self.streams.seed(seeds)
+    boat: DinghyState
 
     def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
         """Start new episodes where ``mask`` is true."""
@@ -326,7 +317,7 @@ class _SailSim:
             self.scenario, self.boat, self.gust = (element(x, 0) for x in (scenario, boat, gust))
             self.jibes = self.tacks = 0
             self.max_jibe_severity = self.elapsed = 0.0
-        elif self.boat is None or idx.size == self.batch:
+        elif self.scenario is None or idx.size == self.batch:
             self.scenario, self.boat, self.gust = scenario, boat, gust
             self.jibes = np.zeros(self.batch, dtype=np.int64)
             self.tacks = np.zeros(self.batch, dtype=np.int64)
@@ -349,10 +340,6 @@ class _SailSim:
             self.terms = {k: np.where(mask, 0.0, v) for k, v in self.terms.items()}
             self.last_jibe_severity = np.where(mask, 0.0, self.last_jibe_severity)
             self.arrived = self.arrived & ~mask
-
-    @property
-    def started(self) -> bool:
-        return self.boat is not None
 
     def _noise(self, active: np.ndarray | None) -> Any:
         """Standard normal pairs for the gusts: only envs with gusts (and still running)

@@ -17,8 +17,8 @@ from gymnasium import spaces
 
 from bbgym.envs.common import (
     NativeVectorEnv,
-    NormalStreams,
     SingleEnv,
+    TaskSim,
     check_box_action,
     check_option_keys,
     check_positive,
@@ -256,24 +256,9 @@ class ThrowTask:
         return wind_x + self.windsock_noise * noise[0], wind_y + self.windsock_noise * noise[1]
 
 
-class _ThrowSim:
+class _ThrowSim(TaskSim):
     """Task state over a batch (NumPy) or for one env (Python floats), with per-env random
     streams, the last throw's results and episode counters."""
-
-    def __init__(self, task: ThrowTask, batch: int, scalar: bool = False) -> None:
-        self.task = task
-        self.batch = batch
-        self.scalar = scalar
-        self.xp = backend.scalar if scalar else np
-        self.streams = NormalStreams(batch)
-        self.scenario: ThrowScenario | None = None
-
-    @property
-    def started(self) -> bool:
-        return self.scenario is not None
-
-    def seed(self, seeds: list[int | None]) -> None:
-        self.streams.seed(seeds)
 
     def _normals(self, mask: np.ndarray) -> np.ndarray:
         """Two standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``."""

@@ -17,8 +17,8 @@ from gymnasium import spaces
 
 from bbgym.envs.common import (
     NativeVectorEnv,
-    NormalStreams,
     SingleEnv,
+    TaskSim,
     check_box_action,
     check_option_keys,
     check_positive,
@@ -172,24 +172,9 @@ class ToppleTask:
         return check_box_action(action, 6, batch)
 
 
-class _ToppleSim:
+class _ToppleSim(TaskSim):
     """Task state over a batch (NumPy) or for one env (Python floats), with per-env random
     streams; ``step`` flies the ball and rocks the wall for one interval."""
-
-    def __init__(self, task: ToppleTask, batch: int, scalar: bool = False) -> None:
-        self.task = task
-        self.batch = batch
-        self.scalar = scalar
-        self.xp = backend.scalar if scalar else np
-        self.streams = NormalStreams(batch)
-        self.scenario: ToppleScenario | None = None
-
-    @property
-    def started(self) -> bool:
-        return self.scenario is not None
-
-    def seed(self, seeds: list[int | None]) -> None:
-        self.streams.seed(seeds)
 
     def _normals(self, mask: np.ndarray) -> Any:
         """Two standard normals per env where ``mask`` (floats for the single env)."""
