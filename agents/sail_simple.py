@@ -40,6 +40,16 @@ OBS_MARK_COS, OBS_MARK_SIN = 12, 13
 OBS_SIZE = 16
 
 
+def as_batch(obs: np.ndarray) -> tuple[np.ndarray, bool]:
+    """``(batch of float64 observations (N, 16), whether a single one was given)``."""
+    o = np.asarray(obs, dtype=np.float64)
+    single = o.ndim == 1
+    o = np.atleast_2d(o)
+    if o.ndim != 2 or o.shape[1] != OBS_SIZE:
+        raise ValueError(f"obs must have shape ({OBS_SIZE},) or (N, {OBS_SIZE}), got {o.shape}")
+    return o, single
+
+
 class SimpleSailController:
     """Scripted controller: ``controller(obs) -> action``.
 
@@ -85,11 +95,7 @@ class SimpleSailController:
             self._downwind_side[index] = 0.0
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
-        o = np.asarray(obs, dtype=np.float64)
-        single = o.ndim == 1
-        o = np.atleast_2d(o)
-        if o.ndim != 2 or o.shape[1] != OBS_SIZE:
-            raise ValueError(f"obs must have shape ({OBS_SIZE},) or (N, {OBS_SIZE}), got {o.shape}")
+        o, single = as_batch(obs)
         actions = np.stack([self._rudder(o), self._sheet(o)], axis=1).astype(np.float32)
         return actions[0] if single else actions
 
