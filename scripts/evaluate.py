@@ -9,7 +9,11 @@ the success rate with a 95% Wilson interval, the mean return, the mean episode l
 successful episodes. Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
 
 Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent from
-``agents/``), ``ppo`` (a stable-baselines3 model saved at ``--model``).
+``agents/``: the VMG autopilot for sailing, the throw solver, the topple agent), ``simple``
+(sailing only: the simple helmsman), ``ppo`` (a stable-baselines3 model saved at
+``--model``). For sailing, each policy's time to the mark is also compared with the
+autopilot's on the episodes both finished ("time / oracle time"; the autopilot is run for
+it if it is not among the policies).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import numpy as np
 import bbgym  # noqa: F401  (registers the envs)
 
 Policy = Callable[[np.ndarray], np.ndarray]
+POLICIES = ("random", "scripted", "simple", "ppo")
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -48,11 +53,17 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
         space = env.action_space
         space.seed(seed)
         return lambda obs: space.sample()
+    if name == "simple":
+        if not env_id.startswith("BeachballSail"):
+            raise ValueError(f"the simple helmsman sails; {env_id!r} is not a sailing env")
+        from agents import SimpleSailController
+
+        return SimpleSailController(dinghy=env.unwrapped.task.params)
     if name == "scripted":
         if env_id.startswith("BeachballSail"):
-            from agents import SimpleSailController
+            from agents import VMGAutopilot
 
-            return SimpleSailController()
+            return VMGAutopilot.for_env(env)
         if env_id.startswith(("BeachballThrow", "BeachballCurve")):
             from agents.throw_agent import ThrowSolverAgent
 
@@ -69,13 +80,14 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
 
         model = PPO.load(model_path, device="cpu")
         return lambda obs: model.predict(obs, deterministic=True)[0]
-    raise ValueError(f"unknown policy {name!r}; known: random, scripted, ppo")
+    raise ValueError(f"unknown policy {name!r}; known: {', '.join(POLICIES)}")
 
 
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
     env = gym.make(env_id)
     policy = make_policy(policy_name, env, model, seed)
     successes, returns, lengths, times = 0, [], [], []
+    episode_times: list[float | None] = []  # time to the mark per episode, None if missed
     start = time.perf_counter()
     for k in range(episodes):
         obs, info = env.reset(seed=seed + k)
@@ -92,6 +104,7 @@ def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Pat
         lengths.append(steps)
         if info["is_success"] and "elapsed_time" in info:
             times.append(info["elapsed_time"])
+        episode_times.append(float(info["elapsed_time"]) if info["is_success"] else None)
     env.close()
     low, high = wilson_interval(successes, episodes)
     return {
@@ -105,22 +118,34 @@ def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Pat
         "mean_length": float(np.mean(lengths)),
         "mean_time_to_mark_s": float(np.mean(times)) if times else None,
         "wall_time_s": time.perf_counter() - start,
+        "episode_time_to_mark_s": episode_times if times else None,
     }
+
+
+def time_vs_oracle(result: dict, oracle: dict) -> float | None:
+    """Mean of ``time / oracle time`` over the episodes both policies finished."""
+    mine, best = result["episode_time_to_mark_s"], oracle["episode_time_to_mark_s"]
+    if not mine or not best:
+        return None
+    ratios = [a / b for a, b in zip(mine, best, strict=True) if a is not None and b is not None]
+    return float(np.mean(ratios)) if ratios else None
 
 
 def format_table(results: list[dict]) -> str:
     lines = [
         "| env | policy | episodes | success (95% CI) | mean return | mean length | "
-        "time to mark | wall time |",
-        "|---|---|---:|---|---:|---:|---:|---:|",
+        "time to mark | time / oracle | wall time |",
+        "|---|---|---:|---|---:|---:|---:|---:|---:|",
     ]
     for r in results:
         low, high = r["success_ci95"]
         ttm = f"{r['mean_time_to_mark_s']:.1f} s" if r["mean_time_to_mark_s"] else "-"
+        ratio = r.get("time_vs_oracle")
+        ratio = f"{ratio:.2f}" if ratio is not None else "-"
         lines.append(
             f"| {r['env']} | {r['policy']} | {r['episodes']} | {100 * r['success_rate']:.0f}% "
             f"({100 * low:.0f}-{100 * high:.0f}%) | {r['mean_return']:.2f} | "
-            f"{r['mean_length']:.1f} | {ttm} | {r['wall_time_s']:.0f} s |"
+            f"{r['mean_length']:.1f} | {ttm} | {ratio} | {r['wall_time_s']:.0f} s |"
         )
     return "\n".join(lines)
 
@@ -137,11 +162,20 @@ def main(argv: list[str] | None = None) -> int:
     if args.episodes < 1:
         parser.error("--episodes must be >= 1")
     gym.spec(args.env)  # unknown ids fail here, with Gymnasium's message
-    results = [
-        evaluate(args.env, name.strip(), args.episodes, args.seed, args.model)
-        for name in args.policies.split(",")
-        if name.strip()
-    ]
+    names = [name.strip() for name in args.policies.split(",") if name.strip()]
+    unknown = sorted(set(names) - set(POLICIES))
+    if unknown:
+        parser.error(f"unknown policies {unknown}; known: {', '.join(POLICIES)}")
+    if "ppo" in names and args.model is None:
+        parser.error("--policies ppo needs --model")
+    results = [evaluate(args.env, name, args.episodes, args.seed, args.model) for name in names]
+    if args.env.startswith("BeachballSail"):
+        by_name = dict(zip(names, results, strict=True))
+        oracle = by_name.get("scripted") or evaluate(
+            args.env, "scripted", args.episodes, args.seed, None
+        )
+        for result in results:
+            result["time_vs_oracle"] = time_vs_oracle(result, oracle)
     table = format_table(results)
     print(table)
     args.out.mkdir(parents=True, exist_ok=True)
