@@ -580,10 +580,29 @@ class BeachballThrowEnv(SingleEnv):
             # Human mode plays a new throw's flight in real time (one recorded point per
             # frame at render_fps = 1 / 0.05 s), then shows where it landed.
             self._animate = False
-            in_flight = replace(scene, landing_m=None, hit=False, miss_distance_m=None)
-            for k in range(len(scene.trajectory_m) - 1):
-                renderer.render(replace(in_flight, frame_index=k))
+            for flight_scene in _flight_scenes(scene):
+                renderer.render(flight_scene)
         return renderer.render(scene)
+
+    def render_flight(self) -> list[np.ndarray]:
+        """The frames of the last throw's flight, one per recorded point (every 0.05 s, so
+        ``render_fps`` plays it in real time), without the landing frame that ``render()``
+        returns; ``[]`` before the first throw. These are the frames human mode shows
+        after a step. In ``rgb_array`` mode: a list of ``(H, W, 3)`` uint8 arrays; in
+        ``human`` mode the flight is shown again and the list is empty."""
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return []
+        scene = _scene(self._sim, 0, tuple(self._landings[:-1]))
+        frames = [renderer.render(s) for s in _flight_scenes(scene)]
+        return [f for f in frames if f is not None]
+
+
+def _flight_scenes(scene: Any) -> list[Any]:
+    """The in-flight frames of a throw's scene: the ball at each recorded point but the
+    last, with no landing shown yet."""
+    in_flight = replace(scene, landing_m=None, hit=False, miss_distance_m=None)
+    return [replace(in_flight, frame_index=k) for k in range(len(scene.trajectory_m) - 1)]
 
 
 def _make_renderer(env: Any) -> Any:

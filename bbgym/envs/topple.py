@@ -527,9 +527,26 @@ class BeachballToppleEnv(SingleEnv):
         if self._animate:
             # Human mode plays the step's interval in real time, then shows its end.
             self._animate = False
-            for k in range(len(scene.wall_angle_samples)):
-                renderer.render(replace(scene, frame_index=k))
+            for flight_scene in _flight_scenes(scene):
+                renderer.render(flight_scene)
         return renderer.render(scene)
+
+    def render_flight(self) -> list[np.ndarray]:
+        """The frames of the last step's interval (the ball's flight, the rocking wall), one
+        per sample (every 0.05 s, so ``render_fps`` plays it in real time), without the end
+        frame that ``render()`` returns; ``[]`` before the first step. These are the frames
+        human mode shows after a step. In ``rgb_array`` mode: a list of ``(H, W, 3)`` uint8
+        arrays; in ``human`` mode the interval is shown again and the list is empty."""
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return []
+        frames = [renderer.render(s) for s in _flight_scenes(_scene(self._sim, 0))]
+        return [f for f in frames if f is not None]
+
+
+def _flight_scenes(scene: Any) -> list[Any]:
+    """The frames of a step's interval: the scene at each sample."""
+    return [replace(scene, frame_index=k) for k in range(len(scene.wall_angle_samples))]
 
 
 def _make_renderer(env: Any) -> Any:

@@ -1,0 +1,344 @@
+"""Play an env from the keyboard (gymnasium.utils.play).
+
+    python scripts/play.py --env BeachballSail-v0 [--seed 0] [--fps 20] [--zoom 1.0]
+
+Both action spaces are continuous, so a small wrapper defined here turns the keys held in
+each frame into an action, keeping state between frames:
+
+BeachballSail-v0 (one env step per frame, 0.25 s, so 20 fps is 5x real time):
+  LEFT / RIGHT   rudder hard over while held: turn to port / to starboard (0 when released)
+  UP / DOWN      sheet in / ease out, 0.05 a frame; the sheet stays where you leave it
+
+BeachballThrow-v0, BeachballCurve-v0, BeachballTopple-v0 (aim first, then throw):
+  UP / DOWN      elevation +/- 1 deg a frame
+  LEFT / RIGHT   azimuth +/- 1 deg a frame (left: counterclockwise)
+  W / S          launch speed +/- 0.2 m/s a frame (Topple: under 0.5 m/s throwing waits)
+  A / D          side spin +/- 2 rad/s a frame (A: curves the ball to the left)
+  E / Q          back spin +/- 2 rad/s a frame (Q below 0: top spin)
+  SPACE          throw (once per press); the flight is played back, then where it landed
+The aim starts at 10 m/s, 35 deg up, toward the target (Throw, Curve) or the wall, without
+spin; it is printed on every change. ESC or closing the window quits.
+
+A finished episode starts the next one. ``--seed`` seeds the first episode (the next ones
+follow from it).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+import argparse
+import itertools
+import math
+import sys
+import warnings
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import pygame
+from gymnasium import spaces
+
+import bbgym  # noqa: F401  (registers the envs)
+
+SHEET_STEP = 0.05
+"""Sheet change per frame while UP or DOWN is held (full range -1..1 in 40 frames)."""
+INITIAL_SHEET = 0.0
+
+# Throw aim: initial values, change per frame and limits.
+INITIAL_SPEED_MPS, INITIAL_ELEVATION_DEG = 10.0, 35.0
+SPEED_STEP_MPS, ANGLE_STEP_DEG, SPIN_STEP_RPS = 0.2, 1.0, 2.0
+ELEVATION_RANGE_DEG = (-30.0, 90.0)
+
+# Sail command [rudder, sheet change]: rudder +1 turns to port; sheet -1 hauls in.
+SAIL_KEYS: dict[int, tuple[float, ...]] = {
+    pygame.K_LEFT: (1.0, 0.0),
+    pygame.K_RIGHT: (-1.0, 0.0),
+    pygame.K_UP: (0.0, -1.0),
+    pygame.K_DOWN: (0.0, 1.0),
+}
+
+# Throw command: [speed, elevation, azimuth, side spin, back spin] changes, and throw.
+SPEED, ELEVATION, AZIMUTH, SIDE_SPIN, BACK_SPIN, THROW = range(6)
+
+
+def _unit(index: int, sign: float = 1.0) -> tuple[float, ...]:
+    return tuple(sign if k == index else 0.0 for k in range(6))
+
+
+THROW_KEYS: dict[int, tuple[float, ...]] = {
+    pygame.K_w: _unit(SPEED),
+    pygame.K_s: _unit(SPEED, -1.0),
+    pygame.K_UP: _unit(ELEVATION),
+    pygame.K_DOWN: _unit(ELEVATION, -1.0),
+    pygame.K_LEFT: _unit(AZIMUTH),
+    pygame.K_RIGHT: _unit(AZIMUTH, -1.0),
+    pygame.K_a: _unit(SIDE_SPIN),
+    pygame.K_d: _unit(SIDE_SPIN, -1.0),
+    pygame.K_e: _unit(BACK_SPIN),
+    pygame.K_q: _unit(BACK_SPIN, -1.0),
+    pygame.K_SPACE: _unit(THROW),
+}
+
+
+def combine_keys(effects: Mapping[int, tuple[float, ...]]) -> dict[tuple[int, ...], np.ndarray]:
+    """A ``keys_to_action`` dict for ``gymnasium.utils.play``: every combination of the keys
+    (sorted key codes) -> the sum of their effects, clipped to [-1, 1], as float32."""
+    table = {}
+    codes = sorted(effects)
+    for r in range(1, len(codes) + 1):
+        for combo in itertools.combinations(codes, r):
+            total = np.sum([effects[k] for k in combo], axis=0)
+            table[combo] = np.clip(total, -1.0, 1.0).astype(np.float32)
+    return table
+
+
+def _status(text: str) -> None:
+    """Show ``text`` on the console line and, when a window is open, in its title."""
+    print(f"\r{text}   ", end="", flush=True)
+    if pygame.display.get_init() and pygame.display.get_surface() is not None:
+        pygame.display.set_caption(text)
+
+
+class KeyboardWrapper(gym.Wrapper):
+    """Base of the keyboard wrappers: ``get_keys_to_action()``, ``noop``, and a seed used for
+    the first reset only (``gymnasium.utils.play`` resets every episode with its seed)."""
+
+    key_effects: Mapping[int, tuple[float, ...]] = {}
+
+    def __init__(self, env: gym.Env, seed: int | None = None) -> None:
+        super().__init__(env)
+        n = len(next(iter(self.key_effects.values())))
+        self.action_space = spaces.Box(-1.0, 1.0, (n,), np.float32)
+        self.noop = np.zeros(n, dtype=np.float32)
+        self._first_seed = seed
+
+    def get_keys_to_action(self) -> dict[tuple[int, ...], np.ndarray]:
+        return combine_keys(self.key_effects)
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> Any:
+        if seed is None and self._first_seed is not None:
+            seed = self._first_seed
+        self._first_seed = None
+        return self.env.reset(seed=seed, options=options)
+
+
+class SailKeys(KeyboardWrapper):
+    """BeachballSail-v0 from the keys. Command ``[rudder, sheet change]``: the rudder is
+    passed on as it is; the sheet moves by ``sheet_step`` times the change per step and
+    stays there (the ``sheet`` attribute, set to ``initial_sheet`` at every reset)."""
+
+    key_effects = SAIL_KEYS
+
+    def __init__(
+        self,
+        env: gym.Env,
+        seed: int | None = None,
+        sheet_step: float = SHEET_STEP,
+        initial_sheet: float = INITIAL_SHEET,
+    ) -> None:
+        super().__init__(env, seed)
+        self.sheet_step, self.initial_sheet = sheet_step, initial_sheet
+        self.sheet = initial_sheet
+
+    def reset(self, **kwargs: Any) -> Any:
+        self.sheet = self.initial_sheet
+        return super().reset(**kwargs)
+
+    def action(self, command: np.ndarray) -> np.ndarray:
+        """The env action for ``command``; moves the sheet."""
+        rudder = float(np.clip(command[0], -1.0, 1.0))
+        sheet = float(np.clip(self.sheet + self.sheet_step * command[1], -1.0, 1.0))
+        if sheet != self.sheet:
+            _status(f"sheet {sheet:+.2f} (-1 in, +1 out)")
+        self.sheet = sheet
+        return np.array([rudder, sheet], dtype=np.float32)
+
+    def step(self, command: np.ndarray) -> Any:
+        return self.env.step(self.action(command))
+
+
+class ThrowKeys(KeyboardWrapper):
+    """A ball env (Throw, Curve, Topple) from the keys. The wrapper holds an aim (launch
+    speed, elevation, azimuth, side spin, back spin) that commands change without stepping
+    the env (such a step returns the last observation and info, reward 0, not done); a
+    throw command steps the env once with :meth:`throw_action` (again only after the
+    command was released). ``render()`` then plays the flight back frame by frame
+    (``render_flight()``) and, after the last throw of an episode, holds where it landed
+    for one second at ``render_fps``."""
+
+    key_effects = THROW_KEYS
+
+    def __init__(self, env: gym.Env, seed: int | None = None) -> None:
+        super().__init__(env, seed)
+        task = env.unwrapped.task
+        self.max_speed, self.max_spin = float(task.max_speed), float(task.max_spin)
+        self.speed, self.elevation_deg = INITIAL_SPEED_MPS, INITIAL_ELEVATION_DEG
+        self.azimuth_deg = 0.0
+        self.side_spin, self.back_spin = 0.0, 0.0
+        self.throws = 0
+        self._held = False
+        self._frames: list[np.ndarray] = []
+        self._last: tuple[Any, dict[str, Any]] = (None, {})
+
+    def reset(self, **kwargs: Any) -> Any:
+        obs, info = super().reset(**kwargs)
+        self._last = (obs, info)
+        self._held = False
+        self.speed, self.elevation_deg = INITIAL_SPEED_MPS, INITIAL_ELEVATION_DEG
+        self.side_spin, self.back_spin = 0.0, 0.0
+        target = info.get("target")
+        self.azimuth_deg = (
+            math.degrees(math.atan2(float(target[1]), float(target[0])))
+            if target is not None
+            else 0.0
+        )
+        self._show_aim()
+        return obs, info
+
+    def aim(self) -> dict[str, float]:
+        return {
+            "speed": self.speed,
+            "elevation_deg": self.elevation_deg,
+            "azimuth_deg": self.azimuth_deg,
+            "side_spin": self.side_spin,
+            "back_spin": self.back_spin,
+        }
+
+    def _show_aim(self) -> None:
+        _status(
+            f"speed {self.speed:4.1f} m/s, elevation {self.elevation_deg:+5.1f} deg, "
+            f"azimuth {self.azimuth_deg:+6.1f} deg, side spin {self.side_spin:+5.1f}, "
+            f"back spin {self.back_spin:+5.1f} rad/s"
+        )
+
+    def throw_action(self) -> np.ndarray:
+        """The env action of the current aim: launch velocity / ``max_speed``, spin /
+        ``max_spin`` (side spin about +z, back spin about the horizontal axis to the
+        thrower's right, so that it lifts the ball)."""
+        el, az = math.radians(self.elevation_deg), math.radians(self.azimuth_deg)
+        velocity = self.speed * np.array(
+            [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)]
+        )
+        spin = np.array(
+            [self.back_spin * math.sin(az), -self.back_spin * math.cos(az), self.side_spin]
+        )
+        action = np.concatenate([velocity / self.max_speed, spin / self.max_spin])
+        return np.clip(action, -1.0, 1.0).astype(np.float32)
+
+    def step(self, command: np.ndarray) -> Any:
+        c = np.asarray(command, dtype=np.float64)
+        before = self.aim()
+        self.speed = float(np.clip(self.speed + SPEED_STEP_MPS * c[SPEED], 0.0, self.max_speed))
+        self.elevation_deg = float(
+            np.clip(self.elevation_deg + ANGLE_STEP_DEG * c[ELEVATION], *ELEVATION_RANGE_DEG)
+        )
+        azimuth = self.azimuth_deg + ANGLE_STEP_DEG * c[AZIMUTH]
+        self.azimuth_deg = float((azimuth + 180.0) % 360.0 - 180.0)
+        spin = self.max_spin
+        self.side_spin = float(np.clip(self.side_spin + SPIN_STEP_RPS * c[SIDE_SPIN], -spin, spin))
+        self.back_spin = float(np.clip(self.back_spin + SPIN_STEP_RPS * c[BACK_SPIN], -spin, spin))
+        if self.aim() != before:
+            self._show_aim()
+        pressed = bool(c[THROW] > 0.5)
+        throw = pressed and not self._held and not self._frames
+        self._held = pressed
+        if not throw:
+            obs, info = self._last
+            return obs, 0.0, False, False, info
+        obs, reward, terminated, truncated, info = self.env.step(self.throw_action())
+        self.throws += 1
+        self._last = (obs, info)
+        print(
+            f"\nthrow {self.throws}: reward {reward:+.2f}"
+            + (", success!" if info.get("is_success") else "")
+        )
+        if self.env.render_mode == "rgb_array":
+            render_flight = getattr(self.env.unwrapped, "render_flight", None)
+            self._frames = list(render_flight()) if render_flight else []
+            if terminated or truncated:  # the next reset comes at once: hold the landing
+                self._frames += [self.env.render()] * int(self.metadata.get("render_fps", 20))
+        return obs, reward, terminated, truncated, info
+
+    def render(self) -> Any:
+        if self._frames:
+            return self._frames.pop(0)
+        return self.env.render()
+
+
+def make_play_env(env_id: str, seed: int | None = None) -> KeyboardWrapper:
+    """``env_id`` in ``rgb_array`` mode, wrapped for the keyboard."""
+    env = gym.make(env_id, render_mode="rgb_array")
+    if env_id.startswith("BeachballSail"):
+        return SailKeys(env, seed)
+    if env.action_space.shape == (6,) and hasattr(env.unwrapped, "task"):
+        return ThrowKeys(env, seed)
+    env.close()
+    raise ValueError(f"no keyboard mapping for {env_id!r}")
+
+
+def import_gym_play() -> Any:
+    """``gymnasium.utils.play``, without the side effect of its import: it switches
+    matplotlib to TkAgg (for ``PlayPlot``, not used here); the backend is restored."""
+    try:
+        import matplotlib
+    except ImportError:
+        from gymnasium.utils import play as gym_play
+
+        return gym_play
+    backend = dict.__getitem__(matplotlib.rcParams, "backend")  # may be "auto", unresolved
+    with warnings.catch_warnings():  # its "matplotlib is not installed" when TkAgg fails
+        warnings.simplefilter("ignore")
+        from gymnasium.utils import play as gym_play
+
+    if dict.__getitem__(matplotlib.rcParams, "backend") != backend:
+        matplotlib.use(backend)
+    return gym_play
+
+
+def play_env(
+    env: KeyboardWrapper,
+    fps: int = 20,
+    zoom: float = 1.0,
+    callback: Callable[..., Any] | None = None,
+) -> None:
+    """Play ``env`` (a :class:`KeyboardWrapper`) in a pygame window until ESC or close."""
+    import_gym_play().play(
+        env, fps=fps, zoom=zoom, keys_to_action=env.get_keys_to_action(), noop=env.noop,
+        callback=callback,
+    )  # fmt: skip
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        description=__doc__.splitlines()[0],
+        epilog=__doc__.split("\n\n", 2)[2],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--env", required=True, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the first episode")
+    parser.add_argument("--fps", type=int, default=20, help="frames (sail: env steps) a second")
+    parser.add_argument("--zoom", type=float, default=1.0, help="window scale")
+    args = parser.parse_args(argv)
+    if args.fps <= 0:
+        parser.error("--fps must be > 0")
+    if args.zoom <= 0:
+        parser.error("--zoom must be > 0")
+    gym.spec(args.env)  # unknown ids fail here, with Gymnasium's message
+    try:
+        env = make_play_env(args.env, args.seed)
+    except ValueError as err:
+        parser.error(str(err))
+    try:
+        play_env(env, fps=args.fps, zoom=args.zoom)
+    finally:
+        env.close()
+        print()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
