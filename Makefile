@@ -1,13 +1,14 @@
 # Two entry points, each doing its own set-up on a fresh machine:
-#   make run   - the main job: sail an episode with a scripted controller, print its
-#                statistics and write an animation (runs/demo/sail_episode.gif)
+#   make run   - the main job: train PPO on BeachballSail-v0 with the default preset,
+#                evaluate it beside random play and the VMG autopilot, and write the run
+#                folder runs/main (model, results table, learning curve, animation)
 #   make test  - lint and the test suite
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: run test setup polar bench clean
+.PHONY: run test setup demo polar bench clean
 
 # torch goes in first, pinned to the CPU wheel this project's machines carry: left to
 # resolve `torch` itself, pip would fetch a multi-GB CUDA build.
@@ -23,6 +24,9 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(STAMP)
+	SDL_VIDEODRIVER=dummy $(PY) scripts/baseline.py --env BeachballSail-v0 --out runs/main
+
+demo: $(STAMP)
 	SDL_VIDEODRIVER=dummy $(PY) scripts/sail_demo.py --out runs/demo
 
 test: $(STAMP)
