@@ -2,11 +2,13 @@
 
     python scripts/baseline.py --env BeachballSail-v0 [--config configs/beachball_sail.yaml]
         [--timesteps N] [--seed 0] [--episodes 100] [--out runs/baseline/<env>-seed<seed>]
+    [--no-train]
 
 The main job (``make run``) is this script on BeachballSail-v0 with the default preset.
 Steps, each reported as it goes (PPO shows a progress bar):
 
 1. train PPO with ``scripts/train.py`` (the preset's ``ppo`` and ``train`` sections);
+   ``--no-train`` skips this and evaluates the model already in the run folder;
 2. evaluate the best model of training (chosen on the evaluation seeds 10000+), a uniform
    random policy and the env's scripted agent (the VMG autopilot for sailing) over the
    same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from training's);
@@ -52,9 +54,14 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--episodes", type=int, default=100, help="evaluation episodes")
     parser.add_argument("--out", type=Path, default=None, help="run folder")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
+    )
     args = parser.parse_args(argv)
     args.config = args.config or CONFIG_DIR / train.PRESETS[args.env]
     args.out = args.out or Path("runs") / "baseline" / f"{args.env}-seed{args.seed}"
+    if args.no_train and not (args.out / "train.json").exists():
+        parser.error(f"--no-train needs a trained run in {args.out}")
     if args.episodes < 1:
         parser.error("--episodes must be >= 1")
     if args.timesteps is not None and args.timesteps < 1:
@@ -105,8 +112,13 @@ def main(argv: list[str] | None = None) -> int:
     start = time.perf_counter()
     train_argv = ["--env", args.env, "--config", str(args.config), "--seed", str(args.seed),
                   "--out", str(args.out), "--timesteps", str(budget)]  # fmt: skip
-    train.main(train_argv + (["--no-progress"] if args.no_progress else []))
-    train_wall = time.perf_counter() - start
+    if args.no_train:
+        print(f"      (--no-train: using the model already in {args.out})")
+    else:
+        train.main(train_argv + (["--no-progress"] if args.no_progress else []))
+    train_log = json.loads((args.out / "train.json").read_text())
+    train_wall = train_log["wall_time_s"] if args.no_train else time.perf_counter() - start
+    budget = train_log["timesteps"]
 
     print(f"[2/4] evaluating random, scripted and PPO over {args.episodes} seeded episodes")
     model = args.out / "best_model.zip"

@@ -104,7 +104,8 @@ def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Pat
         lengths.append(steps)
         if info["is_success"] and "elapsed_time" in info:
             times.append(info["elapsed_time"])
-        episode_times.append(float(info["elapsed_time"]) if info["is_success"] else None)
+        if "elapsed_time" in info:  # sailing
+            episode_times.append(float(info["elapsed_time"]) if info["is_success"] else None)
     env.close()
     low, high = wilson_interval(successes, episodes)
     return {
