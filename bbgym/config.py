@@ -43,6 +43,39 @@ TRAIN_DEFAULTS = {
 }
 
 
+SCHEDULED = ("learning_rate", "clip_range")
+"""PPO arguments that may be given as ``"lin_<initial value>"`` (RL Zoo's notation)."""
+
+
+class LinearSchedule:
+    """``progress_remaining -> initial * progress_remaining``: decays linearly from the
+    initial value at the start of training to 0 at its end (SB3 passes the fraction of
+    the budget still to go). A class rather than a closure, so saved models pickle it."""
+
+    def __init__(self, initial: float) -> None:
+        self.initial = float(initial)
+
+    def __call__(self, progress_remaining: float) -> float:
+        return self.initial * progress_remaining
+
+    def __repr__(self) -> str:
+        return f"lin_{self.initial:g}"
+
+
+def linear_schedule(text: str, name: str = "schedule") -> LinearSchedule:
+    """Parse ``"lin_<float>"`` (for example ``"lin_0.001"``) into a :class:`LinearSchedule`."""
+    prefix = "lin_"
+    try:
+        if not text.startswith(prefix):
+            raise ValueError
+        initial = float(text[len(prefix) :])
+    except ValueError:
+        raise ValueError(f"{name} must be a number or 'lin_<number>', got {text!r}") from None
+    if not (initial > 0.0 and initial < float("inf")):
+        raise ValueError(f"{name}: the initial value must be finite and > 0, got {text!r}")
+    return LinearSchedule(initial)
+
+
 def load_training(path: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
     """``(ppo_kwargs, train_settings)`` of a preset file: the keyword arguments of
     stable-baselines3's ``PPO`` (``policy`` included) and the run settings, with defaults
@@ -53,6 +86,9 @@ def load_training(path: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
         preset = yaml.safe_load(f)
     ppo = dict(preset.get("ppo") or {})
     ppo.setdefault("policy", "MlpPolicy")
+    for key in SCHEDULED:
+        if isinstance(ppo.get(key), str):
+            ppo[key] = linear_schedule(ppo[key], f"{path}: ppo.{key}")
     train = {**TRAIN_DEFAULTS, **(preset.get("train") or {})}
     unknown = sorted(set(train) - set(TRAIN_DEFAULTS))
     if unknown:

@@ -156,10 +156,9 @@ def main(argv: list[str] | None = None) -> int:
         "eval_episodes": args.episodes,
         "eval_seeds": [0, args.episodes - 1],
         "success_rate": {name: r["success_rate"] for name, r in results.items()},
-        "files": sorted(p.name for p in args.out.iterdir()),
     }
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    print(f"run folder {args.out}: " + ", ".join(summary["files"]))
+    print(f"run folder {args.out}: " + ", ".join(sorted(p.name for p in args.out.iterdir())))
     return 0
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import inspect
 
 import gymnasium as gym
+import pytest
 
 from bbgym.config import CONFIG_DIR, load_preset
 from bbgym.envs.sail import SailTask
@@ -69,3 +70,22 @@ def test_topple_preset_matches_code_defaults():
         if k not in ("self", "wall", "ball", "gust_params")
     }
     assert kwargs == defaults
+
+
+def test_linear_schedules_in_the_ppo_section(tmp_path):
+    from bbgym.config import LinearSchedule, load_training
+
+    config = tmp_path / "p.yaml"
+    config.write_text("env_id: X\nenv: {}\nppo:\n  learning_rate: lin_0.001\n  clip_range: 0.2\n")
+    ppo, _ = load_training(config)
+    schedule = ppo["learning_rate"]
+    assert isinstance(schedule, LinearSchedule)
+    # SB3 passes the fraction of the budget still to go: 1 at the start, 0 at the end.
+    assert schedule(1.0) == pytest.approx(1e-3)
+    assert schedule(0.25) == pytest.approx(2.5e-4)
+    assert schedule(0.0) == 0.0
+    assert ppo["clip_range"] == 0.2
+    for bad in ("exp_0.001", "lin_abc", "lin_-1", "lin_nan"):
+        config.write_text(f"env_id: X\nenv: {{}}\nppo:\n  learning_rate: {bad}\n")
+        with pytest.raises(ValueError, match="ppo.learning_rate"):
+            load_training(config)
