@@ -28,6 +28,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -163,7 +164,9 @@ def sailing_tables(
     )
 
 
-def _lookup(table: np.ndarray, speeds: np.ndarray, wind: np.ndarray, angle: np.ndarray):
+def _lookup(
+    table: np.ndarray, speeds: np.ndarray, wind: np.ndarray, angle: np.ndarray
+) -> np.ndarray:
     """Bilinear lookup of ``table[S, G]`` at wind speeds ``wind`` and angles ``angle``."""
     s = np.clip(np.interp(wind, speeds, np.arange(speeds.size)), 0, speeds.size - 1)
     s0 = np.minimum(s.astype(np.int64), speeds.size - 2)
@@ -213,7 +216,7 @@ class VMGAutopilot:
         self._side = np.zeros(0)  # +1 / -1 per env: the remembered tack or gybe, 0 = none
 
     @classmethod
-    def for_env(cls, env, **kwargs) -> VMGAutopilot:
+    def for_env(cls, env: Any, **kwargs: Any) -> VMGAutopilot:
         """An autopilot for ``env``'s boat (a single or vector BeachballSail env)."""
         return cls(env.unwrapped.task.params, **kwargs)
 
