@@ -40,17 +40,11 @@ FORMATS = (".gif", ".mp4")
 DEFAULT_FPS = 20.0
 
 
-def _load_evaluate() -> Any:
-    """``scripts/evaluate.py`` as a module (scripts/ is not a package)."""
-    path = Path(__file__).resolve().parent / "evaluate.py"
-    spec = importlib.util.spec_from_file_location("_bbgym_scripts_evaluate", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+# scripts/ is not a package: its sibling evaluate.py is imported from its folder, as
+# baseline.py does.
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import evaluate  # noqa: E402  (scripts/evaluate.py)
 
-
-evaluate = _load_evaluate()
 make_policy = evaluate.make_policy
 
 FrameSink = Callable[[np.ndarray, int], None]
