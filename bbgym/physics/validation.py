@@ -1,0 +1,213 @@
+"""Argument validation shared by every parameter dataclass, env constructor and reset option.
+
+One rule for every number a user can pass: a finite real number (a Python or NumPy int or
+float; ``bool``, strings, complex numbers and arrays of more than one element are refused)
+inside its documented interval. Errors name the full path of the argument
+(``dinghy.mass_kg``, ``gust_params.speed_std``, ``options['speed']``): a wrong type raises
+``TypeError``, a wrong value ``ValueError``.
+
+Parameter dataclasses declare each field's accepted interval with :func:`param`; their
+``__post_init__`` calls :func:`check_fields`, which validates every field and stores it as a
+Python ``float`` (or ``int`` / ``bool``), so the physics never sees a NumPy scalar or a
+string. :func:`build_params` builds a dataclass from a user mapping and rewrites the error
+paths from the class name to the argument name.
+
+This module has no gymnasium import: the physics layer uses it too.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Mapping
+from dataclasses import MISSING, dataclass, fields, replace
+from dataclasses import field as dataclass_field
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Interval:
+    """The accepted values of a number: ``low .. high`` with open or closed ends."""
+
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    high_open: bool = False
+
+    def contains(self, value: float) -> bool:
+        above = value > self.low if self.low_open else value >= self.low
+        below = value < self.high if self.high_open else value <= self.high
+        return above and below
+
+    def __str__(self) -> str:
+        left = "(" if self.low_open or self.low == -math.inf else "["
+        right = ")" if self.high_open or self.high == math.inf else "]"
+        return f"{left}{_fmt(self.low)}, {_fmt(self.high)}{right}"
+
+
+def _fmt(value: float) -> str:
+    if value == math.inf:
+        return "inf"
+    if value == -math.inf:
+        return "-inf"
+    return f"{value:g}"
+
+
+ANY = Interval()
+POSITIVE = Interval(0.0, math.inf, low_open=True)
+NON_NEGATIVE = Interval(0.0, math.inf)
+UNIT = Interval(0.0, 1.0)
+
+
+def interval(
+    low: float, high: float, *, low_open: bool = False, high_open: bool = False
+) -> Interval:
+    """Shorthand for :class:`Interval`."""
+    return Interval(float(low), float(high), low_open, high_open)
+
+
+def param(default: Any, accepted: Interval | None = None, *, integer: bool = False) -> Any:
+    """A dataclass field with its accepted interval (read by :func:`check_fields` and by the
+    docs and fuzz tests through :func:`accepted_interval`)."""
+    return dataclass_field(default=default, metadata={"interval": accepted, "integer": integer})
+
+
+def accepted_interval(cls: type, name: str) -> Interval | None:
+    """The interval declared for field ``name`` of dataclass ``cls`` (``None`` if none)."""
+    for f in fields(cls):
+        if f.name == name:
+            return f.metadata.get("interval")
+    raise KeyError(name)
+
+
+def is_real_number(value: Any) -> bool:
+    """Python or NumPy int or float (0-d arrays included), never ``bool``."""
+    if isinstance(value, (bool, np.bool_)):
+        return False
+    if isinstance(value, np.ndarray):
+        return value.ndim == 0 and value.dtype.kind in "iuf"
+    return isinstance(value, numbers.Real)
+
+
+def check_number(path: str, value: Any, accepted: Interval | None = None) -> float:
+    """``value`` as a Python float: a finite real number inside ``accepted``."""
+    if not is_real_number(value):
+        raise TypeError(f"{path} must be a real number, got {value!r} ({type(value).__name__})")
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"{path} must be finite, got {value!r}")
+    if accepted is not None and not accepted.contains(v):
+        raise ValueError(f"{path} must be in {accepted}, got {value!r}")
+    return v
+
+
+def check_integer(path: str, value: Any, accepted: Interval | None = None) -> int:
+    """``value`` as a Python int: a Python or NumPy integer inside ``accepted``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{path} must be an int, got {value!r} ({type(value).__name__})")
+    v = int(value)
+    if accepted is not None and not accepted.contains(v):
+        raise ValueError(f"{path} must be in {accepted}, got {value!r}")
+    return v
+
+
+def check_bool(path: str, value: Any) -> bool:
+    """``value`` as a Python bool: ``True``/``False`` or a NumPy bool."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{path} must be a bool, got {value!r} ({type(value).__name__})")
+    return bool(value)
+
+
+def check_choice(path: str, value: Any, choices: tuple) -> Any:
+    """``value`` if it is one of ``choices``."""
+    if not isinstance(value, str) or value not in choices:
+        raise ValueError(f"{path} must be one of {choices}, got {value!r}")
+    return value
+
+
+def check_range(path: str, value: Any, accepted: Interval | None = None) -> tuple[float, float]:
+    """A ``(low, high)`` pair of numbers inside ``accepted`` with ``low <= high``."""
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{path} must be a (low, high) pair of numbers, got {value!r}")
+    if len(value) != 2:
+        raise ValueError(f"{path} must be a (low, high) pair of numbers, got {value!r}")
+    lo = check_number(f"{path}[0]", value[0], accepted)
+    hi = check_number(f"{path}[1]", value[1], accepted)
+    if lo > hi:
+        raise ValueError(f"{path} must have low <= high, got {value!r}")
+    return lo, hi
+
+
+def check_pair(path: str, value: Any, accepted: Interval | None = None) -> tuple[float, float]:
+    """An ``(x, y)`` pair of numbers, each inside ``accepted``."""
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{path} must be an (x, y) pair of numbers, got {value!r}")
+    if len(value) != 2:
+        raise ValueError(f"{path} must be an (x, y) pair of numbers, got {value!r}")
+    return (
+        check_number(f"{path}[0]", value[0], accepted),
+        check_number(f"{path}[1]", value[1], accepted),
+    )
+
+
+def check_norm(path: str, pair: tuple[float, float], accepted: Interval) -> tuple[float, float]:
+    """A checked ``(x, y)`` pair whose length lies in ``accepted``."""
+    length = math.hypot(*pair)
+    if not accepted.contains(length):
+        raise ValueError(f"{path} must have a length in {accepted}, got {pair!r} ({length:g})")
+    return pair
+
+
+def check_fields(obj: Any) -> None:
+    """Validate every field of a (frozen) dataclass that declares an interval with
+    :func:`param`, and store it as a Python number. Errors name ``ClassName.field``."""
+    owner = type(obj).__name__
+    for f in fields(obj):
+        if "interval" not in f.metadata:
+            continue
+        path = f"{owner}.{f.name}"
+        value = getattr(obj, f.name)
+        if f.metadata.get("integer"):
+            checked: Any = check_integer(path, value, f.metadata["interval"])
+        elif isinstance(f.default, bool):
+            checked = check_bool(path, value)
+        else:
+            checked = check_number(path, value, f.metadata["interval"])
+        object.__setattr__(obj, f.name, checked)
+
+
+def build_params(cls: type, path: str, value: Any, **extra: Any) -> Any:
+    """A ``cls`` dataclass from ``None`` (defaults), an instance, or a mapping of its field
+    names; ``extra`` overrides fields. Errors name ``path.field``: an unknown key raises
+    ``TypeError`` (as an unknown keyword does), a bad value ``TypeError``/``ValueError``."""
+    if value is None:
+        value = {}
+    if isinstance(value, cls):
+        if not extra:
+            return value
+        value = {f.name: getattr(value, f.name) for f in fields(cls)}
+    if not isinstance(value, Mapping):
+        raise TypeError(
+            f"{path} must be a mapping of {cls.__name__} fields or a {cls.__name__}, got {value!r}"
+        )
+    known = [f.name for f in fields(cls)]
+    for key in value:
+        if key not in known:
+            raise TypeError(f"{path} got an unexpected key {key!r}; known keys: {known}")
+    try:
+        return cls(**{**value, **extra})
+    except (TypeError, ValueError) as error:
+        message = str(error).replace(f"{cls.__name__}.", f"{path}.")
+        raise type(error)(message) from None
+
+
+def replace_params(obj: Any, **changes: Any) -> Any:
+    """``dataclasses.replace``, validated again by the class's ``__post_init__``."""
+    return replace(obj, **changes)
+
+
+def field_defaults(cls: type) -> dict[str, Any]:
+    """``{field: default}`` of a dataclass (for docs and tests)."""
+    return {f.name: f.default for f in fields(cls) if f.default is not MISSING}
