@@ -46,6 +46,13 @@ def split_along(x: Array, y: Array, dir_x: Array, dir_y: Array) -> tuple[Array, 
     return along, across
 
 
+def quadratic_drag_rate(drag_area_m2: float, density_kgm3: float, speed_mps: Array) -> Array:
+    """Quadratic drag ``F = -1/2 C_d A rho |v| v`` (seed §8) as the coefficient ``k`` of
+    ``F = -k v``: ``k = 1/2 C_d A rho |v|`` (N s/m). Integrators that treat the drag
+    implicitly need ``k`` itself; :func:`quadratic_drag` gives the force."""
+    return 0.5 * drag_area_m2 * density_kgm3 * speed_mps
+
+
 def quadratic_drag(
     drag_area_m2: float, density_kgm3: float, *rel: Array, xp: Any = np
 ) -> tuple[Array, ...]:
@@ -57,5 +64,5 @@ def quadratic_drag(
     speed_sq = rel[0] * rel[0]
     for c in rel[1:]:
         speed_sq = speed_sq + c * c
-    k = -0.5 * drag_area_m2 * density_kgm3 * xp.sqrt(speed_sq)
+    k = -quadratic_drag_rate(drag_area_m2, density_kgm3, xp.sqrt(speed_sq))
     return tuple([k * c for c in rel])
