@@ -42,7 +42,8 @@ def test_throw_solver_agent_hits_and_corrects_from_its_miss():
     obs = obs.copy()
     obs[2:4] = 0.0  # the agent believes it is calm
     obs, _, terminated, _, info = biased.step(agent(obs))
-    assert not info["is_success"] and info["miss_distance"] > 1.0
+    # (It misses the ring, radius 0.75 m: the throw it believes right drifts ~0.9 m.)
+    assert not info["is_success"] and info["miss_distance"] > biased.unwrapped.task.target_radius
     obs = obs.copy()
     obs[2:4] = 0.0
     obs, _, terminated, _, info = biased.step(agent(obs))

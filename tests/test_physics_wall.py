@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
+from dataclasses import fields
 
 import numpy as np
 import pytest
 
 from bbgym.physics.backend import scalar
-from bbgym.physics.common import GRAVITY_MPS2
+from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
 from bbgym.physics.wall import (
     FALLEN_AWAY,
     FALLEN_TOWARD,
@@ -16,6 +17,7 @@ from bbgym.physics.wall import (
     STANDING,
     WallParams,
     ball_hits_wall,
+    loose_step,
     wall_at,
     wall_step,
     wall_torques,
@@ -163,9 +165,88 @@ def test_batched_walls_match_single_walls():
 
 
 def test_params_validation_names_the_argument():
-    with pytest.raises(ValueError, match="mass_kg"):
+    with pytest.raises(ValueError, match=r"^WallParams\.mass_kg must be in \[0.1, 1000\]"):
         WallParams(mass_kg=0.0)
-    with pytest.raises(ValueError, match="base_depth_m"):
+    with pytest.raises(ValueError, match=r"^WallParams\.base_depth_m must be >= thickness_m"):
         WallParams(base_depth_m=0.01, thickness_m=0.05)
-    with pytest.raises(ValueError, match="ball_restitution"):
+    with pytest.raises(ValueError, match=r"^WallParams\.ball_restitution must be in \[0, 1\]"):
         WallParams(ball_restitution=2.0)
+
+
+def test_a_250_m_wall_is_refused_and_the_largest_lightest_accepted_runs_finite():
+    # A 250 m wall used to end in "math domain error": its tumbling damping, explicit,
+    # flipped and grew the loose panel's spin until cos(inf). No stage-set panel is 250 m.
+    with pytest.raises(ValueError, match=r"^WallParams\.height_m must be in \[0.2, 20\]"):
+        WallParams(height_m=250.0)
+    for p in (
+        WallParams(height_m=20.0, width_m=20.0, mass_kg=0.1, base_depth_m=5.0),
+        WallParams(height_m=20.0, width_m=0.1, mass_kg=0.1, base_depth_m=1e-4, thickness_m=1e-4),
+        WallParams(height_m=20.0, mass_kg=1000.0, anchor_n=0.0, base_friction=0.0),
+    ):
+        for wind in (20.0, -20.0, 3.0):
+            s = run(p, wind, 10.0, dt=0.01)
+            assert all(np.isfinite(float(getattr(s, f.name))) for f in fields(s))
+            assert s.status != STANDING or abs(wind) < 20.0
+
+
+def test_stiff_loose_panel_air_terms_slow_it_and_never_reverse_it():
+    # A 20 m x 20 m panel of 100 g: dt * damping rate is in the hundreds for both its face
+    # drag and its tumbling; explicit Euler would throw it backward, faster each step.
+    p = WallParams(height_m=20.0, width_m=20.0, mass_kg=0.1)
+    dt, wind = 0.01, 20.0
+    face_rate = 0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2 * wind / p.mass_kg
+    half = 0.5 * p.height_m
+    tumble = 0.25 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.width_m * half**4
+    inertia_cm = p.mass_kg * (p.height_m**2 + p.thickness_m**2) / 12.0
+    assert dt * face_rate > 100.0 and dt * tumble * 50.0 / inertia_cm > 100.0
+    # Upright (face normal along x), high in the air, at rest in a 20 m/s wind, tumbling.
+    x, z, angle, vx, vz, rate, landed = loose_step(p, 0.0, 100.0, 0.0, 0.0, 0.0, 50.0, wind, dt,
+                                                   scalar)  # fmt: skip
+    assert not landed
+    # Implicit: w_n' = w_n / (1 + dt c), the panel pulled toward the wind's speed, not past.
+    assert vx == pytest.approx(wind * (1.0 - 1.0 / (1.0 + dt * face_rate)), rel=1e-9)
+    assert 0.0 < vx < wind
+    assert 0.0 < rate < 50.0  # slowed, same sense
+    assert rate == pytest.approx(50.0 / (1.0 + dt * tumble * 50.0 / inertia_cm), rel=1e-9)
+
+
+def test_without_drag_the_wind_cannot_tip_or_tear_the_wall():
+    p = WallParams(drag_coefficient=0.0)
+    assert p.tipping_wind_speed_mps() == math.inf and p.breakaway_wind_speed_mps() == math.inf
+    s = run(p, 20.0, 5.0)
+    assert s.status == STANDING and s.angle == 0.0 and s.stress == 0.0
+
+
+def test_a_foot_that_holds_nothing_stands_in_calm_air_and_slides_off_in_any_wind():
+    p = WallParams(base_friction=0.0, anchor_n=0.0)
+    assert p.hold_n == 0.0
+    calm = run(p, 0.0, 5.0)
+    assert calm.status == STANDING and calm.stress == 0.0
+    blown = run(p, 0.5, 0.01)
+    assert blown.status == LOOSE and math.isfinite(blown.stress) and blown.stress > 1.0
+
+
+def test_every_field_has_its_documented_interval():
+    import ast
+    import inspect
+
+    from bbgym.physics.validation import accepted_interval
+
+    docs = {}
+    body = ast.parse(inspect.getsource(WallParams)).body[0].body
+    for node, after in zip(body, body[1:], strict=False):
+        if isinstance(node, ast.AnnAssign) and isinstance(after, ast.Expr):
+            docs[node.target.id] = " ".join(after.value.value.split())
+    for f in fields(WallParams):
+        accepted = accepted_interval(WallParams, f.name)
+        assert f"Accepted {accepted}" in docs[f.name]
+        # Both ends accepted (the foot at least as deep as the panel is thick).
+        low = {"thickness_m": accepted.low} if f.name == "base_depth_m" else {}
+        high = {"base_depth_m": accepted.high} if f.name == "thickness_m" else {}
+        WallParams(**{f.name: accepted.low}, **low)
+        WallParams(**{f.name: accepted.high}, **high)
+        for bad in (accepted.low - 1e-3, accepted.high * 1.01 + 1e-3, math.inf):
+            with pytest.raises(ValueError, match=rf"^WallParams\.{f.name} "):
+                WallParams(**{f.name: bad})
+        with pytest.raises(TypeError, match=rf"^WallParams\.{f.name} "):
+            WallParams(**{f.name: None})

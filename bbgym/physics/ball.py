@@ -11,7 +11,9 @@ mass of a shell or a solid  :class:`BallParams` (``mass_kg``, ``inertia_kgm2``)
 gravity and drag            :func:`air_force` (drag ``-1/2 C_d A rho |v-w| (v-w)``, §8)
 Magnus force                :func:`magnus_force` (``1/2 rho A C_L |v|^2``, §8)
 spin decay                  :func:`substep` (exponential, time constant ``spin_decay_s``)
-bounce, friction, rolling   :func:`ground_contact` (restitution §3, friction §6, §5)
+drag and Magnus, implicit   :func:`drag_rate_per_s`, :func:`magnus_coefficient`
+bounce, friction, rolling   :func:`ground_contact` (restitution §3, friction §6, §5):
+                            :func:`friction_impulse`, :func:`rolling_resistance_spin_change`
 panel (screen, wall) hits   :func:`panel_contact`
 ball-ball collision         :func:`collide_balls` (restitution formula of §4)
 flight to rest              :func:`simulate_throw`
@@ -27,7 +29,12 @@ from typing import Any
 import numpy as np
 
 from bbgym.physics.backend import Array
-from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, quadratic_drag
+from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, quadratic_drag_rate
+from bbgym.physics.validation import check_fields, interval, param
+
+TINY = 1e-12
+"""Floor of a norm we divide by (m/s, rad/s, m): a direction of a zero vector is taken as
+zero, and the product it multiplies vanishes with the vector itself."""
 
 
 @dataclass(frozen=True)
@@ -40,45 +47,44 @@ class BallParams:
     8.3 m/s; a light 100 g one falls at 5.3 m/s and cannot be thrown much past 5 m).
     """
 
-    radius_m: float = 0.2
-    shell_areal_density_kgm2: float = 0.5
-    """Thick vinyl (about 0.35 mm at 1.4 g/cm^3) plus seams and valve."""
-    solid: bool = False
-    density_kgm3: float = 1500.0
-    """Density of a solid ball (a bowling ball: about 1300-1600 kg/m^3); used if ``solid``."""
-    drag_coefficient: float = 0.47
-    """Sphere in laminar flow (seed §8 table: 0.4-0.47)."""
-    lift_coefficient_max: float = 0.35
+    radius_m: float = param(0.2, interval(0.02, 2.0))
+    """Accepted [0.02, 2] m: from a table-tennis ball to a 4 m inflatable giant."""
+    shell_areal_density_kgm2: float = param(0.5, interval(0.02, 5.0))
+    """Thick vinyl (about 0.35 mm at 1.4 g/cm^3) plus seams and valve. Accepted
+    [0.02, 5] kg/m^2: from a toy balloon's film (~0.03) to a thick rubber shell."""
+    solid: bool = param(False)
+    """A solid ball (mass ~ r^3, ``I = 2/5 m r^2``) instead of a thin shell. A bool."""
+    density_kgm3: float = param(1500.0, interval(10.0, 20000.0))
+    """Density of a solid ball (a bowling ball: about 1300-1600 kg/m^3); used if ``solid``.
+    Accepted [10, 20000] kg/m^3: from expanded polystyrene to tungsten."""
+    drag_coefficient: float = param(0.47, interval(0.0, 2.0))
+    """Sphere in laminar flow (seed §8 table: 0.4-0.47). Accepted [0, 2]: 0 is a vacuum
+    (the analytic parabola); no sphere-like body has more than ~1.2."""
+    lift_coefficient_max: float = param(0.35, interval(0.0, 1.0))
     """Saturation of the Magnus lift coefficient: ``C_L = C_max tanh(S / C_max)``, so
     ``C_L ~ S = r omega / v`` for slow spin (seed §8) and levels off near 0.3-0.4 for
     ``S >~ 0.5``, as measured for spinning smooth spheres and sports balls (Nathan 2008,
-    Am. J. Phys. 76:119; Sawicki, Hubbard & Stronge 2003, Am. J. Phys. 71:1152)."""
-    spin_decay_s: float = 2.5
+    Am. J. Phys. 76:119; Sawicki, Hubbard & Stronge 2003, Am. J. Phys. 71:1152).
+    Accepted [0, 1]: 0 turns the Magnus force off; no measured sphere passes ~0.6."""
+    spin_decay_s: float = param(2.5, interval(0.01, 1000.0))
     """Time constant of the spin's exponential decay by air friction. A light ball with a
-    large surface loses its spin in seconds (a golf ball keeps it for ~20 s)."""
-    restitution: float = 0.75
-    """Ground bounce: rebound speed / impact speed; the rebound height ratio is its square."""
-    friction: float = 0.6
-    """Coulomb friction coefficient between ball and ground (seed §6)."""
-    rolling_resistance: float = 0.1
-    """Rolling resistance coefficient on grass: deceleration ``c g`` while rolling."""
-    rest_speed_mps: float = 0.3
-    """Impacts slower than this do not bounce: the ball stays on the ground and rolls."""
+    large surface loses its spin in seconds (a golf ball keeps it for ~20 s). Accepted
+    [0.01, 1000] s (integrated exactly, so any of it is stable)."""
+    restitution: float = param(0.75, interval(0.0, 1.0))
+    """Ground bounce: rebound speed / impact speed; the rebound height ratio is its square.
+    Accepted [0, 1]: 0 plastic (no bounce), 1 elastic (seed §4)."""
+    friction: float = param(0.6, interval(0.0, 2.0))
+    """Coulomb friction coefficient between ball and ground (seed §6). Accepted [0, 2]:
+    0 is ice, rubber on concrete is ~0.8-1, and the seed's anecdote reaches 1.1."""
+    rolling_resistance: float = param(0.1, interval(0.0, 1.0))
+    """Rolling resistance coefficient on grass: deceleration ``c g`` while rolling (a ball
+    on a hard floor ~0.01, on grass ~0.1, in sand ~0.3). Accepted [0, 1]."""
+    rest_speed_mps: float = param(0.3, interval(0.0, 5.0))
+    """Impacts slower than this do not bounce: the ball stays on the ground and rolls.
+    Accepted [0, 5] m/s (0: every impact bounces, as an elastic ball must)."""
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if f.name == "solid":
-                if not isinstance(value, (bool, np.bool_)):
-                    raise ValueError(f"solid must be a bool, got {value!r}")
-                continue
-            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-                raise ValueError(f"{f.name} must be a finite number >= 0, got {value!r}")
-        for name in ("radius_m", "shell_areal_density_kgm2", "density_kgm3", "spin_decay_s"):
-            if getattr(self, name) <= 0:
-                raise ValueError(f"{name} must be > 0, got {getattr(self, name)!r}")
-        if self.restitution > 1.0:
-            raise ValueError(f"restitution must be in [0, 1], got {self.restitution!r}")
+        check_fields(self)
 
     @property
     def mass_kg(self) -> float:
@@ -97,13 +103,12 @@ class BallParams:
         return math.pi * self.radius_m**2
 
     def terminal_speed_mps(self) -> float:
-        """``sqrt(2 m g / (rho C_d A))``: where drag balances gravity (§8)."""
-        return math.sqrt(
-            2
-            * self.mass_kg
-            * GRAVITY_MPS2
-            / (AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2)
-        )
+        """``sqrt(2 m g / (rho C_d A))``: where drag balances gravity (§8); ``inf`` without
+        drag (``C_d = 0``)."""
+        drag_per_speed_sq = AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        if drag_per_speed_sq == 0.0:
+            return math.inf
+        return math.sqrt(2 * self.mass_kg * GRAVITY_MPS2 / drag_per_speed_sq)
 
 
 @dataclass
@@ -149,10 +154,7 @@ def magnus_force(
     """
     speed = xp.sqrt(rel_x * rel_x + rel_y * rel_y + rel_z * rel_z)
     spin = xp.sqrt(wx * wx + wy * wy + wz * wz)
-    spin_parameter = p.radius_m * spin / xp.maximum(speed, 1e-9)
-    lift = p.lift_coefficient_max * xp.tanh(spin_parameter / p.lift_coefficient_max)
-    # 1/2 rho A C_L |v|^2 times the unit-free (omega x v) / (|omega| |v|).
-    k = 0.5 * AIR_DENSITY_KGM3 * p.area_m2 * lift * speed / xp.maximum(spin, 1e-9)
+    k, spin_parameter = magnus_coefficient(p, speed, spin, xp)
     return (
         k * (wy * rel_z - wz * rel_y),
         k * (wz * rel_x - wx * rel_z),
@@ -161,68 +163,193 @@ def magnus_force(
     )
 
 
+def magnus_coefficient(
+    p: BallParams, speed_mps: Array, spin_radps: Array, xp: Any = np
+) -> tuple[Array, Array]:
+    """``(k, S)`` with the Magnus force ``F_M = k (omega x v)`` (N per (rad/s * m/s)), seed §8.
+
+    ``F_M = 1/2 rho A C_L |v|^2`` along ``omega x v`` makes ``k = 1/2 rho A C_L |v| / |omega|``;
+    with ``C_L = C_max tanh(S / C_max)`` and ``S = r |omega| / |v|`` it tends to the seed's
+    ``1/2 rho A r`` for slow spin, and to 0 with the speed. ``C_max = 0`` means no lift.
+    """
+    spin_parameter = p.radius_m * spin_radps / xp.maximum(speed_mps, TINY)
+    if p.lift_coefficient_max > 0.0:  # tanh(S / C_max) has no limit at C_max = 0
+        # tanh is 1.0 in float64 past 20: capping its argument there changes nothing and
+        # keeps S / C_max from overflowing (a ball at rest in the air has S ~ r omega / 1e-12).
+        capped = xp.minimum(spin_parameter, 20.0 * p.lift_coefficient_max)
+        lift = p.lift_coefficient_max * xp.tanh(capped / p.lift_coefficient_max)
+    else:
+        lift = 0.0 * spin_parameter
+    k = 0.5 * AIR_DENSITY_KGM3 * p.area_m2 * lift * speed_mps / xp.maximum(spin_radps, TINY)
+    return k, spin_parameter
+
+
+def drag_rate_per_s(p: BallParams, speed_mps: Array) -> Array:
+    """Quadratic drag ``F = -1/2 rho C_d A |u| u`` against the air-relative velocity ``u``
+    (seed §8), written as the damping rate ``c`` (1/s) of ``F = -m c u``:
+    ``c = rho C_d A |u| / (2 m)``. The rate is what the implicit step needs."""
+    drag_area_m2 = p.drag_coefficient * p.area_m2
+    return quadratic_drag_rate(drag_area_m2, AIR_DENSITY_KGM3, speed_mps) / p.mass_kg
+
+
 def air_force(
     p: BallParams, s: BallState, wind_x: Array, wind_y: Array, xp: Any = np
 ) -> tuple[Array, Array, Array]:
-    """Gravity, drag against ``v - wind`` and Magnus force, summed (N)."""
+    """Gravity, drag against ``v - wind`` and Magnus force, summed (N), at the state ``s``
+    (:func:`substep` integrates the same forces, drag and Magnus implicitly)."""
     rel_x, rel_y, rel_z = s.vx - wind_x, s.vy - wind_y, s.vz
-    drag_x, drag_y, drag_z = quadratic_drag(
-        p.drag_coefficient * p.area_m2, AIR_DENSITY_KGM3, rel_x, rel_y, rel_z, xp=xp
-    )
+    speed = xp.sqrt(rel_x * rel_x + rel_y * rel_y + rel_z * rel_z)
+    mc = p.mass_kg * drag_rate_per_s(p, speed)
     mag_x, mag_y, mag_z, _ = magnus_force(p, rel_x, rel_y, rel_z, s.wx, s.wy, s.wz, xp)
-    return drag_x + mag_x, drag_y + mag_y, drag_z + mag_z - p.mass_kg * GRAVITY_MPS2
+    return (
+        mag_x - mc * rel_x,
+        mag_y - mc * rel_y,
+        mag_z - mc * rel_z - p.mass_kg * GRAVITY_MPS2,
+    )
+
+
+def _implicit_velocity(
+    alpha: Array, bx: Array, by: Array, bz: Array, tx: Array, ty: Array, tz: Array
+) -> tuple[Array, Array, Array]:
+    """Solve ``alpha u - t x u = b`` for ``u``: the linearly implicit (backward Euler) step of
+    ``du/dt = a - c u + Omega x u`` with the rates frozen at the start of the step,
+    ``alpha = 1 + dt c``, ``t = dt Omega``, ``b = u0 + dt a``. In closed form,
+    ``(alpha I - [t]x)^-1 = (alpha^2 I + alpha [t]x + t t^T) / (alpha (alpha^2 + |t|^2))``.
+
+    Damping (``c >= 0``) then never overshoots and a turn (``Omega``, the Magnus force)
+    never grows ``|u|``, whatever ``dt c`` and ``dt |Omega|``: the step is stable for every
+    accepted ball (a light, large one has ``dt c > 2``, where explicit Euler diverges).
+    """
+    cross_x, cross_y, cross_z = ty * bz - tz * by, tz * bx - tx * bz, tx * by - ty * bx
+    along = tx * bx + ty * by + tz * bz
+    inv = 1.0 / (alpha * (alpha * alpha + tx * tx + ty * ty + tz * tz))  # >= 1: alpha >= 1
+    return (
+        (alpha * alpha * bx + alpha * cross_x + along * tx) * inv,
+        (alpha * alpha * by + alpha * cross_y + along * ty) * inv,
+        (alpha * alpha * bz + alpha * cross_z + along * tz) * inv,
+    )
 
 
 def ground_contact(
     p: BallParams, s: BallState, dt_s: float, xp: Any = np
 ) -> tuple[BallState, Array]:
-    """Bounce on the ground ``z = 0`` with restitution and friction; roll when slow.
+    """Bounce on the ground ``z = 0``, slide, roll: every change an impulse (seed §3-§6).
 
-    * Normal: the impact speed reverses times ``restitution`` (rebound height ``e^2``);
-      impacts slower than ``rest_speed_mps`` do not bounce (resting contact), and the ball
-      is put back on the ground (seed §3: moving it up as much as it sank in).
-    * Tangential: Coulomb friction (seed §6) with impulse at most ``friction * J_n`` drives
-      the contact point's slip to zero, which is the rolling condition ``v = omega x r``
-      (seed §5, kinematic rotation): a ball landing with backspin is braked, with topspin
-      it is kicked forward.
-    * Rolling resistance decelerates a ball on the ground by ``c g``, never reversing it
-      (the zero-crossing check of seed §6's sliding block).
+    * Normal (:func:`_normal_impulse`): the impact speed reverses times ``restitution``
+      (rebound height ``e^2``, seed §3); impacts slower than ``rest_speed_mps`` do not
+      bounce (resting contact: the impulse is the one that holds the ball up, cancelling the
+      downward velocity gravity and air gave it this substep, ``~ m g dt``). The ball is put
+      back on the ground (seed §3: moving it up as much as it sank in, times ``e``).
+    * Tangential (:func:`friction_impulse`): Coulomb friction (seed §6), at most
+      ``friction * J_n``, brakes the contact point's slip toward the rolling condition
+      ``v = omega x r`` (seed §5, "Kinematic rotations"), but by impulses: the slip stops
+      exactly at zero (the sliding block's zero crossing, §6) and the angular momentum about
+      the contact point is kept. A ball sliding without spin rolls on at ``1 / (1 + I / m
+      r^2)`` of its speed (3/5 for a thin shell, 5/7 for a solid ball); one with backspin
+      ``omega r > (m r^2 / I) v`` (3/2 v for a shell, 5/2 v for a solid ball) comes back
+      (a little more with rolling resistance, whose couple also brakes the backspin);
+      topspin kicks it forward.
+    * Rolling resistance (:func:`rolling_resistance_spin_change`), a couple against the
+      spin, slows a rolling ball by ``c J_n / m`` (``c g dt`` on flat ground), never
+      reversing it; friction keeps it rolling.
 
-    Returns the new state and whether the ball touched the ground in this substep.
+    No step adds kinetic energy (translational plus rotational). ``dt_s`` is not needed:
+    the normal impulse carries the substep's length. Returns the new state and whether the
+    ball touched the ground in this substep.
     """
-    r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
+    r = p.radius_m
     if not xp.any(s.z <= r):  # all in the air: nothing touches (the common case mid-flight)
         return s, s.z < 0.0 * s.z
+    touching, bounce, normal_impulse, z, vz = _normal_impulse(p, s, xp)
+    # A bounce is over in an instant: rolling resistance acts in resting contact only. It
+    # goes first, so that friction (if it can) leaves the ball rolling at the end.
+    resting = touching & xp.logical_not(bounce)
+    dwx, dwy = rolling_resistance_spin_change(
+        p, s.wx, s.wy, xp.where(resting, normal_impulse, 0.0), xp
+    )
+    wx, wy = s.wx + dwx, s.wy + dwy
+    slip_x, slip_y = contact_slip(p, s.vx, s.vy, wx, wy)
+    jx, jy = friction_impulse(p, slip_x, slip_y, normal_impulse, xp)
+    vx, vy, wx, wy = _apply_contact_impulse(p, s.vx, s.vy, wx, wy, jx, jy)
+    new = BallState(s.x, s.y, z, vx, vy, vz, wx, wy, s.wz, s.qw, s.qx, s.qy, s.qz)
+    return new, touching
+
+
+def _normal_impulse(p: BallParams, s: BallState, xp: Any) -> tuple:
+    """``(touching, bounce, J_n, z, vz)``: the ground's normal impulse (N s) on a ball at or
+    into the ground moving down, with restitution ``e`` above ``rest_speed_mps`` (seed §3,
+    §4 with the ground's infinite mass: ``J_n = -(1 + e) m v_z``) and ``e = 0`` below it."""
+    r, m = p.radius_m, p.mass_kg
     touching = (s.z <= r) & (s.vz <= 0.0)
     bounce = touching & (-s.vz > p.rest_speed_mps)
     e = xp.where(bounce, p.restitution, 0.0)
     normal_impulse = xp.where(touching, -(1.0 + e) * m * s.vz, 0.0)
     vz = xp.where(touching, -e * s.vz, s.vz)
     z = xp.where(s.z <= r, r + e * (r - s.z), s.z)
+    return touching, bounce, normal_impulse, z, vz
 
-    # Slip of the contact point (at -r z): v + omega x (0, 0, -r).
-    slip_x = s.vx - r * s.wy
-    slip_y = s.vy + r * s.wx
+
+def contact_slip(p: BallParams, vx: Array, vy: Array, wx: Array, wy: Array) -> tuple[Array, Array]:
+    """Velocity of the ball's lowest point, ``v + omega x (0, 0, -r)`` (m/s): zero when it
+    rolls (seed §5, "Kinematic rotations")."""
+    return vx - p.radius_m * wy, vy + p.radius_m * wx
+
+
+def rolling_velocity(
+    p: BallParams, vx: Array, vy: Array, wx: Array, wy: Array
+) -> tuple[Array, Array]:
+    """The velocity ``u`` (m/s) the ball rolls at once friction has stopped its slip: the
+    angular momentum about the contact point, ``L = I omega + m r z x v``, is kept by
+    friction, and a rolling ball has ``|L| = (m r + I / r) |u|``, so
+    ``u = (m r^2 v + I r (omega_y, -omega_x)) / (m r^2 + I)`` (seed §5, §6)."""
+    r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
+    share = inertia / (m * r * r + inertia)
+    return (1.0 - share) * vx + share * r * wy, (1.0 - share) * vy - share * r * wx
+
+
+def friction_impulse(
+    p: BallParams, slip_x: Array, slip_y: Array, normal_impulse: Array, xp: Any = np
+) -> tuple[Array, Array]:
+    """Coulomb friction on the contact point (seed §6) as an impulse ``J`` (N s): against
+    the slip, at most ``friction * J_n``, and never more than the impulse that stops the slip,
+    ``|slip| / (1/m + r^2/I)`` (the effective mass of the contact point): the slip stops
+    exactly at zero and never reverses (the sliding block's zero-crossing check, §6)."""
+    r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
     slip = xp.sqrt(slip_x * slip_x + slip_y * slip_y)
-    # Impulse that would stop the slip: effective mass 1 / (1/m + r^2/I).
     stopping = slip / (1.0 / m + r * r / inertia)
-    friction = xp.minimum(p.friction * normal_impulse, stopping)
-    jx = -friction * slip_x / xp.maximum(slip, 1e-12)
-    jy = -friction * slip_y / xp.maximum(slip, 1e-12)
-    vx, vy = s.vx + jx / m, s.vy + jy / m
-    # Angular impulse (0, 0, -r) x J = (r J_y, -r J_x, 0).
-    wx, wy = s.wx + r * jy / inertia, s.wy - r * jx / inertia
+    size = xp.minimum(p.friction * normal_impulse, stopping)
+    per_slip = size / xp.maximum(slip, TINY)
+    return -per_slip * slip_x, -per_slip * slip_y
 
-    # Rolling resistance while on the ground (not bouncing).
-    on_ground = (s.z <= r) & xp.logical_not(bounce)
-    speed = xp.sqrt(vx * vx + vy * vy)
-    slowed = xp.maximum(speed - p.rolling_resistance * GRAVITY_MPS2 * dt_s, 0.0)
-    factor = xp.where(on_ground, slowed / xp.maximum(speed, 1e-12), 1.0)
-    vx, vy = vx * factor, vy * factor
-    wx, wy = xp.where(on_ground, -vy / r, wx), xp.where(on_ground, vx / r, wy)
 
-    new = BallState(s.x, s.y, z, vx, vy, vz, wx, wy, s.wz, s.qw, s.qx, s.qy, s.qz)
-    return new, touching
+def _apply_contact_impulse(
+    p: BallParams, vx: Array, vy: Array, wx: Array, wy: Array, jx: Array, jy: Array
+) -> tuple[Array, Array, Array, Array]:
+    """A horizontal impulse ``J`` at the contact point ``(0, 0, -r)``: ``dv = J / m``,
+    ``d omega = (0, 0, -r) x J / I = (r J_y, -r J_x, 0) / I`` (seed §5 "Rotations with physics
+    in 3D": ``T = r x F``, ``omega = I^-1 L``). It keeps the angular momentum about the
+    contact point."""
+    r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
+    return vx + jx / m, vy + jy / m, wx + r * jy / inertia, wy - r * jx / inertia
+
+
+def rolling_resistance_spin_change(
+    p: BallParams, wx: Array, wy: Array, normal_impulse: Array, xp: Any = np
+) -> tuple[Array, Array]:
+    """Rolling resistance (seed §6) as the ground's couple on the flattened contact patch: a
+    pure torque (no horizontal force, so the ground's horizontal impulse stays within
+    Coulomb's ``friction * J_n``) against the horizontal spin. Its angular impulse
+    ``c J_n (r + I / (m r))`` takes ``c J_n / m`` off the rolling velocity of
+    :func:`rolling_velocity` (deceleration ``c g`` of a rolling ball on flat ground, kept
+    rolling by friction while ``c <= friction``); it never reverses the spin. Returns the
+    change of ``(omega_x, omega_y)`` (rad/s)."""
+    m, inertia, r = p.mass_kg, p.inertia_kgm2, p.radius_m
+    spin = xp.sqrt(wx * wx + wy * wy)
+    slowing = xp.minimum(
+        p.rolling_resistance * normal_impulse * (r + inertia / (m * r)) / inertia, spin
+    )
+    per_spin = slowing / xp.maximum(spin, TINY)
+    return -per_spin * wx, -per_spin * wy
 
 
 def panel_contact(
@@ -268,12 +395,26 @@ def substep(
 ) -> BallState:
     """One semi-implicit Euler step in the air: velocity first, then position (seed §1, §3).
 
-    The spin decays exponentially (exact over the step) and turns the orientation
-    quaternion, ``dq/dt = 1/2 (0, omega) q``.
+    The forces are those of :func:`air_force`; gravity is explicit, while drag (damping at
+    the rate ``c`` of :func:`drag_rate_per_s`) and the Magnus force (a turn of the relative
+    velocity at ``k omega / m``, :func:`magnus_coefficient`) are linearly implicit with their
+    coefficients frozen at the start of the step (:func:`_implicit_velocity`): a light,
+    large ball's ``dt c`` may exceed 2, where explicit Euler overshoots and diverges. The
+    terminal speed is unchanged (``c v = g`` is the fixed point). The spin decays
+    exponentially (exact over the step) and turns the orientation quaternion,
+    ``dq/dt = 1/2 (0, omega) q``.
     """
-    fx, fy, fz = air_force(p, s, wind_x, wind_y, xp)
-    inv_m = 1.0 / p.mass_kg
-    vx, vy, vz = s.vx + fx * inv_m * dt_s, s.vy + fy * inv_m * dt_s, s.vz + fz * inv_m * dt_s
+    rel_x, rel_y, rel_z = s.vx - wind_x, s.vy - wind_y, s.vz
+    speed = xp.sqrt(rel_x * rel_x + rel_y * rel_y + rel_z * rel_z)
+    spin = xp.sqrt(s.wx * s.wx + s.wy * s.wy + s.wz * s.wz)
+    k, _ = magnus_coefficient(p, speed, spin, xp)
+    turn = k * (dt_s / p.mass_kg)  # rad per (rad/s) of spin: dt Omega = turn * omega
+    rel_x, rel_y, rel_z = _implicit_velocity(
+        1.0 + dt_s * drag_rate_per_s(p, speed),
+        rel_x, rel_y, rel_z - GRAVITY_MPS2 * dt_s,
+        turn * s.wx, turn * s.wy, turn * s.wz,
+    )  # fmt: skip
+    vx, vy, vz = rel_x + wind_x, rel_y + wind_y, rel_z
     decay = math.exp(-dt_s / p.spin_decay_s)
     wx, wy, wz = s.wx * decay, s.wy * decay, s.wz * decay
     h = 0.5 * dt_s
@@ -303,8 +444,9 @@ def collide_balls(
     the velocities are unchanged. Balls moving apart are left alone. Returns ``(v1', v2')``.
     """
     nx, ny, nz = (b - a for a, b in zip(p1, p2, strict=True))
-    dist = xp.sqrt(nx * nx + ny * ny + nz * nz)
-    nx, ny, nz = nx / dist, ny / dist, nz / dist
+    # Concentric balls have no line of centres: n = 0 leaves them alone.
+    inv_dist = 1.0 / xp.maximum(xp.sqrt(nx * nx + ny * ny + nz * nz), TINY)
+    nx, ny, nz = nx * inv_dist, ny * inv_dist, nz * inv_dist
     u1 = v1[0] * nx + v1[1] * ny + v1[2] * nz
     u2 = v2[0] * nx + v2[1] * ny + v2[2] * nz
     approaching = u1 > u2
@@ -452,9 +594,13 @@ def _finished(
     p: BallParams, s: BallState, landed: Any, flight_time: Any, t: float, max_roll_s: Any,
     field_radius_m: float, xp: Any,
 ) -> Any:  # fmt: skip
-    """Resting on the ground (or rolled long enough after landing), or out of the field."""
+    """Resting on the ground (or rolled long enough after landing), or out of the field.
+
+    At rest means slow and not spinning about a horizontal axis: a ball whose backspin has
+    just stopped it is about to come back."""
     speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
-    at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01)
+    spin_speed_sq = p.radius_m * p.radius_m * (s.wx * s.wx + s.wy * s.wy)
+    at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01) & (spin_speed_sq < 0.01)
     if max_roll_s is not None:  # a ball blown along the ground may never stop
         at_rest = at_rest | (landed & (t - flight_time > max_roll_s))
     return at_rest | (s.x * s.x + s.y * s.y > field_radius_m * field_radius_m)

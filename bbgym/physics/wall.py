@@ -26,48 +26,60 @@ ball hits                   :func:`ball_hits_wall` (restitution formula of §4, 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from bbgym.physics.backend import Array
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
+from bbgym.physics.validation import check_fields, interval, param
 
 STANDING, FALLEN_AWAY, FALLEN_TOWARD, LOOSE = 0, 1, 2, 3
 STATE_NAMES = ("standing", "fallen_away", "fallen_toward", "loose")
+HOLD_FLOOR_N = 1e-3
+"""What the stress of a foot that holds nothing (no friction, no pegs) is measured against:
+it breaks loose at the first shear, and its stress reads that shear per mN, finite."""
 
 
 @dataclass(frozen=True)
 class WallParams:
     """A light stage-set panel on a foot (defaults: 2.4 m x 0.7 m, 8 kg, foot 0.4 m deep:
-    the wind alone tips it at 3.3 m/s and tears it loose at 11 m/s)."""
+    the wind alone tips it at 3.3 m/s and tears it loose at 11 m/s).
 
-    height_m: float = 2.4
-    width_m: float = 0.7
-    thickness_m: float = 0.03
-    base_depth_m: float = 0.4
-    """Depth of the foot along x; the panel stands in its middle and tips about its edges."""
-    mass_kg: float = 8.0
-    drag_coefficient: float = 1.2
-    """Flat plate facing the wind (seed §8: about 1.1 for a flat surface)."""
-    base_friction: float = 0.6
-    anchor_n: float = 100.0
-    """What the foot's pegs hold beyond friction."""
-    ball_restitution: float = 0.6
+    Every field's accepted interval is in its docstring (checked on construction, errors
+    naming ``WallParams.<field>``); the model stops meaning anything past them (a wall of
+    more than 20 m is no stage-set panel, nor one of more than a tonne)."""
+
+    height_m: float = param(2.4, interval(0.2, 20.0))
+    """Accepted [0.2, 20] m."""
+    width_m: float = param(0.7, interval(0.1, 20.0))
+    """Accepted [0.1, 20] m."""
+    thickness_m: float = param(0.03, interval(1e-4, 0.5))
+    """Accepted [0.0001, 0.5] m, and at most ``base_depth_m``."""
+    base_depth_m: float = param(0.4, interval(1e-4, 5.0))
+    """Depth of the foot along x; the panel stands in its middle and tips about its edges.
+    Accepted [0.0001, 5] m, and at least ``thickness_m``."""
+    mass_kg: float = param(8.0, interval(0.1, 1000.0))
+    """Accepted [0.1, 1000] kg: from a sheet of card to a tonne of timber."""
+    drag_coefficient: float = param(1.2, interval(0.0, 2.0))
+    """Flat plate facing the wind (seed §8: about 1.1 for a flat surface). Accepted [0, 2]
+    (0: no wind force)."""
+    base_friction: float = param(0.6, interval(0.0, 2.0))
+    """Coulomb friction coefficient between the foot (or a loose panel) and the ground
+    (seed §6). Accepted [0, 2]."""
+    anchor_n: float = param(100.0, interval(0.0, 1e5))
+    """What the foot's pegs hold beyond friction. Accepted [0, 100000] N."""
+    ball_restitution: float = param(0.6, interval(0.0, 1.0))
+    """Ball on the wall's face (seed §4: 0 plastic, 1 elastic). Accepted [0, 1]."""
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-                raise ValueError(f"{f.name} must be a finite number >= 0, got {value!r}")
-        for name in ("height_m", "width_m", "thickness_m", "base_depth_m", "mass_kg"):
-            if getattr(self, name) <= 0:
-                raise ValueError(f"{name} must be > 0, got {getattr(self, name)!r}")
+        check_fields(self)
         if self.base_depth_m < self.thickness_m:
-            raise ValueError(f"base_depth_m must be >= thickness_m, got {self.base_depth_m!r}")
-        if self.ball_restitution > 1.0:
-            raise ValueError(f"ball_restitution must be in [0, 1], got {self.ball_restitution!r}")
+            raise ValueError(
+                f"WallParams.base_depth_m must be >= thickness_m ({self.thickness_m!r}), "
+                f"got {self.base_depth_m!r}"
+            )
 
     @property
     def half_base_m(self) -> float:
@@ -96,13 +108,18 @@ class WallParams:
 
     def tipping_wind_speed_mps(self) -> float:
         """Wind normal to the face that just tips the upright wall over its foot's edge:
-        ``h/2 F_w = m g b``."""
+        ``h/2 F_w = m g b`` (``inf`` without drag)."""
         k = 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        if k == 0.0:
+            return math.inf
         return math.sqrt(self.mass_kg * GRAVITY_MPS2 * self.half_base_m / (0.5 * self.height_m * k))
 
     def breakaway_wind_speed_mps(self) -> float:
-        """Wind whose force on the upright face exceeds what the foot holds."""
+        """Wind whose force on the upright face exceeds what the foot holds, ``F_w = hold_n``
+        (``inf`` without drag)."""
         k = 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        if k == 0.0:
+            return math.inf
         return math.sqrt(self.hold_n / k)
 
 
@@ -214,7 +231,7 @@ def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any =
         pivot=xp.where(keep, s.pivot, pivot),
         status=status,
         base_x=s.base_x,
-        stress=xp.maximum(s.stress, xp.where(standing, shear / p.hold_n, 0.0)),
+        stress=xp.maximum(s.stress, xp.where(standing, shear / max(p.hold_n, HOLD_FLOOR_N), 0.0)),
         loose_x=loose[0],
         loose_z=loose[1],
         loose_angle=loose[2],
@@ -245,17 +262,27 @@ def loose_step(
     proportion to the area seen by the relative wind, ``-1/2 rho C_d A w_n |w_n| n``;
     gravity pulls it down; air damps its tumbling. On the ground it rests on its lower end,
     slides with friction and tips over that end. Returns the new ``(x, z, angle, vx, vz,
-    rate, landed)``; it has landed when it lies (nearly) flat."""
+    rate, landed)``; it has landed when it lies (nearly) flat.
+
+    Both air terms are quadratic dampers, stiff for a light, large panel (``dt c`` far above
+    2: explicit Euler would flip and grow the velocity until ``cos`` of an infinite angle
+    fails): they are linearly implicit, ``u_new = (u + dt a_other) / (1 + dt c)`` with the
+    rate ``c >= 0`` taken at the start of the step, so they slow the panel and never
+    reverse it, at any step."""
     nx, nz = xp.cos(angle), -xp.sin(angle)
     w_n = (vx - wind_x) * nx + vz * nz
-    push = -0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2 * w_n * xp.abs(w_n)
-    vx = vx + push * nx / p.mass_kg * dt_s
-    vz = vz + (push * nz / p.mass_kg - GRAVITY_MPS2) * dt_s
-    # Drag on a plate spinning about its centre: 2 * int_0^{h/2} 1/2 rho C_d w (w r)^2 r dr.
+    # Face drag -1/2 rho C_d A w_n |w_n| n = -m c w_n n, implicit along n; gravity explicit.
+    c_face = 0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2 / p.mass_kg * xp.abs(w_n)
+    vz = vz - GRAVITY_MPS2 * dt_s
+    w_n_free = (vx - wind_x) * nx + vz * nz
+    braked = w_n_free / (1.0 + dt_s * c_face) - w_n_free
+    vx, vz = vx + braked * nx, vz + braked * nz
+    # Drag on a plate spinning about its centre: 2 * int_0^{h/2} 1/2 rho C_d w (w r)^2 r dr,
+    # a torque -tumble * rate |rate|, implicit as above.
     half = 0.5 * p.height_m
     tumble = 0.25 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.width_m * half**4
     inertia_cm = p.mass_kg * (p.height_m**2 + p.thickness_m**2) / 12.0
-    rate = rate - tumble * rate * xp.abs(rate) / inertia_cm * dt_s
+    rate = rate / (1.0 + dt_s * tumble / inertia_cm * xp.abs(rate))
     x, z, angle = x + vx * dt_s, z + vz * dt_s, angle + rate * dt_s
     # On the ground the panel stands on its lower end: the ground holds it up, friction
     # drags its foot, and its weight tips it over that end until it lies flat.
@@ -336,15 +363,17 @@ def ball_hits_wall(
         & (offset < ball_radius_m)
         & (ball_speed > wall_speed)
     )
-    m_eff = p.inertia_kgm2 / xp.maximum(k_n * k_n, 1e-9)
+    # The §4 formula with the wall's effective mass m_w = I / k_n^2, as the impulse it
+    # implies: u_b' = u_b - J / m_b, J = (1 + e) (u_b - u_w) / (1 / m_b + k_n^2 / I), and the
+    # wall's angular impulse k_n J. Written so, it never divides by k_n (a hit level with
+    # the pivot edge has k_n = 0: an infinite m_w, a rigid stop) and it keeps the angular
+    # momentum about the edge and, at e = 1, the energy exactly.
     e = p.ball_restitution
-    total = ball_mass_kg + m_eff
-    ball_after = (ball_speed * (ball_mass_kg - e * m_eff) + (1 + e) * wall_speed * m_eff) / total
-    wall_after = (
-        (1 + e) * ball_speed * ball_mass_kg + wall_speed * (m_eff - e * ball_mass_kg)
-    ) / total
-    d_ball = xp.where(hit, ball_after - ball_speed, 0.0)
-    new_rate = xp.where(hit, wall_after / xp.where(k_n == 0, 1.0, k_n), s.rate)
+    impulse = (
+        (1.0 + e) * (ball_speed - wall_speed) / (1.0 / ball_mass_kg + k_n * k_n / p.inertia_kgm2)
+    )
+    d_ball = xp.where(hit, -impulse / ball_mass_kg, 0.0)
+    new_rate = xp.where(hit, s.rate + impulse * k_n / p.inertia_kgm2, s.rate)
     wall = WallState(
         s.angle, new_rate, xp.where(hit, side, s.pivot), s.status, s.base_x, s.stress,
         s.loose_x, s.loose_z, s.loose_angle, s.loose_vx, s.loose_vz, s.loose_rate, s.landed,
