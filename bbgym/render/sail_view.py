@@ -20,17 +20,22 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from bbgym.render.base import FAR_AWAY_PX as FAR_AWAY_PX  # re-exported: was defined here
-from bbgym.render.base import FONT_SIZE_PX as FONT_SIZE_PX
-from bbgym.render.base import RENDER_MODES as RENDER_MODES
 from bbgym.render.base import (
+    EDGE_MARKER_HALF_WIDTH_PX,
+    EDGE_MARKER_LENGTH_PX,
+    EDGE_MARKER_MARGIN_PX,
     Color,
     PygameRenderer,
     Vec2,
+    arc_span,
     blend,
     check_render_mode,
-    clamp_px,
+    edge_marker_tip,
+    safe_box,
 )
+from bbgym.render.base import FAR_AWAY_PX as FAR_AWAY_PX  # re-exported: was defined here
+from bbgym.render.base import FONT_SIZE_PX as FONT_SIZE_PX
+from bbgym.render.base import RENDER_MODES as RENDER_MODES
 
 MPS_TO_KNOTS = 1.943844
 
@@ -77,9 +82,9 @@ LUFF_AMPLITUDE_M = 0.2
 MIN_HEEL_BEAM_SCALE = 0.3  # never let heel squash the hull to a line
 
 # --- screen layout (pixels) ------------------------------------------------------------------
-EDGE_ARROW_MARGIN_PX = 26
-EDGE_ARROW_LENGTH_PX = 18
-EDGE_ARROW_HALF_WIDTH_PX = 9
+EDGE_ARROW_MARGIN_PX = EDGE_MARKER_MARGIN_PX  # the shared off-screen marker (base.py)
+EDGE_ARROW_LENGTH_PX = EDGE_MARKER_LENGTH_PX
+EDGE_ARROW_HALF_WIDTH_PX = EDGE_MARKER_HALF_WIDTH_PX
 WIND_ARROW_CENTER_FROM_CORNER_PX = 52
 WIND_ARROW_PX_PER_MPS = 6.0
 WIND_ARROW_MIN_PX = 12.0
@@ -225,22 +230,7 @@ def edge_arrow_tip(
     target_px: Vec2, screen_size: tuple[int, int], margin_px: float
 ) -> tuple[Vec2, Vec2]:
     """Where an off-screen target's arrow goes: (tip point, unit direction), on the inset edge."""
-    width, height = screen_size
-    cx, cy = width / 2.0, height / 2.0
-    dx, dy = target_px[0] - cx, target_px[1] - cy
-    norm = math.hypot(dx, dy)
-    if norm < 1e-9:
-        return (cx, cy), (1.0, 0.0)
-    ux, uy = dx / norm, dy / norm
-    half_w, half_h = cx - margin_px, cy - margin_px
-    # Scale the direction until it hits the inset rectangle.
-    scales = []
-    if abs(ux) > 1e-12:
-        scales.append(half_w / abs(ux))
-    if abs(uy) > 1e-12:
-        scales.append(half_h / abs(uy))
-    scale = min(scales)
-    return (cx + ux * scale, cy + uy * scale), (ux, uy)
+    return edge_marker_tip(target_px, (0, 0, screen_size[0], screen_size[1]), margin_px)
 
 
 # --- renderer --------------------------------------------------------------------------------
@@ -324,7 +314,7 @@ class SailRenderer(PygameRenderer[SailScene]):
         points = [*scene.wake_m, scene.position_m]
         if len(points) < 2:
             return
-        screen = [clamp_px(self._to_screen(scene, p)) for p in points]
+        screen = [self._to_screen(scene, p) for p in points]  # far points: SafeDraw clips
         n = len(screen) - 1
         for k in range(n):
             # k=0 is the oldest segment: nearly water coloured.
@@ -349,7 +339,20 @@ class SailRenderer(PygameRenderer[SailScene]):
     def _draw_dashed_circle(self, center: Vec2, radius_px: float, color: Color) -> None:
         # About one dash per 8 px of circumference, drawn every other segment.
         segments = max(12, int(2 * math.pi * radius_px / 8) // 2 * 2)
-        for k in range(0, segments, 2):
+        dashes = range(0, segments, 2)
+        x0, y0, x1, y1 = safe_box((self.width, self.height))
+        if not (x0 <= center[0] - radius_px and center[0] + radius_px <= x1) or not (
+            y0 <= center[1] - radius_px and center[1] + radius_px <= y1
+        ):
+            # A huge ring would be millions of dashes: only those near the screen are drawn.
+            near = (-2.0, -2.0, self.width + 2.0, self.height + 2.0)
+            span = arc_span(center, radius_px, radius_px, near)
+            if span is None:
+                return
+            k0 = math.floor(span[0] / (2 * math.pi) * segments / 2) * 2
+            k1 = math.ceil(span[1] / (2 * math.pi) * segments)
+            dashes = range(k0, k1 + 1, 2)
+        for k in dashes:
             a0 = 2 * math.pi * k / segments
             a1 = 2 * math.pi * (k + 1) / segments
             p0 = (center[0] + radius_px * math.cos(a0), center[1] + radius_px * math.sin(a0))
@@ -357,35 +360,16 @@ class SailRenderer(PygameRenderer[SailScene]):
             self._pg.draw.line(self._surface, color, p0, p1, 1)
 
     def _draw_mark_edge_arrow(self, scene: SailScene) -> None:
-        """Off-screen mark: arrow on the screen border pointing at it, with the distance."""
-        pg = self._pg
-        center = self._to_screen(scene, scene.mark_m)
-        on_screen = 0 <= center[0] < self.width and 0 <= center[1] < self.height
-        if on_screen:
-            return
-        tip, (ux, uy) = edge_arrow_tip(center, (self.width, self.height), EDGE_ARROW_MARGIN_PX)
-        base = (tip[0] - ux * EDGE_ARROW_LENGTH_PX, tip[1] - uy * EDGE_ARROW_LENGTH_PX)
-        side = (-uy * EDGE_ARROW_HALF_WIDTH_PX, ux * EDGE_ARROW_HALF_WIDTH_PX)
-        triangle = [
-            tip,
-            (base[0] + side[0], base[1] + side[1]),
-            (base[0] - side[0], base[1] - side[1]),
-        ]
-        pg.draw.polygon(self._surface, MARK_COLOR, triangle)
-        pg.draw.polygon(self._surface, HULL_OUTLINE_COLOR, triangle, 1)
+        """Off-screen mark: arrow on the screen border pointing at it, with the distance.
+
+        The view always follows the boat, so the boat itself never needs one.
+        """
         distance = math.hypot(
             scene.mark_m[0] - scene.position_m[0], scene.mark_m[1] - scene.position_m[1]
         )
-        label = self._font.render(f"{distance:.0f} m", True, TEXT_COLOR)
-        # Put the label just inside the arrow, far enough back that its box clears the arrow,
-        # and kept fully on screen.
-        lw, lh = label.get_width(), label.get_height()
-        back = 4 + EDGE_ARROW_HALF_WIDTH_PX / 2 + (abs(ux) * lw + abs(uy) * lh) / 2
-        lx = base[0] - ux * back - lw / 2
-        ly = base[1] - uy * back - lh / 2
-        lx = min(max(lx, 2), self.width - label.get_width() - 2)
-        ly = min(max(ly, 2), self.height - label.get_height() - 2)
-        self._surface.blit(label, (lx, ly))
+        center = self._to_screen(scene, scene.mark_m)
+        screen = (0, 0, self.width, self.height)
+        self._draw_edge_marker(center, screen, MARK_COLOR, distance, label_color=TEXT_COLOR)
 
     def _hull_beam_scale(self, scene: SailScene) -> float:
         # Seen from above, a heeled hull looks narrower by cos(heel).

@@ -19,7 +19,6 @@ pygame is an optional dependency (``pip install "bbgym[render]"``). It is import
 
 from __future__ import annotations
 
-import importlib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -27,7 +26,14 @@ from typing import Any
 
 import numpy as np
 
-from bbgym.render.base import Color, PygameRenderer, Vec2, blend, clamp_px
+from bbgym.render.base import (
+    Color,
+    PygameRenderer,
+    Vec2,
+    blend,
+    draw_edge_marker,
+    is_finite_px,
+)
 
 Rect = tuple[int, int, int, int]  # x, y, width, height in pixels
 
@@ -79,6 +85,7 @@ BALL_LIGHT_VIEW = (-0.45, 0.55, 0.70)  # light direction in view coords (right, 
 SIDE_MIN_S_M = -1.0  # the side view starts just behind the thrower...
 SIDE_MIN_RANGE_END_M = 12.0  # ...and reaches at least this far, or 2 m past the target
 SIDE_PAST_TARGET_M = 2.0
+SIDE_MAX_RANGE_END_M = 40.0  # like TOP_VIEW_LIMIT_M: a farther target gets an edge marker
 SIDE_HEIGHT_M = 5.0
 THROWER_HEIGHT_M = 1.75
 SCREEN_MIN_THICKNESS_PX = 6  # a screen square to the bearing projects to a line: keep it visible
@@ -102,7 +109,11 @@ GHOST_SCALE = 0.7
 GHOST_MIN_RADIUS_PX = 6.0
 GHOST_OPACITY = 0.85
 GHOST_EVERY = 5  # every n-th trajectory point gets a ghost ball
-BALL_SUPERSAMPLE = 3  # 3x3 samples per pixel: smooth rim and gore edges
+BALL_SUPERSAMPLE = 3  # 3x3 samples per pixel: smooth rim and gore edges...
+# ...fewer for a huge ball: at most this many samples per image (a 2 m ball, the largest the
+# physics takes, still gets 3x3 in every view of the default frame size)
+BALL_SAMPLE_BUDGET = 1_000_000
+BALL_MARKER_COLOR: Color = GORE_COLORS[0]  # the off-screen ball's edge marker: its red gore
 SMALL_FONT_PX = 15
 READOUT_FONT_PX = 21
 BIG_FONT_PX = 40
@@ -224,12 +235,13 @@ def bearing_unit(target_m: Vec2) -> Vec2:
 def side_view_map(scene: ThrowScene, width: int, height: int) -> ViewMap:
     """Side view: a = distance along the bearing, b = height; ground line at the panel bottom.
 
-    Equal metres per pixel on both axes, as large as lets both ranges fit.
+    Equal metres per pixel on both axes, as large as lets both ranges fit; the range ends at
+    SIDE_MAX_RANGE_END_M at most, so a far target does not shrink the throw to a dot.
     """
     rect, _, _ = panel_rects(width, height)
     x, y, w, h = rect
     target_s = math.hypot(*scene.target_m)
-    s_end = max(SIDE_MIN_RANGE_END_M, target_s + SIDE_PAST_TARGET_M)
+    s_end = min(max(SIDE_MIN_RANGE_END_M, target_s + SIDE_PAST_TARGET_M), SIDE_MAX_RANGE_END_M)
     ground_y = y + h - SIDE_GROUND_BAND_PX
     ppm = min(
         (w - 2 * PANEL_MARGIN_PX) / (s_end - SIDE_MIN_S_M),
@@ -319,13 +331,16 @@ def beach_ball_image(
     center_px: Vec2,
     radius_px: float,
     samples: int = BALL_SUPERSAMPLE,
+    window: tuple[int, int, int, int] | None = None,
 ) -> tuple[int, int, np.ndarray, np.ndarray]:
-    """Shaded beach ball as pixels: (x0, y0, rgb (n, n, 3) uint8, coverage (n, n) in [0, 1]).
+    """Shaded beach ball as pixels: (x0, y0, rgb (h, w, 3) uint8, coverage (h, w) in [0, 1]).
 
     Every sample on the visible disc is lifted onto the sphere's near hemisphere, taken back to
     the ball's body frame with ``rotation`` (body -> world) and coloured by its longitude about
     the body z axis (one gore per 60 deg) or as a polar cap; so the stripes turn with the ball.
-    ``(x0, y0)`` is the top-left pixel of the image; arrays are indexed [row, column].
+    ``(x0, y0)`` is the top-left pixel of the image; arrays are indexed [row, column]. The image
+    is the ball's square (h = w = 2 ceil(r) + 3), cut to ``window`` (x, y, width, height) if
+    given; an image of more than BALL_SAMPLE_BUDGET samples gets fewer samples per pixel.
     """
     # Rounding kills the ~1e-16 residue of e.g. a full turn, so equal rotations give equal
     # pixels even where a gore edge crosses a sample exactly; "+ 0.0" turns -0.0 into 0.0.
@@ -334,11 +349,23 @@ def beach_ball_image(
     half = int(math.ceil(radius_px)) + 1
     x0 = int(math.floor(center_px[0])) - half
     y0 = int(math.floor(center_px[1])) - half
-    n = 2 * half + 1
+    nx = ny = 2 * half + 1
+    if window is not None:
+        # Each pixel's colour depends on its own position only: cropping changes none of them,
+        # and a ball far bigger than the view costs no more than the view.
+        wx, wy, ww, wh = (int(v) for v in window)
+        x1, y1 = min(x0 + nx, wx + ww), min(y0 + ny, wy + wh)
+        x0, y0 = max(x0, wx), max(y0, wy)
+        nx, ny = max(x1 - x0, 0), max(y1 - y0, 0)
+    if nx == 0 or ny == 0:
+        return x0, y0, np.zeros((ny, nx, 3), dtype=np.uint8), np.zeros((ny, nx))
+    samples = max(1, min(samples, math.isqrt(BALL_SAMPLE_BUDGET // (nx * ny))))
+    if window is not None and radius_px > max(window[2], window[3]):
+        samples = 1  # a ball larger than the whole view shows no rim to smooth
     sub = (np.arange(samples) + 0.5) / samples
     # Sample coordinates in units of the radius; v points up on screen.
-    cols = (x0 + np.arange(n)[:, None] + sub[None, :]).reshape(-1) - center_px[0]
-    rows = (y0 + np.arange(n)[:, None] + sub[None, :]).reshape(-1) - center_px[1]
+    cols = (x0 + np.arange(nx)[:, None] + sub[None, :]).reshape(-1) - center_px[0]
+    rows = (y0 + np.arange(ny)[:, None] + sub[None, :]).reshape(-1) - center_px[1]
     u = (cols / radius_px)[None, :]
     v = (-rows / radius_px)[:, None]
     u, v = np.broadcast_arrays(u, v)
@@ -361,9 +388,9 @@ def beach_ball_image(
     shade = (0.55 + 0.45 * n_dot_l) * (0.6 + 0.4 * np.clip(w / 0.35, 0.0, 1.0))
     color = color * shade[..., None]
     color = color + (255.0 - color) * glint[..., None]
-    # Average the samples of each pixel: (n*s, n*s) -> (n, s, n, s).
-    weight = inside.astype(float).reshape(n, samples, n, samples)
-    color = color.reshape(n, samples, n, samples, 3)
+    # Average the samples of each pixel: (h*s, w*s) -> (h, s, w, s).
+    weight = inside.astype(float).reshape(ny, samples, nx, samples)
+    color = color.reshape(ny, samples, nx, samples, 3)
     covered = weight.sum(axis=(1, 3))
     rgb = (color * weight[..., None]).sum(axis=(1, 3)) / np.maximum(covered, 1.0)[..., None]
     coverage = covered / (samples * samples)
@@ -408,10 +435,20 @@ def blit_beach_ball(
     radius_px: float,
     opacity: float = 1.0,
 ) -> None:
-    """Draw the shaded, striped beach ball (see :func:`beach_ball_image`) onto ``surface``."""
-    x0, y0, rgb, coverage = beach_ball_image(rotation, right, up, center_px, radius_px)
-    n = rgb.shape[0]
-    img = pg.Surface((n, n), pg.SRCALPHA)
+    """Draw the shaded, striped beach ball (see :func:`beach_ball_image`) onto ``surface``.
+
+    Only the part inside the surface's clip is made, so a far or huge ball costs little.
+    """
+    if not (is_finite_px(center_px) and math.isfinite(radius_px) and radius_px > 0.0):
+        return
+    clip = surface.get_clip()
+    window = (clip[0], clip[1], clip[2], clip[3])
+    x0, y0, rgb, coverage = beach_ball_image(
+        rotation, right, up, center_px, radius_px, window=window
+    )
+    if rgb.size == 0:
+        return
+    img = pg.Surface((rgb.shape[1], rgb.shape[0]), pg.SRCALPHA)
     # surfarray views are indexed (x, y): transpose from (row, column).
     color_view = pg.surfarray.pixels3d(img)
     color_view[...] = np.transpose(rgb, (1, 0, 2))
@@ -437,9 +474,11 @@ def draw_ball_flight(
     """Trace up to ``current``, striped ghost balls along it, then the ball at ``current``.
 
     ``plane_m`` holds the flight's (a, b) view-plane coordinates (N, 2); ``right``/``up`` are
-    the view's world axes (see :func:`view_axes`), used to turn the stripes with the ball.
+    the view's world axes (see :func:`view_axes`), used to turn the stripes with the ball. A ball
+    out of the view gets an edge marker in BALL_MARKER_COLOR pointing at it.
     """
-    pts = [clamp_px(view.to_px(float(a), float(b))) for a, b in plane_m[: current + 1]]
+    # Far points need no clamping: pg.draw is SafeDraw, blit_beach_ball draws only what shows.
+    pts = [view.to_px(float(a), float(b)) for a, b in plane_m[: current + 1]]
     if len(pts) >= 2:
         pg.draw.lines(surface, TRACE_COLOR, False, pts, 2)
     ghost_r = max(GHOST_SCALE * radius_px, ghost_min_radius_px)
@@ -456,6 +495,7 @@ def draw_ball_flight(
         last_ghost = p
     ball = pts[current]
     blit_beach_ball(pg, surface, rotation_at(orientations, current), right, up, ball, radius_px)
+    draw_edge_marker(pg, surface, ball, view.rect, BALL_MARKER_COLOR, pad=radius_px)
 
 
 def draw_side_thrower(pg: Any, surface: Any, view: ViewMap) -> None:
@@ -596,8 +636,6 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
         self, render_mode: str, width: int = 640, height: int = 480, render_fps: int = 30
     ) -> None:
         super().__init__(render_mode, width, height, render_fps)
-        # A submodule that `import pygame` does not load; used for antialiased discs.
-        self._gfx = importlib.import_module("pygame.gfxdraw")
 
     # -- scene bookkeeping ---------------------------------------------------------------------
 
@@ -610,15 +648,6 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
         if scene.frame_index is None:
             return k - 1
         return min(max(int(scene.frame_index), 0), k - 1)
-
-    @staticmethod
-    def _rotation_at(scene: ThrowScene, index: int) -> np.ndarray:
-        return rotation_at(scene.orientations, index)
-
-    def _rotation_at(scene: ThrowScene, index: int) -> np.ndarray:
-        if index < len(scene.orientations):
-            return quat_to_matrix(scene.orientations[index])
-        return np.eye(3)  # no orientation given: draw the ball unrotated
 
     def _ball_radius_px(self, scene: ThrowScene, view: ViewMap) -> float:
         return max(scene.ball_radius_m * view.pixels_per_meter, BALL_MIN_RADIUS_PX)
@@ -661,6 +690,8 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
             s_land = scene.landing_m[0] * bearing[0] + scene.landing_m[1] * bearing[1]
             self._draw_cross(view.to_px(s_land, 0.0), CROSS_PX - 2, self._landing_color(scene))
         self._draw_flight(scene, view, "side", bearing)
+        side_r = max(scene.target_radius_m * view.pixels_per_meter, 4.0)  # as drawn
+        self._draw_target_marker(scene, view, (math.hypot(*scene.target_m), 0.0), side_r)
         self._draw_text("side view (along the throw)", (x + 8, y + 6), LABEL_COLOR, SMALL_FONT_PX)
 
     def _draw_side_grid(self, view: ViewMap) -> None:
@@ -731,6 +762,8 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
             half = max(CROSS_PX, round(self._ball_radius_px(scene, view)) + 6)
             self._draw_cross(view.to_px(*scene.landing_m), half, self._landing_color(scene))
         self._draw_flight(scene, view, "top", bearing_unit(scene.target_m))
+        top_r = self._top_target_radius_px(scene, view)
+        self._draw_target_marker(scene, view, scene.target_m, top_r)
         self._draw_text("top view (north up)", (x + 8, y + 6), LABEL_COLOR, SMALL_FONT_PX)
 
     def _draw_top_grid(self, view: ViewMap) -> None:
@@ -756,8 +789,8 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
     def _draw_top_target(self, scene: ThrowScene, view: ViewMap) -> None:
         """Rings in magenta and white with a gold bullseye; a green halo after a hit."""
         pg, surf = self._pg, self._surface
-        c = clamp_px(view.to_px(*scene.target_m))
-        r = max(scene.target_radius_m * view.pixels_per_meter, 6.0)
+        c = view.to_px(*scene.target_m)
+        r = self._top_target_radius_px(scene, view)
         if scene.hit:
             pg.draw.circle(surf, HIT_COLOR, c, r + 5, 4)
         self._disc(c, r, TARGET_COLOR)
@@ -766,16 +799,32 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
         self._disc(c, 0.22 * r, TARGET_INNER_COLOR)
         self._disc(c, max(3.0, 0.12 * r), BULLSEYE_COLOR)
 
+    @staticmethod
+    def _top_target_radius_px(scene: ThrowScene, view: ViewMap) -> float:
+        return max(scene.target_radius_m * view.pixels_per_meter, 6.0)
+
+    def _draw_target_marker(
+        self, scene: ThrowScene, view: ViewMap, at_m: Vec2, radius_px: float
+    ) -> None:
+        """Edge marker (with the distance) for a target ring wholly outside ``view``; ``at_m``
+        is the ring's centre in the view's plane coordinates."""
+        self._draw_edge_marker(
+            view.to_px(*at_m),
+            view.rect,
+            TARGET_COLOR,
+            math.hypot(*scene.target_m),
+            pad=radius_px,
+            font_size_px=SMALL_FONT_PX,
+            label_color=LABEL_COLOR,
+        )
+
     def _disc(self, c: Vec2, r: float, color: Color) -> None:
         """Filled circle with an antialiased rim (gfxdraw wants whole pixels)."""
-        gfx = self._gfx
-        x, y, ri = round(c[0]), round(c[1]), max(1, round(r))
-        gfx.filled_circle(self._surface, x, y, ri, color)
-        gfx.aacircle(self._surface, x, y, ri, color)
+        self._pg.draw.aa_disc(self._surface, color, c, r)
 
     def _draw_top_screen(self, screen: ThrowScreen, view: ViewMap) -> None:
         pg, surf = self._pg, self._surface
-        a, b = (clamp_px(view.to_px(*e)) for e in _screen_ends(screen))
+        a, b = (view.to_px(*e) for e in _screen_ends(screen))
         thick = max(5, round(0.12 * view.pixels_per_meter))
         pg.draw.line(surf, SCREEN_EDGE_COLOR, a, b, thick + 4)
         pg.draw.line(surf, SCREEN_COLOR, a, b, thick)
@@ -812,7 +861,6 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
     def _draw_cross(self, c: Vec2, half_px: int, color: Color, outline: bool = True) -> None:
         """An X marking a touchdown; a white outline keeps it readable on the target rings."""
         pg = self._pg
-        c = clamp_px(c)
         a1, b1 = (c[0] - half_px, c[1] - half_px), (c[0] + half_px, c[1] + half_px)
         a2, b2 = (c[0] - half_px, c[1] + half_px), (c[0] + half_px, c[1] - half_px)
         if outline:

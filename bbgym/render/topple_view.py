@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbgym.render.base import Color, PygameRenderer, Vec2, blend, clamp_px
+from bbgym.render.base import Color, PygameRenderer, Vec2, blend
 from bbgym.render.throw_view import (
     BALL_MIN_RADIUS_PX,
     DIM_TEXT_COLOR,
@@ -87,6 +87,10 @@ BANNER_EDGE_COLOR: Color = (150, 70, 0)
 SIDE_X_MIN_M = -1.0  # the side view shows x from just behind the thrower...
 SIDE_PAST_WALL_M = 4.0  # ...to this far past the wall (room for a wall lying flat)
 SIDE_HEIGHT_M = 4.5  # at least this much height shows
+VIEW_MAX_WALL_DISTANCE_M = 50.0  # both views fit a wall up to this far; a farther one is off
+# view (with an edge marker) rather than shrinking the thrower and the throw to a dot
+WALL_FIT_MARGIN_M = 0.3  # a tall wall (standing or lying either way) fits with this to spare...
+VIEW_MAX_WALL_HEIGHT_M = 25.0  # ...up to this height or width (the physics takes up to 20 m)
 FOOT_HEIGHT_M = 0.14
 FOOT_TOP_FRACTION = 0.35  # the foot's top face, as a fraction of its depth: a low trapezoid
 WALL_MIN_THICKNESS_PX = 7.0  # a 4 cm panel would be 2 px wide: exaggerate it to stay visible
@@ -299,27 +303,45 @@ def panel_rects(width: int, height: int) -> tuple[Rect, Rect, Rect]:
 
 def side_view_map(scene: ToppleScene, width: int, height: int) -> ViewMap:
     """Side view: a = x, b = z, ground at the panel bottom; x in [-1, d + 4] and z in [0, 4.5]
-    always fit (equal scale on both axes, set by the wall distance only)."""
+    always fit (equal scale on both axes, set by the wall distance only), and more for a wall
+    taller than about 3.5 m, so that it fits standing and lying either way. A wall beyond
+    VIEW_MAX_WALL_DISTANCE_M is fitted as if there (it gets an edge marker)."""
     rect, _, _ = panel_rects(width, height)
     x, y, w, h = rect
-    x1 = scene.wall_distance_m + SIDE_PAST_WALL_M
+    d, reach = _fitted_wall_distance_m(scene), _wall_reach_m(scene)
+    x0 = min(SIDE_X_MIN_M, d - reach)
+    x1 = d + max(SIDE_PAST_WALL_M, reach)
     ground_y = y + h - SIDE_GROUND_BAND_PX
     ppm = min(
-        (w - 2 * PANEL_MARGIN_PX) / (x1 - SIDE_X_MIN_M),
-        (ground_y - y - PANEL_MARGIN_PX) / SIDE_HEIGHT_M,
+        (w - 2 * PANEL_MARGIN_PX) / (x1 - x0),
+        (ground_y - y - PANEL_MARGIN_PX)
+        / max(SIDE_HEIGHT_M, min(scene.wall_height_m, VIEW_MAX_WALL_HEIGHT_M) + WALL_FIT_MARGIN_M),
     )
     ppm = max(ppm, 1e-6)
     # Centre the x range horizontally (there is slack when the height limits the scale).
-    left = x + w / 2 - 0.5 * (x1 - SIDE_X_MIN_M) * ppm
-    return ViewMap(rect, (left - SIDE_X_MIN_M * ppm, float(ground_y)), ppm)
+    left = x + w / 2 - 0.5 * (x1 - x0) * ppm
+    return ViewMap(rect, (left - x0 * ppm, float(ground_y)), ppm)
+
+
+def _fitted_wall_distance_m(scene: ToppleScene) -> float:
+    return min(scene.wall_distance_m, VIEW_MAX_WALL_DISTANCE_M)
+
+
+def _wall_reach_m(scene: ToppleScene) -> float:
+    """How far from the wall's foot (x = d) a flat-lying wall reaches, with a margin (no
+    farther than VIEW_MAX_WALL_HEIGHT_M: a bigger one just runs out of the view)."""
+    reach = scene.wall_height_m + scene.base_depth_m / 2
+    return min(reach, VIEW_MAX_WALL_HEIGHT_M) + WALL_FIT_MARGIN_M
 
 
 def top_view_map(scene: ToppleScene, width: int, height: int) -> ViewMap:
-    """Top-view inset: a = x (east), b = y (north); x in [-1.8, d + 3], y centred on 0."""
+    """Top-view inset: a = x (east), b = y (north); x in [-1.8, d + 3] (more for a wall taller
+    than about 2.5 m, as in :func:`side_view_map`), y centred on 0."""
     _, _, rect = panel_rects(width, height)
     x, y, w, h = rect
-    x0, x1 = TOP_X_MIN_M, scene.wall_distance_m + TOP_PAST_WALL_M
-    half_y = max(TOP_HALF_Y_M, scene.wall_width_m / 2 + 0.5)
+    d, reach = _fitted_wall_distance_m(scene), _wall_reach_m(scene)
+    x0, x1 = min(TOP_X_MIN_M, d - reach), d + max(TOP_PAST_WALL_M, reach)
+    half_y = max(TOP_HALF_Y_M, min(scene.wall_width_m, VIEW_MAX_WALL_HEIGHT_M) / 2 + 0.5)
     ppm = min((w - 2 * PANEL_MARGIN_PX) / (x1 - x0), (h - 2 * PANEL_MARGIN_PX) / (2 * half_y))
     ppm = max(ppm, 1e-6)
     origin = (x + w / 2 - 0.5 * (x0 + x1) * ppm, y + h / 2)
@@ -383,6 +405,8 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
                     scene.wall_distance_m + frame.pivot_side * scene.base_depth_m / 2, 0.0
                 )
                 pg.draw.circle(surf, PIVOT_COLOR, (px, pz), 4)
+        panel, foot = self._wall_polygons(scene, frame.pose, view)
+        self._draw_wall_marker(scene, frame.pose, [*panel, *foot], view)
         self._draw_side_hit(scene, frame, view)
         if frame.ball_index is not None:
             traj = np.asarray(scene.ball_trajectory_m, dtype=float).reshape(-1, 3)
@@ -408,17 +432,23 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         """Faint height lines every metre and distance ticks with labels along the ground."""
         pg, surf = self._pg, self._surface
         x, y, w, h = view.rect
-        top_m = int((view.origin_px[1] - y) / view.pixels_per_meter)
+        ppm = view.pixels_per_meter
+        # Zoomed out (a tall or far wall), label every 5th height and 10th distance only, so
+        # the labels do not run into each other.
+        height_every = 1 if ppm >= 10 else 5
+        distance_every = 2 if ppm >= 10 else 10
+        top_m = int((view.origin_px[1] - y) / ppm)
         for k in range(1, top_m + 1):
             py = view.to_px(0.0, float(k))[1]
             pg.draw.line(surf, SKY_GRID_COLOR, (x, py), (x + w, py), 1)
-            self._draw_text(f"{k} m", (x + w - 30, py - 12), LABEL_COLOR, SMALL_FONT_PX)
-        s_first = math.ceil((x - view.origin_px[0]) / view.pixels_per_meter)
-        s_last = int((x + w - view.origin_px[0]) / view.pixels_per_meter)
+            if k % height_every == 0:
+                self._draw_text(f"{k} m", (x + w - 30, py - 12), LABEL_COLOR, SMALL_FONT_PX)
+        s_first = math.ceil((x - view.origin_px[0]) / ppm)
+        s_last = int((x + w - view.origin_px[0]) / ppm)
         for s in range(s_first, s_last + 1):
             px, py = view.to_px(float(s), 0.0)
             pg.draw.line(surf, GROUND_LINE_COLOR, (px, py), (px, py + (5 if s % 2 == 0 else 3)), 1)
-            if s % 2 == 0 and s > 0:
+            if s % distance_every == 0 and s > 0:
                 label = self._get_font(SMALL_FONT_PX).render(f"{s}", True, LABEL_COLOR)
                 surf.blit(label, (px - label.get_width() / 2, py + 4))
 
@@ -453,7 +483,7 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         ]
 
         def px(points: list[Vec2]) -> list[Vec2]:
-            return [clamp_px(view.to_px(*pose.to_world(u, v))) for u, v in points]
+            return [view.to_px(*pose.to_world(u, v)) for u, v in points]  # SafeDraw clips
 
         return px(panel_body), px(foot_body)
 
@@ -490,27 +520,29 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         for age, i in reversed(list(enumerate(ghosts[:LOOSE_GHOST_MAX]))):
             self._draw_wall(scene, loose_pose(scene, trail[i]), view, fade=0.45 + 0.1 * age)
         if len(trail) >= 2:
-            centres = [clamp_px(view.to_px(t[0], t[1])) for t in trail]
+            centres = [view.to_px(t[0], t[1]) for t in trail]
             pg.draw.lines(surf, STATE_COLORS["loose"], False, centres, 2)
         self._draw_wall(scene, frame.pose, view)
-        centre = view.to_px(*frame.pose.to_world(0.0, scene.wall_height_m / 2))
-        self._draw_offscreen_marker(centre, view)
 
-    def _draw_offscreen_marker(self, target_px: Vec2, view: ViewMap) -> None:
-        """An orange triangle at the panel's edge pointing to a loose wall that flew out of view."""
-        x, y, w, h = view.rect
-        m = 14.0
-        tx = min(max(target_px[0], x + m), x + w - m)
-        ty = min(max(target_px[1], y + m), y + h - m)
-        if (tx, ty) == (target_px[0], target_px[1]):
-            return
-        dx, dy = target_px[0] - tx, target_px[1] - ty
-        n = math.hypot(dx, dy)
-        ux, uy = dx / n, dy / n
-        tip = (tx + ux * 10, ty + uy * 10)
-        tri = [tip, (tx - uy * 8, ty + ux * 8), (tx + uy * 8, ty - ux * 8)]
-        self._pg.draw.polygon(self._surface, STATE_COLORS["loose"], tri)
-        self._pg.draw.polygon(self._surface, BANNER_EDGE_COLOR, tri, 1)
+    def _draw_wall_marker(
+        self, scene: ToppleScene, pose: WallPose, outline_px: list[Vec2], view: ViewMap
+    ) -> None:
+        """Edge marker (with the distance) for a wall, standing or loose, wholly out of ``view``;
+        ``outline_px`` are its drawn outline's points."""
+        xs = [p[0] for p in outline_px]
+        ys = [p[1] for p in outline_px]
+        centre = (0.5 * (min(xs) + max(xs)), 0.5 * (min(ys) + max(ys)))
+        half_diagonal = 0.5 * math.hypot(max(xs) - min(xs), max(ys) - min(ys))
+        wall_x, wall_z = pose.to_world(0.0, scene.wall_height_m / 2)
+        self._draw_edge_marker(
+            centre,
+            view.rect,
+            WALL_COLOR,
+            math.hypot(wall_x, wall_z),
+            pad=half_diagonal,
+            font_size_px=SMALL_FONT_PX,
+            label_color=LABEL_COLOR,
+        )
 
     def _hit_world(self, scene: ToppleScene, frame: FrameState) -> tuple[Vec2, float] | None:
         """Where the hit mark is now (x, z) on the face, and its y; None before the impact."""
@@ -531,7 +563,7 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         self._draw_star(c, HIT_STAR_RADIUS_PX)
 
     def _draw_star(self, c: Vec2, r: float) -> None:
-        pts = _star_points(clamp_px(c), r, r * 0.45, 8, 0.0)
+        pts = _star_points(c, r, r * 0.45, 8, 0.0)
         self._pg.draw.polygon(self._surface, HIT_STAR_COLOR, pts)
         self._pg.draw.polygon(self._surface, HIT_STAR_EDGE_COLOR, pts, 2)
 
@@ -581,7 +613,13 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         x, y, w, h = view.rect
         pg.draw.rect(surf, SAND_COLOR, view.rect)
         ppm = view.pixels_per_meter
-        for i in range(math.floor(TOP_X_MIN_M), math.ceil(scene.wall_distance_m + 4)):
+        # Metre lines from behind the thrower to past the wall, but only those in the inset:
+        # a wall a thousand kilometres away must not cost a million lines.
+        i_lo = max(math.floor(TOP_X_MIN_M), math.floor((x - view.origin_px[0]) / ppm))
+        i_hi = min(
+            math.ceil(scene.wall_distance_m + 4), math.ceil((x + w - view.origin_px[0]) / ppm) + 1
+        )
+        for i in range(i_lo, i_hi):
             px = view.to_px(float(i), 0.0)[0]
             pg.draw.line(surf, SAND_GRID_COLOR, (px, y), (px, y + h), 1)
         for j in range(-int(h / ppm) - 1, int(h / ppm) + 2):
@@ -638,6 +676,8 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         rect = (cx - thick / 2, ay, thick, by - ay)
         pg.draw.rect(surf, WALL_COLOR, rect)
         pg.draw.rect(surf, WALL_EDGE_COLOR, rect, 1)
+        corners = [(cx - thick / 2, ay), (cx + thick / 2, by)]
+        self._draw_wall_marker(scene, frame.pose, corners, view)
 
     # -- readout -------------------------------------------------------------------------------
 
