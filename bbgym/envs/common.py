@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import fields, replace
+from dataclasses import fields
 from typing import Any
 
 import gymnasium as gym
@@ -17,84 +17,30 @@ from gymnasium.vector.utils import batch_space
 from bbgym.physics import backend
 
 
-def check_range(name: str, value: Any, low: float = 0.0, strict: bool = True) -> tuple:
-    """Validate a ``(min, max)`` pair of finite numbers above ``low``."""
-    try:
-        lo, hi = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a (min, max) pair of numbers, got {value!r}") from None
-    ok = math.isfinite(lo) and math.isfinite(hi) and lo <= hi
-    ok = ok and (lo > low if strict else lo >= low)
-    if not ok:
-        bound = ">" if strict else ">="
-        raise ValueError(f"{name} must be finite with {bound} {low} and min <= max, got {value!r}")
-    return lo, hi
-
-
-def check_positive(name: str, value: Any) -> float:
-    """Validate a finite number > 0."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-    return v
-
-
-def make_params(cls: type, name: str, value: Any, **extra: Any) -> Any:
-    """Build a params dataclass from ``None``, an instance or a mapping of field names."""
-    if value is None:
-        value = {}
-    if isinstance(value, cls):
-        return value if not extra else replace(value, **extra)
-    if not isinstance(value, Mapping):
-        raise ValueError(f"{name} must be a mapping of {cls.__name__} fields, got {value!r}")
-    known = {f.name for f in fields(cls)}
-    unknown = sorted(set(value) - known)
-    if unknown:
-        raise ValueError(f"{name} has unknown keys {unknown}; known: {sorted(known)}")
-    return cls(**{**value, **extra})
-
-
 def check_option_keys(options: Mapping[str, Any] | None, known: tuple[str, ...]) -> dict:
-    """``reset`` options as a dict; ``None`` is empty; unknown keys raise ``ValueError``."""
+    """``reset`` options as a dict; ``None`` is empty. A non-mapping or an unknown key
+    raises ``TypeError`` naming it (as an unknown keyword argument does)."""
     if options is None:
         return {}
     if not isinstance(options, Mapping):
-        raise ValueError(f"options must be a dict, got {options!r}")
-    unknown = sorted(set(options) - set(known))
-    if unknown:
-        raise ValueError(f"unknown reset options {unknown}; known: {list(known)}")
+        raise TypeError(f"options must be a dict, got {options!r}")
+    for key in options:
+        if key not in known:
+            raise TypeError(f"options got an unexpected key {key!r}; known keys: {list(known)}")
     return dict(options)
 
 
-def option_bool(key: str, value: Any) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"options[{key!r}] must be a bool, got {value!r}")
-    return bool(value)
+def option_path(key: str) -> str:
+    """How errors name a reset option: ``options['speed']``."""
+    return f"options[{key!r}]"
 
 
-def option_number(key: str, value: Any, low: float = -math.inf) -> float:
-    """A finite number ``>= low``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if not math.isfinite(v) or v < low:
-        raise ValueError(f"options[{key!r}] must be a finite number >= {low}, got {value!r}")
-    return v
-
-
-def option_pair(key: str, value: Any) -> tuple[float, float]:
-    """A finite ``(x, y)`` pair."""
-    try:
-        pair = tuple(float(v) for v in value)
-    except (TypeError, ValueError):
-        pair = ()
-    if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
-        raise ValueError(f"options[{key!r}] must be a finite (x, y) pair, got {value!r}")
-    return pair
+def check_multiple(name: str, value: float, base_name: str, base: float) -> int:
+    """How many ``base`` steps make ``value``; ``value`` must be a whole multiple."""
+    count = round(value / base)
+    if count < 1 or abs(count * base - value) > 1e-9 * max(1.0, value):
+        raise ValueError(f"{name} ({value!r}) must be a whole multiple of {base_name} ({base!r})")
+    return count
 
 
 def mean_wind(
@@ -171,6 +117,14 @@ def ensure_renderer(env: Any) -> Any:
     if env._renderer is None:
         env._renderer = env._make_renderer()
     return env._renderer
+
+
+def without_renderer(attributes: dict[str, Any]) -> dict[str, Any]:
+    """An env's attributes for pickling and deep copies: a window or pygame surface does not
+    copy, so the renderer is left out and made again on the next ``render()``."""
+    state = dict(attributes)
+    state["_renderer"] = None
+    return state
 
 
 class NativeVectorEnv(VectorEnv):
@@ -296,6 +250,9 @@ class NativeVectorEnv(VectorEnv):
     def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
         raise NotImplementedError
 
+    def __getstate__(self) -> dict[str, Any]:
+        return without_renderer(self.__dict__)
+
     def close_extras(self, **kwargs: Any) -> None:
         if self._renderer is not None:
             self._renderer.close()
@@ -318,6 +275,16 @@ class TaskSim:
     @property
     def started(self) -> bool:
         return self.scenario is not None
+
+    def __getstate__(self) -> dict[str, Any]:
+        # A module does not pickle: keep which namespace, not the namespace itself.
+        state = dict(self.__dict__)
+        del state["xp"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self.xp = backend.scalar if self.scalar else np
 
     def seed(self, seeds: list[int | None]) -> None:
         self.streams.seed(seeds)
@@ -434,6 +401,9 @@ class SingleEnv(gym.Env[np.ndarray, np.ndarray]):
 
     def _make_renderer(self) -> Any:
         raise NotImplementedError
+
+    def __getstate__(self) -> dict[str, Any]:
+        return without_renderer(self.__dict__)
 
     def close(self) -> None:
         if self._renderer is not None:

@@ -20,21 +20,38 @@ from bbgym.envs.common import (
     SingleEnv,
     TaskSim,
     check_box_action,
+    check_multiple,
     check_option_keys,
-    check_positive,
-    check_range,
     element,
     ensure_renderer,
-    make_params,
     mean_wind,
-    option_bool,
-    option_number,
-    option_pair,
+    option_path,
 )
-from bbgym.envs.throw import BALL_GUSTS, launch_from_action
+from bbgym.envs.throw import (
+    BALL_GUSTS,
+    BALL_SIM_DT_S,
+    LAUNCH_HEIGHT_MAX_M,
+    LAUNCH_SPEED_MPS,
+    LAUNCH_SPIN_RPS,
+    REWARD_WEIGHT,
+    THROWS_PER_EPISODE,
+    WIND_SPEED_MPS,
+    WINDSOCK_NOISE_MPS,
+    launch_from_action,
+)
 from bbgym.physics import backend
 from bbgym.physics.ball import BallParams, ball_at, ground_contact
 from bbgym.physics.ball import substep as ball_substep
+from bbgym.physics.validation import (
+    build_params,
+    check_bool,
+    check_integer,
+    check_norm,
+    check_number,
+    check_pair,
+    check_range,
+)
+from bbgym.physics.validation import interval as span
 from bbgym.physics.wall import (
     FALLEN_AWAY,
     FALLEN_TOWARD,
@@ -51,6 +68,29 @@ from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind
 RESET_OPTIONS = ("wind", "wall_distance", "gusts")
 OBS_SIZE = 19
 RECORD_DT_S = 0.05
+# Accepted intervals (README, "Validation and errors"); the rest are shared with the throw envs.
+WALL_DISTANCE_MAX_M = 50.0
+INTERVAL_S = span(0.0, 60.0, low_open=True)
+ARGUMENT_TABLE = (
+    ("`wall`, `ball`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
+    ("`throws_per_episode`", f"int in {THROWS_PER_EPISODE}"),
+    (
+        "`wall_distance_range`, `options['wall_distance']`",
+        f"[wall.base_depth_m / 2 + 1, {WALL_DISTANCE_MAX_M:g}] m",
+    ),
+    ("`wind_speed_range`, length of `options['wind']`", f"{WIND_SPEED_MPS} m/s"),
+    ("`windsock_noise`", f"{WINDSOCK_NOISE_MPS} m/s"),
+    ("`max_speed`", f"{LAUNCH_SPEED_MPS} m/s"),
+    ("`max_spin`", f"{LAUNCH_SPIN_RPS} rad/s"),
+    ("`launch_height`", f"[ball.radius_m, {LAUNCH_HEIGHT_MAX_M:g}] m"),
+    ("`wait_speed`", "[0, max_speed] m/s"),
+    ("`sim_dt`", f"{BALL_SIM_DT_S} s"),
+    ("`interval`", f"{INTERVAL_S} s, a whole multiple of `sim_dt`"),
+    ("`gust_dt`", "(0, interval] s, a whole multiple of `sim_dt`"),
+    ("`success_bonus`, `failure_penalty`, `throw_cost`, `lean_weight`", f"{REWARD_WEIGHT}"),
+    ("`gusts`, `options['gusts']`", "bool"),
+)
+"""The README's table of this env's arguments and options (a test keeps them equal)."""
 
 
 @dataclass
@@ -88,44 +128,39 @@ class ToppleTask:
         throw_cost: float = 0.2,
         lean_weight: float = 1.0,
     ) -> None:
-        self.wall = make_params(WallParams, "wall", wall)
-        self.ball = make_params(BallParams, "ball", ball)
-        if not isinstance(throws_per_episode, (int, np.integer)) or throws_per_episode < 1:
-            raise ValueError(f"throws_per_episode must be an int >= 1, got {throws_per_episode!r}")
-        self.throws_per_episode = int(throws_per_episode)
-        self.wall_distance_range = check_range("wall_distance_range", wall_distance_range)
-        self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, strict=False)
-        if not isinstance(gusts, (bool, np.bool_)):
-            raise ValueError(f"gusts must be a bool, got {gusts!r}")
-        self.gusts = bool(gusts)
+        self.wall = build_params(WallParams, "wall", wall)
+        self.ball = build_params(BallParams, "ball", ball)
+        self.throws_per_episode = check_integer(
+            "throws_per_episode", throws_per_episode, THROWS_PER_EPISODE
+        )
+        # The wall stands clear of the thrower: one interval for the constructor's range and
+        # the reset option alike.
+        self.wall_distance = span(self.wall.half_base_m + 1.0, WALL_DISTANCE_MAX_M)
+        self.wall_distance_range = check_range(
+            "wall_distance_range", wall_distance_range, self.wall_distance,
+            why="the wall's foot stands at least 1 m from the thrower",
+        )  # fmt: skip
+        self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
+        self.gusts = check_bool("gusts", gusts)
         gust_params = BALL_GUSTS if gust_params is None else gust_params
-        self.gust_params = make_params(GustParams, "gust_params", gust_params)
-        self.windsock_noise = float(windsock_noise)
-        if not math.isfinite(self.windsock_noise) or self.windsock_noise < 0:
-            raise ValueError(f"windsock_noise must be finite and >= 0, got {windsock_noise!r}")
-        self.max_speed = check_positive("max_speed", max_speed)
-        self.max_spin = check_positive("max_spin", max_spin)
-        self.launch_height = check_positive("launch_height", launch_height)
-        self.wait_speed = check_positive("wait_speed", wait_speed)
-        self.sim_dt = check_positive("sim_dt", sim_dt)
-        self.gust_dt = check_positive("gust_dt", gust_dt)
-        self.interval = check_positive("interval", interval)
-        self.n_substeps = round(self.interval / self.sim_dt)
-        self.gust_every = round(self.gust_dt / self.sim_dt)
+        self.gust_params = build_params(GustParams, "gust_params", gust_params)
+        self.windsock_noise = check_number("windsock_noise", windsock_noise, WINDSOCK_NOISE_MPS)
+        self.max_speed = check_number("max_speed", max_speed, LAUNCH_SPEED_MPS)
+        self.max_spin = check_number("max_spin", max_spin, LAUNCH_SPIN_RPS)
+        self.launch_height = check_number(
+            "launch_height", launch_height, span(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M)
+        )
+        self.wait_speed = check_number("wait_speed", wait_speed, span(0.0, self.max_speed))
+        self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
+        self.interval = check_number("interval", interval, INTERVAL_S)
+        self.gust_dt = check_number("gust_dt", gust_dt, span(0.0, self.interval, low_open=True))
+        self.n_substeps = check_multiple("interval", self.interval, "sim_dt", self.sim_dt)
+        self.gust_every = check_multiple("gust_dt", self.gust_dt, "sim_dt", self.sim_dt)
         self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
-        for name, value, unit in (
-            ("interval", self.interval, self.n_substeps),
-            ("gust_dt", self.gust_dt, self.gust_every),
-        ):
-            if unit < 1 or abs(unit * self.sim_dt - value) > 1e-9:
-                raise ValueError(f"{name} ({value!r}) must be a whole multiple of sim_dt")
-        self.success_bonus = check_positive("success_bonus", success_bonus)
-        self.failure_penalty = check_positive("failure_penalty", failure_penalty)
-        self.throw_cost = float(throw_cost)
-        self.lean_weight = float(lean_weight)
-        for name, value in (("throw_cost", self.throw_cost), ("lean_weight", self.lean_weight)):
-            if not math.isfinite(value) or value < 0:
-                raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+        self.success_bonus = check_number("success_bonus", success_bonus, REWARD_WEIGHT)
+        self.failure_penalty = check_number("failure_penalty", failure_penalty, REWARD_WEIGHT)
+        self.throw_cost = check_number("throw_cost", throw_cost, REWARD_WEIGHT)
+        self.lean_weight = check_number("lean_weight", lean_weight, REWARD_WEIGHT)
 
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
@@ -135,15 +170,17 @@ class ToppleTask:
         )
 
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
-        """Validate ``reset`` options; unknown keys and non-physical values raise."""
+        """Validate ``reset`` options against the same intervals as the constructor's
+        ranges; unknown keys raise ``TypeError``, bad values name ``options[key]``."""
         checked = check_option_keys(options, RESET_OPTIONS)
         for key, value in checked.items():
+            path = option_path(key)
             if key == "gusts":
-                checked[key] = option_bool(key, value)
+                checked[key] = check_bool(path, value)
             elif key == "wind":
-                checked[key] = option_pair(key, value)
-            else:  # the wall must stand clear of the thrower
-                checked[key] = option_number(key, value, low=self.wall.half_base_m + 1.0)
+                checked[key] = check_norm(path, check_pair(path, value), WIND_SPEED_MPS)
+            else:
+                checked[key] = check_number(path, value, self.wall_distance)
         return checked
 
     def sample(
@@ -210,17 +247,17 @@ class _ToppleSim(TaskSim):
             self.sock_noise = sock
             self.record = [_empty_record() for _ in range(n)]
             self.terms = {k: np.zeros(n) for k in ("success", "failure", "throw", "lean")}
-        else:
-            for old, new in ((self.scenario, scenario), (self.gust, gust), (self.wall, wall)):
-                for f in fields(old):
-                    getattr(old, f.name)[idx] = getattr(new, f.name)
-            for key, value in fresh.items():
-                self.counters[key][idx] = value
-            self.sock_noise[:, idx] = sock[:, idx]
-            for i in idx:
-                self.record[i] = _empty_record()
-            for value in self.terms.values():
-                value[idx] = 0.0
+        else:  # a partial reset builds new states (arrays are never written once made)
+            self.scenario, self.gust, self.wall = (
+                _scatter(old, idx, new)
+                for old, new in ((self.scenario, scenario), (self.gust, gust), (self.wall, wall))
+            )
+            self.counters = {k: _put(v, idx, fresh[k]) for k, v in self.counters.items()}
+            self.sock_noise = np.where(mask, sock, self.sock_noise)
+            self.record = [
+                _empty_record() if m else r for m, r in zip(mask, self.record, strict=True)
+            ]
+            self.terms = {k: np.where(mask, 0.0, v) for k, v in self.terms.items()}
 
     def windsock(self) -> tuple[Any, Any]:
         sc = self.scenario
@@ -243,35 +280,50 @@ class _ToppleSim(TaskSim):
             zero = np.zeros(self.batch)
         ball = ball_at(zero, zero, zero + task.launch_height, *v, *w)
         flying = thrown
-        wall = self.wall
+        # The interval starts with no stress on the foot, in a new state: states are never
+        # changed once made, so whoever kept the old one does not see it change.
+        wall = replace(self.wall, stress=0.0 * self.wall.stress)
         lean_before = xp.sin(wall.angle)
         hit_height, hit_y = zero - 1.0, zero
         hits = 0 * zero
-        wall.stress = 0.0 * wall.stress
         sc = self.scenario
         wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, xp)
         ball_track, wall_track, loose_track = [], [], []
+        # An env's interval ends once its wall is down and its ball (if any) has stopped,
+        # where the single env breaks out of this loop. A batch freezes each finished env
+        # (no substeps, no gust draws from its stream, no samples) until all are done, so
+        # sub-env i stays the single env seeded seed + i. Envs not ``active`` (restarting:
+        # a reset replaces their state next) start frozen.
+        running = True if self.scalar else active
         gusty = active & np.atleast_1d(sc.gusts)
+        samples = 0 if self.scalar else np.zeros(self.batch, dtype=np.int64)  # while running
         for i in range(task.n_substeps):
             if i and i % task.gust_every == 0:
-                self.gust = gust_step(
-                    self.gust, task.gust_params, task.gust_dt, self._normals(gusty), sc.gusts, xp
-                )
+                noise = self._normals(gusty & running)
+                gust = gust_step(self.gust, task.gust_params, task.gust_dt, noise, sc.gusts, xp)
+                self.gust = _select(running, gust, self.gust, xp)
                 wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, xp)
             if i % task.record_every == 0:
                 ball_track.append((ball.x, ball.y, ball.z, ball.qw, ball.qx, ball.qy, ball.qz))
                 wall_track.append(wall.angle)
                 loose_track.append((wall.loose_x, wall.loose_z, wall.loose_angle, wall.status))
-            if xp.any(flying):
+                samples = samples + running
+            moving = flying & running
+            if xp.any(moving):
                 moved = ball_substep(p, ball, wind_x, wind_y, task.sim_dt, xp)
                 moved, _ = ground_contact(p, moved, task.sim_dt, xp)
-                ball = _select(flying, moved, ball, xp)
-                wall, vx, vz, height = ball_hits_wall(
+                ball = _select(moving, moved, ball, xp)
+                # Only a moving ball strikes: one at rest against the face must not change
+                # the wall's rate (the single env skips this block then).
+                hit_wall, vx, vz, height = ball_hits_wall(
                     task.wall, wall, p.mass_kg, p.radius_m, ball.x, ball.y, ball.z, ball.vx,
                     ball.vz, xp,
                 )  # fmt: skip
-                struck = flying & (height >= 0.0)
-                ball.vx, ball.vz = xp.where(struck, vx, ball.vx), xp.where(struck, vz, ball.vz)
+                wall = _select(moving, hit_wall, wall, xp)
+                struck = moving & (height >= 0.0)
+                if xp.any(struck):  # rare: skip building a new ball state when none hit
+                    vx, vz = xp.where(struck, vx, ball.vx), xp.where(struck, vz, ball.vz)
+                    ball = replace(ball, vx=vx, vz=vz)
                 hits = hits + struck
                 hit_height = xp.where(struck, height, hit_height)
                 hit_y = xp.where(struck, ball.y, hit_y)
@@ -279,9 +331,11 @@ class _ToppleSim(TaskSim):
                     ball.vx * ball.vx + ball.vy * ball.vy + ball.vz * ball.vz < 0.01
                 )
                 flying = flying & xp.logical_not(resting)
-            wall = wall_step(task.wall, wall, wind_x, task.sim_dt, xp)
+            wall = _select(running, wall_step(task.wall, wall, wind_x, task.sim_dt, xp), wall, xp)
             settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)
-            if xp.all(settled | xp.logical_not(flying)) and xp.all(wall.status != STANDING):
+            done = (settled | xp.logical_not(flying)) & (wall.status != STANDING)
+            running = running & xp.logical_not(done)
+            if not xp.any(running):
                 break
         self.wall = wall
         self.sock_noise = _where2(active, self._normals(active), self.sock_noise, self.scalar)
@@ -304,19 +358,25 @@ class _ToppleSim(TaskSim):
         }
         reward = self.terms["success"] + self.terms["failure"] + self.terms["throw"]
         reward = reward + self.terms["lean"]
-        self._keep_record(ball_track, wall_track, loose_track, thrown)
+        self._keep_record(ball_track, wall_track, loose_track, thrown, samples)
         return reward, success | failure | (c["throws_left"] <= 0)
 
-    def _keep_record(self, ball_track: list, wall_track: list, loose_track: list, thrown) -> None:
-        """Keep the step's samples (for info and rendering) per env."""
+    def _keep_record(
+        self, ball_track: list, wall_track: list, loose_track: list, thrown: Any, samples: Any
+    ) -> None:
+        """Keep the step's samples (for info and rendering) per env: the first
+        ``samples[i]`` rows, those taken while env ``i`` was running."""
         balls = np.array(ball_track, dtype=np.float64)  # (K, 7) or (K, 7, n)
         walls = np.array(wall_track, dtype=np.float64)
         loose = np.array(loose_track, dtype=np.float64)
         if self.scalar:
             self.record = _record(balls, walls, loose, thrown)
             return
+        records = list(self.record)
         for i in range(self.batch):
-            self.record[i] = _record(balls[..., i], walls[:, i], loose[..., i], thrown[i])
+            k = samples[i]
+            records[i] = _record(balls[:k, :, i], walls[:k, i], loose[:k, :, i], thrown[i])
+        self.record = records
 
     def observation(self) -> np.ndarray:
         task, sc, wall, c = self.task, self.scenario, self.wall, self.counters
@@ -371,11 +431,40 @@ class _ToppleSim(TaskSim):
         return info
 
 
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
+
+
 def _select(mask: Any, new: Any, old: Any, xp: Any) -> Any:
+    """A state with ``new``'s values where ``mask`` (per env) and ``old``'s elsewhere.
+
+    It runs every substep, so it skips the ``where`` for a field that ``new`` took over
+    unchanged from ``old`` (the same array: states are never written, so sharing it is
+    safe), as ``ball_hits_wall`` does for most of the wall's fields."""
     if xp is not np:
         return new if mask else old
+    cls = type(old)
+    names = _FIELD_NAMES.get(cls)
+    if names is None:
+        names = _FIELD_NAMES[cls] = tuple(f.name for f in fields(cls))
+    values = []
+    for name in names:
+        a, b = getattr(new, name), getattr(old, name)
+        values.append(b if a is b else np.where(mask, a, b))
+    return cls(*values)
+
+
+def _put(old: np.ndarray, idx: np.ndarray, values: Any) -> np.ndarray:
+    """A copy of ``old`` with rows ``idx`` set to ``values``."""
+    new = old.copy()
+    new[idx] = values
+    return new
+
+
+def _scatter(old: Any, idx: np.ndarray, new: Any) -> Any:
+    """A batch dataclass like ``old`` with the envs ``idx`` taken from ``new`` (a batch of
+    ``len(idx)``)."""
     return type(old)(
-        *(np.where(mask, getattr(new, f.name), getattr(old, f.name)) for f in fields(old))
+        **{f.name: _put(getattr(old, f.name), idx, getattr(new, f.name)) for f in fields(old)}
     )
 
 
@@ -429,7 +518,10 @@ _DOC_ARGS = """
     | `success_bonus`, `failure_penalty` | `10.0`, `5.0` | |
     | `throw_cost`, `lean_weight` | `0.2`, `1.0` | |
 
-    A non-physical value raises ``ValueError`` naming the argument.
+    A value of the wrong type raises ``TypeError``, a non-finite or out-of-interval value
+    ``ValueError``, each naming the argument (``dinghy.mass_kg``); an unknown argument or
+    field raises ``TypeError``. The accepted intervals are in the README ("Validation and
+    errors") and in ``ARGUMENT_TABLE`` and the parameter dataclasses.
 """
 
 
@@ -491,7 +583,7 @@ class BeachballToppleEnv(SingleEnv):
 
     The wall stands upright at a uniform distance of 4-8 m; the mean wind is uniform in
     0-3 m/s from a uniform direction. `reset(options=...)` pins `wind` ((x, y) m/s, where
-    the air moves), `wall_distance` (m), `gusts` (bool). Unknown keys raise `ValueError`.
+    the air moves), `wall_distance` (m), `gusts` (bool). Unknown keys raise `TypeError`.
 
     ## Episode End
 
@@ -510,6 +602,10 @@ class BeachballToppleEnv(SingleEnv):
     ## Version History
 
     * v0: Initial version.
+    * v0, bbgym 0.2.0 (before any release): the ball physics of BeachballThrow-v0 0.2.0;
+      loose-panel drag and tumbling implicit; ball hits on the wall as an impulse; a vector
+      sub-env stops its interval where the single env does (sub-env ``i`` equals the single
+      env seeded ``seed + i`` again); arguments validated with accepted intervals.
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}

@@ -59,6 +59,9 @@ ANY = Interval()
 POSITIVE = Interval(0.0, math.inf, low_open=True)
 NON_NEGATIVE = Interval(0.0, math.inf)
 UNIT = Interval(0.0, 1.0)
+ANGLE_RAD = Interval(-1e4, 1e4)
+"""Any direction, given as an angle of at most 10^4 rad (beyond, float64 angles lose
+the precision that their sine and cosine need)."""
 
 
 def interval(
@@ -91,15 +94,17 @@ def is_real_number(value: Any) -> bool:
     return isinstance(value, numbers.Real)
 
 
-def check_number(path: str, value: Any, accepted: Interval | None = None) -> float:
-    """``value`` as a Python float: a finite real number inside ``accepted``."""
+def check_number(path: str, value: Any, accepted: Interval | None = None, why: str = "") -> float:
+    """``value`` as a Python float: a finite real number inside ``accepted`` (``why``, if
+    given, says in the error where the interval comes from)."""
     if not is_real_number(value):
         raise TypeError(f"{path} must be a real number, got {value!r} ({type(value).__name__})")
     v = float(value)
     if not math.isfinite(v):
         raise ValueError(f"{path} must be finite, got {value!r}")
     if accepted is not None and not accepted.contains(v):
-        raise ValueError(f"{path} must be in {accepted}, got {value!r}")
+        reason = f" ({why})" if why else ""
+        raise ValueError(f"{path} must be in {accepted}{reason}, got {value!r}")
     return v
 
 
@@ -127,14 +132,16 @@ def check_choice(path: str, value: Any, choices: tuple) -> Any:
     return value
 
 
-def check_range(path: str, value: Any, accepted: Interval | None = None) -> tuple[float, float]:
+def check_range(
+    path: str, value: Any, accepted: Interval | None = None, why: str = ""
+) -> tuple[float, float]:
     """A ``(low, high)`` pair of numbers inside ``accepted`` with ``low <= high``."""
     if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
         raise TypeError(f"{path} must be a (low, high) pair of numbers, got {value!r}")
     if len(value) != 2:
         raise ValueError(f"{path} must be a (low, high) pair of numbers, got {value!r}")
-    lo = check_number(f"{path}[0]", value[0], accepted)
-    hi = check_number(f"{path}[1]", value[1], accepted)
+    lo = check_number(f"{path}[0]", value[0], accepted, why)
+    hi = check_number(f"{path}[1]", value[1], accepted, why)
     if lo > hi:
         raise ValueError(f"{path} must have low <= high, got {value!r}")
     return lo, hi
@@ -152,11 +159,16 @@ def check_pair(path: str, value: Any, accepted: Interval | None = None) -> tuple
     )
 
 
-def check_norm(path: str, pair: tuple[float, float], accepted: Interval) -> tuple[float, float]:
+def check_norm(
+    path: str, pair: tuple[float, float], accepted: Interval, why: str = ""
+) -> tuple[float, float]:
     """A checked ``(x, y)`` pair whose length lies in ``accepted``."""
     length = math.hypot(*pair)
     if not accepted.contains(length):
-        raise ValueError(f"{path} must have a length in {accepted}, got {pair!r} ({length:g})")
+        reason = f" ({why})" if why else ""
+        raise ValueError(
+            f"{path} must have a length in {accepted}{reason}, got {pair!r} (length {length:g})"
+        )
     return pair
 
 
@@ -211,3 +223,18 @@ def replace_params(obj: Any, **changes: Any) -> Any:
 def field_defaults(cls: type) -> dict[str, Any]:
     """``{field: default}`` of a dataclass (for docs and tests)."""
     return {f.name: f.default for f in fields(cls) if f.default is not MISSING}
+
+
+def interval_rows(cls: type, group: str) -> list[str]:
+    """Markdown table rows ``| `group.field` | default | accepted |`` for every field of a
+    parameter dataclass that declares an interval (the README's tables are these rows, and
+    a test keeps them equal)."""
+    rows = []
+    for f in fields(cls):
+        accepted = f.metadata.get("interval")
+        if accepted is None:
+            continue
+        default = f.default
+        shown = f"{default:.6g}" if isinstance(default, float) else repr(default)
+        rows.append(f"| `{group}.{f.name}` | {shown} | {accepted} |")
+    return rows

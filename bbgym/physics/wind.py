@@ -16,30 +16,38 @@ from typing import Any
 import numpy as np
 
 from bbgym.physics.backend import Array
+from bbgym.physics.validation import check_fields, interval, param
 
 
 @dataclass(frozen=True)
 class GustParams:
-    """Statistics of gusts (speed) and shifts (direction) of the true wind."""
+    """Statistics of gusts (speed) and shifts (direction) of the true wind.
 
-    speed_std: float = 0.15
+    Accepted intervals (checked on construction, errors name ``GustParams.<field>``):
+
+    ================  ==============  =====================================================
+    field             interval        why the bounds
+    ================  ==============  =====================================================
+    speed_std         [0, 1]          a std of the whole mean speed already lulls to calm
+    shift_std_rad     [0, pi/2]       beyond 90 deg the "mean" direction means nothing
+    time_constant_s   [0.01, 1e4]     correlation time: from a flicker to hours
+    smoothing_s       [0.01, 1e4]     lag of the smoothing filter, same span
+    ================  ==============  =====================================================
+
+    Zero standard deviations are valid: a steady wind.
+    """
+
+    speed_std: float = param(0.15, interval(0.0, 1.0))
     """Standard deviation of the wind speed, as a fraction of the mean speed."""
-    shift_std_rad: float = math.radians(8.0)
+    shift_std_rad: float = param(math.radians(8.0), interval(0.0, 0.5 * math.pi))
     """Standard deviation of the wind direction about its mean."""
-    time_constant_s: float = 20.0
+    time_constant_s: float = param(20.0, interval(0.01, 1e4))
     """Correlation time of the underlying process."""
-    smoothing_s: float = 4.0
+    smoothing_s: float = param(4.0, interval(0.01, 1e4))
     """Time constant of the lag that smooths the process."""
 
     def __post_init__(self) -> None:
-        for name in ("speed_std", "shift_std_rad"):
-            value = getattr(self, name)
-            if not math.isfinite(value) or value < 0.0:
-                raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
-        for name in ("time_constant_s", "smoothing_s"):
-            value = getattr(self, name)
-            if not math.isfinite(value) or value <= 0.0:
-                raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+        check_fields(self)
 
 
 @dataclass
