@@ -1,0 +1,539 @@
+"""Fuzzing the envs through their public API: random valid arguments, options and actions.
+
+Every accepted input must run finite, stay inside the observation space and raise nothing;
+every rejected one must raise ``TypeError`` or ``ValueError`` naming the argument. One
+sampler serves both the property-based tests (``tests/test_fuzz.py``, where hypothesis
+draws each number, so a failure shrinks to a small example) and the long run of
+``scripts/fuzz.py`` (a NumPy generator draws them):
+
+* :func:`sample_kwargs` draws constructor arguments: every field of the physics parameter
+  dataclasses over its whole accepted interval (log-uniform where the interval is
+  positive, ends included), and the task's arguments within their intervals;
+* :func:`sample_options` draws ``reset`` options within the same intervals;
+* :func:`check_episode` steps a single env or a native vector env with random actions and
+  checks every output; :func:`check_rejections` passes invalid values and checks the
+  errors.
+
+Step sizes and time limits are drawn from the slow end of their intervals only (a sim_dt
+of 1e-4 s is accepted, but a fuzz run of a million steps at it would take days): the
+:data:`COST_CAPS` say where.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import fields
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import bbgym  # noqa: F401  (registers the ids)
+from bbgym.physics.ball import BallParams
+from bbgym.physics.sailing import SAIL_MODELS, DinghyParams
+from bbgym.physics.validation import Interval, interval
+from bbgym.physics.wall import WallParams
+from bbgym.physics.wind import GustParams
+
+ENV_IDS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+
+Draw = Callable[[str, Interval, bool], float]
+"""``draw(name, interval, log) -> float``: a number inside ``interval`` (log-uniform if
+``log``); ``name`` identifies the draw (hypothesis labels it)."""
+
+COST_CAPS = {
+    "sail_sim_dt": interval(0.02, 0.25),
+    "sail_substeps": interval(1, 10),
+    "ball_sim_dt": interval(0.005, 0.05),
+    "max_flight_time": interval(0.5, 12.0),
+    "topple_interval": interval(0.5, 4.0),
+    "mark_distance": interval(0.0, 500.0),
+}
+"""Where the fuzzer draws from less than the accepted interval, to bound the cost of a
+step (each is the cheap end of an interval the validation accepts)."""
+
+
+def numpy_draw(rng: np.random.Generator) -> Draw:
+    """A :data:`Draw` from a NumPy generator: ends of closed intervals one time in ten
+    each, else uniform (log-uniform for ``log``)."""
+
+    def draw(name: str, accepted: Interval, log: bool) -> float:
+        lo, hi = accepted.low, accepted.high
+        u = rng.random()
+        if u < 0.1 and not accepted.low_open:
+            return lo
+        if u < 0.2 and not accepted.high_open:
+            return hi
+        if log and hi > 0.0:
+            low = log_floor(accepted)
+            value = math.exp(rng.uniform(math.log(low), math.log(hi)))
+        else:
+            value = rng.uniform(lo, hi)
+        return float(min(max(value, lo), hi)) if accepted.contains(value) else (lo + hi) / 2
+
+    return draw
+
+
+def log_floor(accepted: Interval) -> float:
+    """Where a log-uniform draw starts: the low end, or six decades below the high end
+    for an interval open at 0."""
+    return accepted.low if accepted.low > 0.0 else accepted.high * 1e-6
+
+
+def draw_pair(draw: Draw, name: str, accepted: Interval, log: bool = False) -> tuple:
+    """A ``(low, high)`` range inside ``accepted``."""
+    a, b = draw(f"{name}[0]", accepted, log), draw(f"{name}[1]", accepted, log)
+    return (min(a, b), max(a, b))
+
+
+def draw_flag(draw: Draw, name: str) -> bool:
+    return draw(name, interval(0.0, 1.0), False) < 0.5
+
+
+def draw_int(draw: Draw, name: str, low: int, high: int) -> int:
+    return int(min(high, math.floor(draw(name, interval(low, high + 1, high_open=True), False))))
+
+
+def sample_params(draw: Draw, cls: type, prefix: str) -> dict[str, Any]:
+    """Every field of a parameter dataclass over its accepted interval. Cross-field
+    constraints are met by construction where the class has them."""
+    values: dict[str, Any] = {}
+    for f in fields(cls):
+        if isinstance(f.default, bool):
+            values[f.name] = draw_flag(draw, f"{prefix}.{f.name}")
+            continue
+        accepted = f.metadata.get("interval")
+        if accepted is None:
+            continue
+        lo, hi = accepted.low, accepted.high
+        if math.isinf(lo) or math.isinf(hi):
+            continue
+        values[f.name] = draw(f"{prefix}.{f.name}", accepted, lo > 0.0 or accepted.low_open)
+    order = {
+        DinghyParams: ("sheet_min_rad", "sheet_max_rad"),
+        WallParams: ("thickness_m", "base_depth_m"),
+    }
+    if cls in order and all(name in values for name in order[cls]):
+        small, large = order[cls]
+        lo, hi = sorted((values[small], values[large]))
+        if lo == hi:  # strict order needed: fall back to the defaults' pair
+            defaults = cls()
+            lo, hi = getattr(defaults, small), getattr(defaults, large)
+        values[small], values[large] = lo, hi
+    return values
+
+
+def _fixed(value: float) -> Interval:
+    return interval(value, value)
+
+
+def sample_kwargs(env_id: str, draw: Draw) -> dict[str, Any]:
+    """Constructor arguments of ``env_id`` drawn over their accepted intervals."""
+    from bbgym.envs import sail, throw, topple
+
+    if env_id == "BeachballSail-v0":
+        sim_dt = draw("sim_dt", COST_CAPS["sail_sim_dt"], True)
+        substeps = draw_int(draw, "substeps", 1, int(COST_CAPS["sail_substeps"].high))
+        mark_radius = draw("mark_radius", sail.MARK_RADIUS_M, True)
+        far = interval(mark_radius, mark_radius + COST_CAPS["mark_distance"].high, low_open=True)
+        kwargs = {
+            "sail_model": SAIL_MODELS[draw_int(draw, "sail_model", 0, len(SAIL_MODELS) - 1)],
+            "dinghy": sample_params(draw, DinghyParams, "dinghy"),
+            "gust_params": sample_params(draw, GustParams, "gust_params"),
+            "wind_speed_range": draw_pair(draw, "wind_speed_range", sail.WIND_SPEED_MPS),
+            "gusts": draw_flag(draw, "gusts"),
+            "mark_radius": mark_radius,
+            "mark_distance_range": draw_pair(draw, "mark_distance_range", far),
+            "initial_speed_range": draw_pair(draw, "initial_speed_range", sail.INITIAL_SPEED_MPS),
+            "sim_dt": sim_dt,
+            "ctrl_dt": sim_dt * substeps,
+        }
+        for name in ("progress_weight", "arrival_bonus", "capsize_penalty", "time_penalty"):
+            kwargs[name] = draw(name, sail.REWARD_WEIGHT, False)
+        return kwargs
+
+    ball = sample_params(draw, BallParams, "ball")
+    radius = ball.get("radius_m", BallParams.radius_m)
+    common = {
+        "ball": ball,
+        "wind_speed_range": draw_pair(draw, "wind_speed_range", throw.WIND_SPEED_MPS),
+        "gusts": draw_flag(draw, "gusts"),
+        "gust_params": sample_params(draw, GustParams, "gust_params"),
+        "windsock_noise": draw("windsock_noise", throw.WINDSOCK_NOISE_MPS, False),
+        "max_speed": draw("max_speed", throw.LAUNCH_SPEED_MPS, True),
+        "max_spin": draw("max_spin", throw.LAUNCH_SPIN_RPS, True),
+        "launch_height": draw("launch_height", interval(radius, throw.LAUNCH_HEIGHT_MAX_M), True),
+    }
+    if env_id in ("BeachballThrow-v0", "BeachballCurve-v0"):
+        sim_dt = draw("sim_dt", COST_CAPS["ball_sim_dt"], True)
+        target_radius = draw("target_radius", throw.TARGET_RADIUS_M, True)
+        field_radius = draw(
+            "field_radius", interval(2.5 * target_radius, throw.FIELD_RADIUS_M.high), True
+        )
+        targets = interval(
+            target_radius, field_radius - target_radius, low_open=True, high_open=True
+        )
+        flight = COST_CAPS["max_flight_time"]
+        return {
+            **common,
+            "throws_per_episode": draw_int(draw, "throws_per_episode", 1, 10),
+            "target_radius": target_radius,
+            "field_radius": field_radius,
+            "target_distance_range": draw_pair(draw, "target_distance_range", targets, True),
+            "target_bearing_range": draw_pair(draw, "target_bearing_range", throw.BEARING_RAD),
+            "throw_interval": draw("throw_interval", throw.THROW_INTERVAL_S, True),
+            "screen": env_id == "BeachballCurve-v0" or draw_flag(draw, "screen"),
+            "screen_height": draw("screen_height", throw.SCREEN_SIZE_M, True),
+            "screen_half_width": draw("screen_half_width", throw.SCREEN_SIZE_M, True),
+            "screen_position": draw(
+                "screen_position", interval(0.0, 1.0, low_open=True, high_open=True), False
+            ),
+            "sim_dt": sim_dt,
+            "max_flight_time": draw(
+                "max_flight_time", interval(max(flight.low, 10 * sim_dt), flight.high), True
+            ),
+            "max_roll_time": draw("max_roll_time", flight, True),
+            "miss_scale": draw("miss_scale", throw.MISS_SCALE_M, True),
+            "hit_bonus": draw("hit_bonus", throw.REWARD_WEIGHT, False),
+        }
+
+    wall = sample_params(draw, WallParams, "wall")
+    sim_dt = 0.01 * draw_int(draw, "sim_dt_centis", 1, 5)
+    steps = COST_CAPS["topple_interval"]
+    n_substeps = draw_int(
+        draw, "interval_substeps", round(steps.low / sim_dt), round(steps.high / sim_dt)
+    )
+    gust_every = draw_int(draw, "gust_every", 1, n_substeps)
+    distances = interval(
+        0.5 * wall.get("base_depth_m", WallParams.base_depth_m) + 1.0, topple.WALL_DISTANCE_MAX_M
+    )
+    max_speed = common["max_speed"]
+    return {
+        **common,
+        "wall": wall,
+        "throws_per_episode": draw_int(draw, "throws_per_episode", 1, 10),
+        "wall_distance_range": draw_pair(draw, "wall_distance_range", distances),
+        "sim_dt": sim_dt,
+        "interval": n_substeps * sim_dt,
+        "gust_dt": gust_every * sim_dt,
+        "wait_speed": draw("wait_speed", interval(0.0, max_speed), False),
+        **{
+            name: draw(name, throw.REWARD_WEIGHT, False)
+            for name in ("success_bonus", "failure_penalty", "throw_cost", "lean_weight")
+        },
+    }
+
+
+def sample_options(env_id: str, env: Any, draw: Draw) -> dict[str, Any] | None:
+    """``reset`` options for an env made with some kwargs (``env.unwrapped.task``), each
+    key present or not, within the same intervals as the constructor's ranges."""
+    from bbgym.envs import sail, throw
+
+    task = getattr(env, "unwrapped", env).task
+    options: dict[str, Any] = {}
+
+    def maybe(key: str) -> bool:
+        return draw_flag(draw, f"options.has_{key}")
+
+    def vector(key: str, lengths: Interval) -> tuple[float, float]:
+        length = draw(f"options[{key!r}].length", lengths, False)
+        angle = draw(f"options[{key!r}].angle", interval(-math.pi, math.pi), False)
+        # Rounding may take the length just out of an open interval: pull it in.
+        x, y = length * math.cos(angle), length * math.sin(angle)
+        if not lengths.contains(math.hypot(x, y)):
+            x, y = x * (1 - 1e-9), y * (1 - 1e-9)
+            if not lengths.contains(math.hypot(x, y)):
+                x, y = x * (1 + 2e-9), y * (1 + 2e-9)
+        return (x, y)
+
+    if maybe("gusts"):
+        options["gusts"] = draw_flag(draw, "options['gusts']")
+    if env_id == "BeachballSail-v0":
+        for key, accepted in (
+            ("wind_speed", sail.WIND_SPEED_MPS),
+            ("speed", sail.INITIAL_SPEED_MPS),
+        ):
+            if maybe(key):
+                options[key] = draw(f"options[{key!r}]", accepted, False)
+        for key in ("wind_from", "heading"):
+            if maybe(key):
+                options[key] = draw(f"options[{key!r}]", interval(-10.0, 10.0), False)
+        if maybe("mark"):
+            lo = task.mark_distance.low
+            near = interval(lo, lo + COST_CAPS["mark_distance"].high, low_open=True)
+            options["mark"] = vector("mark", near)
+        return options or None
+    if maybe("wind"):
+        options["wind"] = vector("wind", throw.WIND_SPEED_MPS)
+    if env_id == "BeachballTopple-v0":
+        if maybe("wall_distance"):
+            options["wall_distance"] = draw("options['wall_distance']", task.wall_distance, False)
+    else:
+        if maybe("target"):
+            options["target"] = vector("target", task.target_distance)
+        if maybe("screen"):
+            options["screen"] = draw_flag(draw, "options['screen']")
+    return options or None
+
+
+def _finite_floats(value: Any, path: str) -> None:
+    """Raise AssertionError naming the first non-finite float inside ``value``."""
+    if isinstance(value, Mapping):
+        for key, item in value.items():
+            _finite_floats(item, f"{path}[{key!r}]")
+    elif isinstance(value, np.ndarray) and value.dtype == object:
+        for i, item in enumerate(value):
+            _finite_floats(item, f"{path}[{i}]")
+    elif isinstance(value, (float, int, np.floating, np.integer, np.ndarray)) and not isinstance(
+        value, (bool, np.bool_)
+    ):
+        array = np.asarray(value)
+        if array.dtype.kind in "fc" and not np.isfinite(array).all():
+            raise AssertionError(f"non-finite value in {path}: {value!r}")
+
+
+def check_step(space: gym.Space, obs: Any, reward: Any, info: Mapping, where: str) -> None:
+    """Obs inside the space, reward finite, every float in info finite."""
+    if not space.contains(obs):
+        raise AssertionError(f"{where}: observation outside its space: {obs!r}")
+    _finite_floats(reward, f"{where}: reward")
+    _finite_floats(info, f"{where}: info")
+
+
+def check_episode(
+    env_id: str,
+    kwargs: Mapping[str, Any],
+    options: Mapping[str, Any] | None,
+    steps: int,
+    seed: int,
+    num_envs: int = 0,
+) -> int:
+    """Step ``steps`` random actions (the action space's full box, beyond [-1, 1] too,
+    which the env clips) through a single env (``num_envs == 0``, resetting with
+    ``options`` when an episode ends) or a native vector env (autoreset), checking every
+    output. Returns the number of env steps taken."""
+    rng = np.random.default_rng(seed)
+    if num_envs:
+        env: Any = gym.make_vec(env_id, num_envs=num_envs, **kwargs)
+        space = env.observation_space
+        shape: tuple[int, ...] = (num_envs, *env.single_action_space.shape)
+    else:
+        env = gym.make(env_id, **kwargs)
+        space = env.observation_space
+        shape = env.action_space.shape
+    try:
+        obs, info = env.reset(seed=seed, options=options)
+        check_step(space, obs, 0.0, info, f"{env_id} reset")
+        for t in range(steps):
+            action = rng.uniform(-1.5, 1.5, shape).astype(np.float32)
+            obs, reward, terminated, truncated, info = env.step(action)
+            check_step(space, obs, reward, info, f"{env_id} step {t}")
+            if not num_envs and (terminated or truncated):
+                obs, info = env.reset(options=options)
+                check_step(space, obs, 0.0, info, f"{env_id} reset after step {t}")
+    finally:
+        env.close()
+    return steps * max(num_envs, 1)
+
+
+# -- invalid input ---------------------------------------------------------------------------
+
+BAD_NUMBERS: tuple[tuple[Any, type], ...] = (
+    ("x", TypeError),
+    (True, TypeError),
+    (None, TypeError),
+    (1 + 2j, TypeError),
+    (float("nan"), ValueError),
+    (float("inf"), ValueError),
+    (-float("inf"), ValueError),
+    (np.array([1.0, 2.0]), TypeError),
+)
+"""Values no number argument accepts, and the error each raises."""
+
+
+INTEGER_ARGUMENTS = ("throws_per_episode",)
+
+
+def numeric_arguments(env_id: str) -> list[str]:
+    """The env's constructor arguments that take one number (for :func:`check_rejections`),
+    and each parameter field as ``group.field``."""
+    from bbgym.envs import sail, throw, topple
+
+    task = {
+        "BeachballSail-v0": sail.SailTask,
+        "BeachballThrow-v0": throw.ThrowTask,
+        "BeachballCurve-v0": throw.ThrowTask,
+        "BeachballTopple-v0": topple.ToppleTask,
+    }[env_id]
+    import inspect
+
+    names = []
+    groups = {"dinghy": DinghyParams, "ball": BallParams, "wall": WallParams}
+    groups["gust_params"] = GustParams
+    for name, parameter in inspect.signature(task.__init__).parameters.items():
+        default = parameter.default
+        if name in groups:
+            cls = groups[name]
+            names += [
+                f"{name}.{f.name}"
+                for f in fields(cls)
+                if "interval" in f.metadata and not isinstance(f.default, bool)
+            ]
+        elif isinstance(default, (int, float)) and not isinstance(default, bool):
+            names.append(name)
+    return names
+
+
+def _kwargs_with(path: str, value: Any) -> dict[str, Any]:
+    if "." in path:
+        group, key = path.split(".", 1)
+        return {group: {key: value}}
+    return {path: value}
+
+
+def check_rejections(env_id: str) -> int:
+    """Every number argument (and parameter field) refuses every value of
+    :data:`BAD_NUMBERS` with the right error naming it, at construction. Returns how many
+    errors were checked."""
+    checked = 0
+    for path in numeric_arguments(env_id):
+        integer = path in INTEGER_ARGUMENTS
+        for value, error in BAD_NUMBERS:
+            # An int argument refuses every float by its type, NaN and inf included.
+            error = TypeError if integer else error
+            try:
+                gym.make(env_id, **_kwargs_with(path, value))
+            except error as raised:
+                if path not in str(raised):
+                    raise AssertionError(
+                        f"{env_id}: {path}={value!r} raised {raised!r}, which does not name {path}"
+                    ) from None
+            except Exception as raised:  # noqa: BLE001 - reported as the wrong error
+                raise AssertionError(
+                    f"{env_id}: {path}={value!r} raised {type(raised).__name__} ({raised}), "
+                    f"expected {error.__name__}"
+                ) from None
+            else:
+                raise AssertionError(f"{env_id}: {path}={value!r} was accepted")
+            checked += 1
+    return checked
+
+
+# -- the long run ------------------------------------------------------------------------------
+
+STEP_SHARE = {
+    "BeachballSail-v0": 0.4,
+    "BeachballThrow-v0": 0.2,
+    "BeachballCurve-v0": 0.2,
+    "BeachballTopple-v0": 0.2,
+}
+"""Share of a run's env steps per env (a sailing step is much cheaper than a throw)."""
+
+EPISODE_STEPS = {"BeachballSail-v0": 300, "BeachballThrow-v0": 12, "BeachballCurve-v0": 12}
+"""Steps per drawn configuration (the rest: 8)."""
+
+
+def run(total_steps: int, seed: int, num_envs: int = 32, minutes: float = math.inf) -> dict:
+    """Fuzz every env for about ``total_steps`` env steps (half through single envs, half
+    through native vector envs of ``num_envs``), a fresh random configuration and reset
+    options for each episode check, and check every invalid number once per env. Returns
+    the figures: steps, configurations, failures (with what reproduces each), errors
+    checked, seconds. Stops early after ``minutes``."""
+    import time
+
+    rng = np.random.default_rng(seed)
+    draw = numpy_draw(rng)
+    start = time.perf_counter()
+    report: dict[str, Any] = {"seed": seed, "num_envs": num_envs, "envs": {}, "failures": []}
+    for env_id in ENV_IDS:
+        figures = {"steps": 0, "configurations": 0, "failures": 0}
+        figures["errors_checked"] = check_rejections(env_id)
+        report["envs"][env_id] = figures
+    budget = {env_id: total_steps * share for env_id, share in STEP_SHARE.items()}
+    kinds = [0, num_envs]
+    turn = 0
+    while any(report["envs"][e]["steps"] < budget[e] for e in ENV_IDS):
+        if time.perf_counter() - start > 60.0 * minutes:
+            report["stopped_early"] = True
+            break
+        env_id = ENV_IDS[turn % len(ENV_IDS)]
+        n = kinds[(turn // len(ENV_IDS)) % 2]
+        turn += 1
+        figures = report["envs"][env_id]
+        if figures["steps"] >= budget[env_id]:
+            continue
+        kwargs = sample_kwargs(env_id, draw)
+        case_seed = int(rng.integers(2**31))
+        try:
+            probe = gym.make(env_id, **kwargs)
+            options = sample_options(env_id, probe, draw)
+            probe.close()
+            steps = EPISODE_STEPS.get(env_id, 8)
+            figures["steps"] += check_episode(env_id, kwargs, options, steps, case_seed, n)
+        except Exception as error:  # noqa: BLE001 - every failure is reported, with its input
+            figures["failures"] += 1
+            report["failures"].append(
+                {
+                    "env_id": env_id,
+                    "num_envs": n,
+                    "kwargs": repr(kwargs),
+                    "options": repr(locals().get("options")),
+                    "seed": case_seed,
+                    "error": f"{type(error).__name__}: {error}"[:2000],
+                }
+            )
+        figures["configurations"] += 1
+    report["seconds"] = time.perf_counter() - start
+    report["steps"] = sum(f["steps"] for f in report["envs"].values())
+    return report
+
+
+def format_report(report: Mapping[str, Any]) -> str:
+    """The figures of :func:`run` as a markdown table."""
+    lines = [
+        "| env | env steps | configurations | failures | invalid inputs checked |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for env_id, f in report["envs"].items():
+        lines.append(
+            f"| {env_id} | {f['steps']:,} | {f['configurations']:,} | {f['failures']} "
+            f"| {f['errors_checked']} |"
+        )
+    lines.append(
+        f"\n{report['steps']:,} env steps in {report['seconds']:.0f} s (seed {report['seed']}, "
+        f"vector envs of {report['num_envs']}); {len(report['failures'])} failures."
+    )
+    for failure in report["failures"][:20]:
+        lines.append(
+            f"- {failure['env_id']} num_envs={failure['num_envs']} seed={failure['seed']}: "
+            f"{failure['error'][:300]}\n  kwargs={failure['kwargs']}"
+            f"\n  options={failure['options']}"
+        )
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python scripts/fuzz.py [--steps 1000000] [--seed 0] [--num-envs 32] [--minutes M]
+    [--out runs/fuzz]``: exit status 1 if anything failed."""
+    import argparse
+    import json
+    import warnings
+    from pathlib import Path
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=1_000_000, help="env steps in all")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the configurations")
+    parser.add_argument("--num-envs", type=int, default=32, help="size of the vector envs")
+    parser.add_argument("--minutes", type=float, default=math.inf, help="stop after this")
+    parser.add_argument("--out", type=Path, default=Path("runs/fuzz"), help="report folder")
+    args = parser.parse_args(argv)
+    # Gymnasium's env checker warns about float precision and the like on every make.
+    warnings.filterwarnings("ignore", module="gymnasium")
+    report = run(args.steps, args.seed, args.num_envs, args.minutes)
+    text = format_report(report)
+    print(text)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "fuzz.md").write_text(text + "\n", encoding="utf-8")
+    (args.out / "fuzz.json").write_text(json.dumps(report, indent=2), encoding="utf-8")
+    return 1 if report["failures"] else 0
