@@ -34,7 +34,7 @@ from bbgym.physics.wind import GustParams
 
 # CI explores the same examples every run (derandomize); scripts/fuzz.py explores anew.
 FUZZ = settings(
-    max_examples=12,
+    max_examples=40,
     deadline=None,
     derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
