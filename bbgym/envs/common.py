@@ -291,22 +291,29 @@ class TaskSim:
 
 
 class NormalStreams:
-    """Each env's own random stream, drawn in blocks.
+    """Each env's own random stream of standard normal pairs, drawn in blocks.
 
     An env's randomness comes from its own ``numpy.random.Generator`` (so sub-env ``i`` of
     a vector env matches a single env seeded ``seed + i``). Drawing from thousands of
     generators one by one every step is a Python loop over the batch; instead each env
-    draws ``block`` pairs of standard normals at once and hands them out one pair per
-    call, refilling when they run out. The single env uses the same blocks, so both see
-    the same numbers. A reset discards an env's unused pairs.
+    draws ``block`` pairs of standard normals at once and hands them out in order,
+    drawing the next block when they run out (the stream is the generator's normals in
+    order, whatever the calls). The single env uses the same blocks, so both see the same
+    numbers. A reset discards an env's unused pairs.
+
+    A pure function that may use up to ``k`` pairs per env (Topple's interval: one pair per
+    gust update while the env runs) gets them from :meth:`peek` and reports how many it
+    used, which :meth:`advance` then consumes.
     """
 
     def __init__(self, batch: int, block: int = 64) -> None:
         self.rngs: list[np.random.Generator] = [seeding.np_random(None)[0] for _ in range(batch)]
         self.block = block
         self._buffer = np.zeros((batch, block, 2))
-        self._next = np.full(batch, block)
+        self._next = np.zeros(batch, dtype=np.int64)  # next unused row
+        self._end = np.zeros(batch, dtype=np.int64)  # rows drawn (unused: _next.._end)
         self._rows = np.arange(batch)
+        self._block0: list | None = None  # env 0's rows as floats, for one()
 
     def seed(self, seeds: list[int | None]) -> None:
         for i, s in enumerate(seeds):
@@ -315,21 +322,22 @@ class NormalStreams:
     def set(self, i: int, rng: np.random.Generator) -> None:
         """Give env ``i`` the generator ``rng`` (a single env's ``np_random``)."""
         self.rngs[i] = rng
-        self._next[i] = self.block
+        self._next[i] = self._end[i]
 
     def discard(self, mask: np.ndarray) -> None:
-        self._next[mask] = self.block
+        self._next = np.where(mask, self._end, self._next)
 
     def one(self, draw: bool) -> tuple[float, float]:
         """The single env's next pair as Python floats (zeros if not ``draw``), from the
-        same blocks as :meth:`pairs` (a sim uses one or the other)."""
+        same stream as :meth:`pairs`."""
         if not draw:
             return (0.0, 0.0)
         k = int(self._next[0])
-        if k >= self.block:
-            self._buffer[0] = self.rngs[0].standard_normal((self.block, 2))
-            self._block0 = self._buffer[0].tolist()
+        if k >= self._end[0]:
+            self._refill(0, 1)
             k = 0
+        if self._block0 is None:
+            self._block0 = self._buffer[0].tolist()
         self._next[0] = k + 1
         first, second = self._block0[k]
         return (first, second)
@@ -339,12 +347,44 @@ class NormalStreams:
 
         Envs outside ``mask`` draw nothing, so no env's numbers depend on another's."""
         mask = np.asarray(mask, dtype=bool)
-        for i in np.flatnonzero(mask & (self._next >= self.block)):
-            self._buffer[i] = self.rngs[i].standard_normal((self.block, 2))
-            self._next[i] = 0
-        picked = self._buffer[self._rows, np.minimum(self._next, self.block - 1)]
+        for i in np.flatnonzero(mask & (self._next >= self._end)):
+            self._refill(i, 1)
+        picked = self._buffer[self._rows, np.minimum(self._next, self._buffer.shape[1] - 1)]
         self._next = self._next + mask
         return np.where(mask[:, None], picked, 0.0).T
+
+    def peek(self, mask: np.ndarray, count: int) -> np.ndarray:
+        """The next ``count`` pairs of each env in ``mask`` without using them (zeros
+        elsewhere): ``(count, 2, batch)``. :meth:`advance` uses them."""
+        mask = np.asarray(mask, dtype=bool)
+        for i in np.flatnonzero(mask & (self._end - self._next < count)):
+            self._refill(i, count)
+        take = self._next[:, None] + np.arange(count)
+        picked = self._buffer[self._rows[:, None], np.minimum(take, self._buffer.shape[1] - 1)]
+        return np.where(mask[:, None, None], picked, 0.0).transpose(1, 2, 0)
+
+    def advance(self, used: np.ndarray) -> None:
+        """Use up ``used[i]`` pairs of env ``i`` (at most what :meth:`peek` showed)."""
+        self._next = self._next + np.asarray(used, dtype=np.int64)
+
+    def _refill(self, i: int, count: int) -> None:
+        """Draw blocks for env ``i`` until it has ``count`` unused pairs, keeping the unused
+        ones first (so the stream stays in the generator's order)."""
+        self._block0 = None
+        left = self._buffer[i, self._next[i] : self._end[i]].copy()
+        blocks = -(-(count - len(left)) // self.block)
+        rows = len(left) + blocks * self.block
+        if rows > self._buffer.shape[1]:
+            grown = np.zeros((self._buffer.shape[0], rows, 2))
+            grown[:, : self._buffer.shape[1]] = self._buffer
+            self._buffer = grown
+        self._buffer[i, : len(left)] = left
+        for b in range(blocks):
+            start = len(left) + b * self.block
+            self._buffer[i, start : start + self.block] = self.rngs[i].standard_normal(
+                (self.block, 2)
+            )
+        self._next[i], self._end[i] = 0, rows
 
 
 class SingleEnv(gym.Env[np.ndarray, np.ndarray]):

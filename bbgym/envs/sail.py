@@ -279,15 +279,15 @@ class SailTask:
             "sway": sway,
             "boat_speed": xp.hypot(boat.vx_mps, boat.vy_mps),
             # Where the wind comes FROM, relative to the bow, counterclockwise (+ = from port).
-            "apparent_wind_angle": xp.arctan2(-aw_v, -aw_u),
+            "apparent_wind_angle": xp.atan2(-aw_v, -aw_u),
             "apparent_wind_speed": xp.hypot(aw_u, aw_v),
             "true_wind_angle": wrap_angle(wind_from - boat.heading_rad, xp),
             "true_wind_speed": wind_speed,
-            "bearing_to_mark": wrap_angle(xp.arctan2(dy, dx) - boat.heading_rad, xp),
+            "bearing_to_mark": wrap_angle(xp.atan2(dy, dx) - boat.heading_rad, xp),
             "distance_to_mark": distance,
             "vmg_to_mark": (boat.vx_mps * dx + boat.vy_mps * dy) / xp.maximum(distance, 1e-9),
             # Drift angle: positive to port of the course steered.
-            "leeway": xp.arctan2(sway, xp.maximum(xp.abs(surge), 1e-9)) * xp.sign(surge),
+            "leeway": xp.atan2(sway, xp.maximum(xp.abs(surge), 1e-9)) * xp.sign(surge),
         }
 
     def observation_columns(self, boat: DinghyState, m: dict, xp: Any = np) -> tuple:

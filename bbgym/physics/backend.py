@@ -1,10 +1,23 @@
-"""The array namespaces the physics runs on.
+"""The array namespaces the physics runs on, and the contract it keeps.
 
-Every physics function takes ``xp``: the namespace whose functions it calls. ``numpy``
-runs a batch (state arrays with a leading batch axis); :data:`scalar` runs one env on
-plain Python floats, where NumPy's per-call overhead (about a microsecond, for arrays of
-one element) would dominate. The physics uses only names that both provide, and that the
-Python array API standard also has, so a GPU namespace (torch) can be added the same way.
+Every physics function takes ``xp``: the namespace whose functions it calls. The physics
+uses only names of the Python array API standard (``xp.asin``, ``xp.atan2``, ``xp.where``,
+``xp.astype``, ...), never branches in Python on array values and keeps shapes fixed, so
+one source runs on:
+
+- :data:`floats`: one env on plain Python floats, where an array library's per-call
+  overhead (about a microsecond, for arrays of one element) would dominate;
+- ``numpy`` (NumPy >= 2.1 has the standard's names in its main namespace): a batch;
+- ``array_api_strict``: the standard and nothing more (the tests run the physics on it);
+- torch through ``array_api_compat.torch``, eager or under ``torch.compile``, CPU or CUDA
+  (:mod:`bbgym.backends`).
+
+What the standard leaves to the caller, and the physics does accordingly: a bool is not a
+number (``xp.where(mask, x, 0.0)`` instead of ``mask * x``; counts by
+``xp.astype(mask, xp.int64)``), Python scalars mix with arrays only in operators and in
+the functions that allow it (``where``, ``maximum``, ``minimum``, ``clip``), and a loop
+that may stop early checks "all done" (``bool(xp.all(done))``, a device sync on a GPU) at
+most every K substeps.
 """
 
 from __future__ import annotations
@@ -16,34 +29,55 @@ from typing import Any
 
 import numpy as np
 
-Array = np.ndarray | float
-"""A batch of values (NumPy) or one value (a Python float)."""
+Array = Any
+"""A batch of values (an array of any namespace) or one value (a Python float)."""
 
 
 def _where(condition: Any, if_true: Any, if_false: Any) -> Any:
     return if_true if condition else if_false
 
 
-def _clip(x: float, low: float, high: float) -> float:
-    return low if x < low else high if x > high else x
+def _clip(x: float, low: float | None = None, high: float | None = None) -> float:
+    if low is not None and x < low:
+        return low
+    if high is not None and x > high:
+        return high
+    return x
 
 
 def _sign(x: float) -> float:
     return 1.0 if x > 0.0 else -1.0 if x < 0.0 else 0.0
 
 
-def _zeros_like(x: Any, dtype: Any = float) -> Any:
-    return dtype(0)
+def _astype(x: Any, dtype: type, /, *, copy: bool = True) -> Any:
+    return dtype(x)
 
 
-scalar = SimpleNamespace(
+def _zeros_like(x: Any, dtype: Any = None) -> Any:
+    return (dtype or float)(0)
+
+
+def _full_like(x: Any, fill_value: Any, dtype: Any = None) -> Any:
+    return (dtype or type(fill_value))(fill_value)
+
+
+floats = SimpleNamespace(
+    # dtypes: Python's own types stand for them
+    float64=float,
+    float32=float,
+    int64=int,
+    bool=bool,
+    astype=_astype,
     sin=math.sin,
     cos=math.cos,
+    tan=math.tan,
     tanh=math.tanh,
     exp=math.exp,
+    log=math.log,
     sqrt=math.sqrt,
-    arcsin=math.asin,
-    arctan2=math.atan2,
+    asin=math.asin,
+    acos=math.acos,
+    atan2=math.atan2,
     hypot=math.hypot,
     abs=abs,
     sign=_sign,
@@ -51,18 +85,24 @@ scalar = SimpleNamespace(
     minimum=min,
     clip=_clip,
     where=_where,
-    remainder=operator.mod,  # Python's float % has NumPy's remainder semantics
+    remainder=operator.mod,  # Python's float % has the standard's remainder semantics
     logical_not=operator.not_,
+    logical_and=operator.and_,
+    logical_or=operator.or_,
     any=bool,
     all=bool,
     zeros_like=_zeros_like,
+    full_like=_full_like,
 )
-"""Namespace of functions on Python floats, with NumPy's names."""
+"""Namespace of the standard's functions on Python floats (and bools, ints)."""
+
+scalar = floats
+"""Former name of :data:`floats`."""
 
 numpy = np
-"""The batched namespace."""
+"""The batched reference namespace."""
 
 
 def namespace_of(x: Any) -> Any:
-    """``numpy`` for arrays, :data:`scalar` for Python numbers."""
-    return np if isinstance(x, np.ndarray) else scalar
+    """``numpy`` for NumPy arrays, :data:`floats` for Python numbers."""
+    return np if isinstance(x, np.ndarray) else floats

@@ -409,7 +409,7 @@ def sail_normal_coefficients(
         return secant, secant * cos_attack
     stall, half_inv_width, flat, half_excess, d_coefficient = p._lift
     # (sin_attack may round past 1: clip, or arcsin has a domain error)
-    half_x = xp.tanh((xp.arcsin(xp.clip(sin_attack, 0.0, 1.0)) - stall) * half_inv_width)
+    half_x = xp.tanh((xp.asin(xp.clip(sin_attack, 0.0, 1.0)) - stall) * half_inv_width)
     # C_N / sin(alpha): the attached slope (sail_cn_peak / sin(stall)) below the stall, the
     # flat plate's (sail_cn_flat) above it.
     secant = flat + half_excess * (1.0 - half_x)
@@ -835,7 +835,7 @@ def step(
     """
     rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
     limit = boom_limit_from_sheet(p, sheet, xp)
-    wind_from = xp.arctan2(-wind_y, -wind_x)
+    wind_from = xp.atan2(-wind_y, -wind_x)
     jibes = xp.zeros_like(state.x_m, dtype=int)
     severity = xp.zeros_like(state.x_m)
     wind_off_bow = xp.sin(wind_from - state.heading_rad)
