@@ -3,6 +3,7 @@ and the native vector env machinery."""
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Mapping
 from dataclasses import fields
@@ -312,6 +313,10 @@ class NormalStreams:
         self._buffer = np.zeros((batch, block, 2))
         self._next = np.zeros(batch, dtype=np.int64)  # next unused row
         self._end = np.zeros(batch, dtype=np.int64)  # rows drawn (unused: _next.._end)
+        # Rows up to _drawn come from the env's generator; rows beyond, up to _end, were
+        # peeked from a copy of it (:meth:`peek`) and are drawn for real only when used.
+        self._drawn = np.zeros(batch, dtype=np.int64)
+        self._ahead: dict[int, np.random.Generator] = {}
         self._rows = np.arange(batch)
         self._block0: list | None = None  # env 0's rows as floats, for one()
 
@@ -322,10 +327,15 @@ class NormalStreams:
     def set(self, i: int, rng: np.random.Generator) -> None:
         """Give env ``i`` the generator ``rng`` (a single env's ``np_random``)."""
         self.rngs[i] = rng
-        self._next[i] = self._end[i]
+        self.discard(self._rows == i)
 
     def discard(self, mask: np.ndarray) -> None:
+        """Throw away the unused pairs of the envs in ``mask`` (a reset): their next pair
+        starts a new block, drawn from the generator after whatever the reset drew."""
+        self._end = np.where(mask, self._drawn, self._end)
         self._next = np.where(mask, self._end, self._next)
+        for i in np.flatnonzero(mask):
+            self._ahead.pop(int(i), None)
 
     def one(self, draw: bool) -> tuple[float, float]:
         """The single env's next pair as Python floats (zeros if not ``draw``), from the
@@ -334,11 +344,13 @@ class NormalStreams:
             return (0.0, 0.0)
         k = int(self._next[0])
         if k >= self._end[0]:
-            self._refill(0, 1)
+            self._refill(0, 1, use_now=True)
             k = 0
         if self._block0 is None:
             self._block0 = self._buffer[0].tolist()
         self._next[0] = k + 1
+        if k >= self._drawn[0]:
+            self._commit()
         first, second = self._block0[k]
         return (first, second)
 
@@ -348,14 +360,16 @@ class NormalStreams:
         Envs outside ``mask`` draw nothing, so no env's numbers depend on another's."""
         mask = np.asarray(mask, dtype=bool)
         for i in np.flatnonzero(mask & (self._next >= self._end)):
-            self._refill(i, 1)
+            self._refill(i, 1, use_now=True)
         picked = self._buffer[self._rows, np.minimum(self._next, self._buffer.shape[1] - 1)]
-        self._next = self._next + mask
+        self.advance(mask)
         return np.where(mask[:, None], picked, 0.0).T
 
     def peek(self, mask: np.ndarray, count: int) -> np.ndarray:
         """The next ``count`` pairs of each env in ``mask`` without using them (zeros
-        elsewhere): ``(count, 2, batch)``. :meth:`advance` uses them."""
+        elsewhere): ``(count, 2, batch)``. :meth:`advance` uses them. Pairs beyond the
+        env's current block come from a copy of its generator, which itself draws them
+        only once they are used: a reset in between leaves the stream as if never peeked."""
         mask = np.asarray(mask, dtype=bool)
         for i in np.flatnonzero(mask & (self._end - self._next < count)):
             self._refill(i, count)
@@ -366,12 +380,25 @@ class NormalStreams:
     def advance(self, used: np.ndarray) -> None:
         """Use up ``used[i]`` pairs of env ``i`` (at most what :meth:`peek` showed)."""
         self._next = self._next + np.asarray(used, dtype=np.int64)
+        if (self._next > self._drawn).any():
+            self._commit()
 
-    def _refill(self, i: int, count: int) -> None:
-        """Draw blocks for env ``i`` until it has ``count`` unused pairs, keeping the unused
-        ones first (so the stream stays in the generator's order)."""
+    def _commit(self) -> None:
+        """The generator draws, for real, every peeked block that is now in use."""
+        for i in np.flatnonzero(self._next > self._drawn):
+            while self._drawn[i] < self._next[i]:
+                self.rngs[i].standard_normal((self.block, 2))  # the same values as peeked
+                self._drawn[i] += self.block
+            if self._drawn[i] >= self._end[i]:
+                self._ahead.pop(int(i), None)
+
+    def _refill(self, i: int, count: int, use_now: bool = False) -> None:
+        """Give env ``i`` at least ``count`` unused pairs: blocks after its unused ones
+        (the stream stays in the generator's order). A block the env starts using now is
+        drawn from its generator (``use_now``); the others, from a copy (see :meth:`peek`)."""
         self._block0 = None
         left = self._buffer[i, self._next[i] : self._end[i]].copy()
+        drawn_left = max(int(self._drawn[i] - self._next[i]), 0)
         blocks = -(-(count - len(left)) // self.block)
         rows = len(left) + blocks * self.block
         if rows > self._buffer.shape[1]:
@@ -381,10 +408,15 @@ class NormalStreams:
         self._buffer[i, : len(left)] = left
         for b in range(blocks):
             start = len(left) + b * self.block
-            self._buffer[i, start : start + self.block] = self.rngs[i].standard_normal(
-                (self.block, 2)
-            )
-        self._next[i], self._end[i] = 0, rows
+            if use_now and start == 0 and not drawn_left:
+                source = self.rngs[i]  # used at once: the generator itself
+                drawn_left = self.block
+            else:
+                if i not in self._ahead:
+                    self._ahead[i] = copy.deepcopy(self.rngs[i])
+                source = self._ahead[i]
+            self._buffer[i, start : start + self.block] = source.standard_normal((self.block, 2))
+        self._next[i], self._end[i], self._drawn[i] = 0, rows, drawn_left
 
 
 class SingleEnv(gym.Env[np.ndarray, np.ndarray]):
