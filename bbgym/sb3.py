@@ -23,13 +23,16 @@ import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
 from bbgym.envs.common import NativeVectorEnv
+from bbgym.envs.core import CoreVectorEnv
+
+BBGYM_VECTOR_ENVS = (NativeVectorEnv, CoreVectorEnv)
 
 
 class NativeVecEnvAdapter(VecEnv):
     """A bbgym native vector env seen through stable-baselines3's ``VecEnv`` interface."""
 
-    def __init__(self, venv: NativeVectorEnv, info_keys: Sequence[str] = ("is_success",)) -> None:
-        if not isinstance(venv, NativeVectorEnv):
+    def __init__(self, venv: Any, info_keys: Sequence[str] = ("is_success",)) -> None:
+        if not isinstance(venv, BBGYM_VECTOR_ENVS):
             raise ValueError(f"venv must be a bbgym native vector env, got {type(venv).__name__}")
         self.venv = venv
         self.info_keys = tuple(info_keys)

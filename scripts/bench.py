@@ -13,7 +13,12 @@ to ``--out``:
 * stable-baselines3 PPO training throughput (MlpPolicy, 8 envs, the bbgym envs through
   :mod:`bbgym.sb3`, CartPole through SB3's DummyVecEnv; same settings for all), if
   stable-baselines3 is installed;
-* peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc).
+* peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
+* the backends of the native vector envs (``--backends``, needs torch): torch float64 and
+  float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
+  (the first two steps) and the bytes of the env's state, beside CartPole at the same N.
+  torch runs with ``--torch-threads`` threads (default 2), pinned for every row, the PPO
+  rows included.
 
 Timed loops are capped at ``--seconds`` each; single-env loops are repeated ``--repeats``
 times (best kept).
@@ -66,13 +71,28 @@ def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
     return done / elapsed
 
 
-def time_vector(env_id: str, num_envs: int, steps: int, seconds: float, seed: int) -> float:
+def time_vector(
+    env_id: str, num_envs: int, steps: int, seconds: float, seed: int, **backend: Any
+) -> float:
     """Env-steps per second (``num_envs`` per vector step) of a native vector env."""
-    env = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+    return time_backend(env_id, num_envs, steps, seconds, seed, **backend)["rate"]
+
+
+def time_backend(
+    env_id: str, num_envs: int, steps: int, seconds: float, seed: int, **backend: Any
+) -> dict[str, float]:
+    """Steps/s of a native vector env on a backend, its warm-up time (the first two steps:
+    the compile time on torch) and the bytes of its state."""
+    env = gym.make_vec(
+        env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", **backend
+    )
     env.action_space.seed(seed)
-    actions = [env.action_space.sample() for _ in range(steps)]
+    actions = [env.action_space.sample() for _ in range(max(steps, 2))]
     env.reset(seed=seed)
-    env.step(actions[0])  # warm-up
+    start = time.perf_counter()
+    env.step(actions[0])  # warm-up (and compile)
+    env.step(actions[1])
+    warmup = time.perf_counter() - start
     done = 0
     start = time.perf_counter()
     for action in actions:
@@ -81,8 +101,36 @@ def time_vector(env_id: str, num_envs: int, steps: int, seconds: float, seed: in
         if time.perf_counter() - start > seconds:
             break
     elapsed = time.perf_counter() - start
+    state_bytes = 0
+    state = getattr(env.unwrapped, "state", None)
+    if state is not None:
+        from bbgym.envs.core import tree_map
+
+        leaves: list = []
+        tree_map(leaves.append, state)
+        state_bytes = sum(int(getattr(leaf, "nbytes", 0)) for leaf in leaves)
     env.close()
-    return done * num_envs / elapsed
+    return {"rate": done * num_envs / elapsed, "warmup_s": warmup, "state_mb": state_bytes / 2**20}
+
+
+def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """The backend rows: CartPole, NumPy and torch (float64, float32) at each N."""
+    rows: list[dict[str, Any]] = []
+    for n in args.backend_envs:
+        steps = max(3, args.steps // n)
+        reference = time_vector(REFERENCE, n, steps, args.seconds, args.seed)
+        rows.append({"env": REFERENCE, "kind": f"N={n}", "rate": reference, "ratio": 1.0})
+        for env_id in args.envs:
+            kinds = [("numpy float64", {})] if n > max(args.num_envs) else []
+            kinds += [(f"torch {d}", {"backend": "torch", "dtype": d, "compile": args.compile})
+                      for d in ("float64", "float32")]  # fmt: skip
+            for kind, backend in kinds:
+                r = time_backend(env_id, n, steps, args.seconds, args.seed, **backend)
+                rows.append({"env": env_id, "kind": f"N={n} {kind}", **r,
+                             "ratio": r["rate"] / reference})  # fmt: skip
+                print(f"{env_id} N={n} {kind}: {r['rate']:,.0f}/s, "
+                      f"warm-up {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
+    return rows
 
 
 def vector_memory_mb(env_id: str, num_envs: int, steps: int, seed: int) -> float:
@@ -130,7 +178,16 @@ def machine_info() -> dict[str, Any]:
         "cpu_count": os.cpu_count(),
         "numpy": np.__version__,
         "gymnasium": gym.__version__,
+        **torch_info(),
     }
+
+
+def torch_info() -> dict[str, Any]:
+    try:
+        import torch
+    except ImportError:
+        return {}
+    return {"torch": torch.__version__, "torch_threads": torch.get_num_threads()}
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
@@ -164,7 +221,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     memory = {
         env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
     }
-    return {"rows": rows, "memory_mb": memory, "machine": machine_info()}
+    backend = backend_rows(args) if args.backends else []
+    return {"rows": rows, "backend_rows": backend, "memory_mb": memory,
+            "machine": machine_info()}  # fmt: skip
 
 
 def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
@@ -175,13 +234,27 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
     for r in result["rows"]:
         unit = " throws/s" if r["env"] in THROW_ENVS and r["kind"] != "PPO 8 envs" else ""
         lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {r['ratio']:.4f} |")
+    if result.get("backend_rows"):
+        lines += [
+            "",
+            "| env | N, backend | steps/s | ratio to CartPole-v1 (same N) | first 2 steps "
+            "(compile) | state |",
+            "|---|---|---:|---:|---:|---:|",
+        ]
+        for r in result["backend_rows"]:
+            unit = " throws/s" if r["env"] in THROW_ENVS else ""
+            extra = (f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r
+                     else " | ")  # fmt: skip
+            lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
+                         f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
     lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |", "|---|---:|"]
     lines += [f"| {env_id} | {mb:.1f} MB |" for env_id, mb in result["memory_mb"].items()]
     m = result["machine"]
     lines += [
         "",
         f"machine: {m['platform']}, {m['cpu_count']} CPUs, python {m['python']}, "
-        f"numpy {m['numpy']}, gymnasium {m['gymnasium']}",
+        f"numpy {m['numpy']}, gymnasium {m['gymnasium']}, torch {m.get('torch', '-')} "
+        f"({m.get('torch_threads', '-')} threads)",
         f"settings: {args.steps} steps per loop, loops capped at {args.seconds} s, best of "
         f"{args.repeats}; PPO: MlpPolicy, 8 envs, n_steps {args.ppo_n_steps}, "
         f"{args.ppo_timesteps} timesteps",
@@ -197,11 +270,17 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--seconds", type=float, default=2.0, help="cap of each timed loop")
     parser.add_argument("--repeats", type=int, default=2, help="repeats, the best is kept")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--backends", action="store_true", help="add the torch backend rows")
+    parser.add_argument("--torch-threads", type=int, default=2, help="torch's thread count")
+    parser.add_argument("--envs", nargs="+", default=list(BBGYM_ENVS), choices=BBGYM_ENVS)
+    parser.add_argument("--no-compile", dest="compile", action="store_false",
+                        help="torch rows eager (no torch.compile)")  # fmt: skip
     args = parser.parse_args(argv)
     if args.steps < 1 or args.repeats < 1 or args.seconds <= 0:
         parser.error("--steps and --repeats must be >= 1 and --seconds > 0")
-    args.envs = BBGYM_ENVS
+    args.envs = tuple(args.envs)
     args.num_envs = (1, 64, 1024, 4096)
+    args.backend_envs = (1024, 4096, 65536)
     args.memory_envs = 4096
     args.ppo_timesteps, args.ppo_n_steps = 2048, 256
     if args.quick:
@@ -209,11 +288,21 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         args.num_envs = (1, 8)
         args.memory_envs = 64
         args.ppo_timesteps, args.ppo_n_steps = 64, 8
+        args.backend_envs = (8,)
+        args.compile = False
     return args
 
 
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
+    try:
+        import torch
+
+        torch.set_num_threads(args.torch_threads)  # pinned: every torch row, PPO included
+    except ImportError:
+        if args.backends:
+            print("--backends needs torch: pip install 'bbgym[torch]'", file=sys.stderr)
+            return 2
     start = time.perf_counter()
     result = run(args)
     table = format_table(result, args)

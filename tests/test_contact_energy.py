@@ -77,7 +77,7 @@ def rest_on_ground(p: BallParams, s: BallState) -> BallState:
     """One substep of gravity alone (semi-implicit Euler), then the ground: no air, so the
     contact's numbers are the analytic ones (the normal impulse is exactly m g dt)."""
     vz = s.vz - G * DT
-    s = replace(s, x=s.x + s.vx * DT, y=s.y + s.vy * DT, z=s.z + vz * DT, vz=vz)
+    s = s._replace(x=s.x + s.vx * DT, y=s.y + s.vy * DT, z=s.z + vz * DT, vz=vz)
     return ground_contact(p, s, DT, scalar)[0]
 
 
@@ -187,7 +187,7 @@ def test_one_ground_contact_never_adds_energy_and_keeps_contact_angular_momentum
     r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
     s = ball_at(0.0, 0.0, r * (1.0 - depth), *v, *w)
     after, touching = ground_contact(p, s, DT, scalar)
-    values = [getattr(after, f.name) for f in fields(after)]
+    values = list(after)
     assert all(math.isfinite(x) for x in values)
     before_e, after_e = kinetic_energy(p, s), kinetic_energy(p, after)
     assert after_e <= before_e * (1.0 + 1e-9) + 1e-12
@@ -219,8 +219,8 @@ def test_one_ground_contact_never_adds_energy_and_keeps_contact_angular_momentum
     end = contact_slip(p, after.vx, after.vy, after.wx, after.wy)
     assert end[0] * mid[0] + end[1] * mid[1] >= -1e-9 * scale / m * math.hypot(*mid)
     # The batched (NumPy) contact is the same computation.
-    batch, _ = ground_contact(p, BallState(*(np.array([x]) for x in vars(s).values())), DT)
-    np.testing.assert_allclose([getattr(batch, f.name)[0] for f in fields(batch)], values,
+    batch, _ = ground_contact(p, BallState(*(np.array([x]) for x in s)), DT)
+    np.testing.assert_allclose([x[0] for x in batch], values,
                                rtol=1e-12, atol=1e-12)  # fmt: skip
 
 
@@ -275,7 +275,7 @@ def test_ball_hitting_the_wall_keeps_angular_momentum_and_never_adds_energy(
     p = replace(wall, ball_restitution=restitution)
     s = wall_at(6.0)
     side = pivot if pivot != 0.0 else 1.0
-    s.pivot, s.angle, s.rate = pivot, pivot * lean, rate if pivot != 0.0 else 0.0
+    s = s._replace(pivot=pivot, angle=pivot * lean, rate=rate if pivot != 0.0 else 0.0)
     b, t, c, sn = p.half_base_m, p.thickness_m, math.cos(s.angle), math.sin(s.angle)
     pivot_x = s.base_x + side * b
     foot_x, foot_z = pivot_x - side * b * c, side * b * sn
@@ -362,9 +362,9 @@ def test_random_throw_with_any_ball_is_finite_on_numpy_and_python_floats(
         max_time_s=4.0, max_roll_s=1.0,
     )  # fmt: skip
     got = [one.landing_x, one.landing_y, one.flight_time_s, one.apex_height_m]
-    got += [getattr(one.final, f.name) for f in fields(one.final)]
+    got += list(one.final)
     assert all(math.isfinite(x) for x in got)
     want = [batch.landing_x, batch.landing_y, batch.flight_time_s, batch.apex_height_m]
-    want += [getattr(batch.final, f.name) for f in fields(batch.final)]
+    want += list(batch.final)
     np.testing.assert_allclose(got, np.concatenate(want), rtol=1e-9, atol=1e-9)
     assert one.steps == batch.steps[0]

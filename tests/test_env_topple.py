@@ -164,10 +164,15 @@ def test_a_wall_falling_mid_interval_stops_only_its_env_in_a_batch():
     assert len(vec_info["ball_trajectory"][1]) == 0  # a wait throws no ball
 
 
+def _names(state):
+    """Field names of a state: a NamedTuple's or a dataclass's."""
+    return state._fields if isinstance(state, tuple) else [f.name for f in fields(state)]
+
+
 @pytest.mark.parametrize("num_envs", [0, 3])  # 0: the single env
 def test_steps_and_resets_make_new_states_and_never_change_old_ones(num_envs):
     """A state object, once made, keeps its values: a step or a (partial) reset replaces
-    the sim's wall, gust and scenario states instead of writing into them."""
+    the env's wall, gust and scenario states instead of writing into them."""
     if num_envs:
         env = BeachballToppleVectorEnv(num_envs=num_envs, throws_per_episode=2)
         actions = [np.stack([throw(14.0, 15.0), WAIT, throw(9.0, 25.0)])] * 5
@@ -175,17 +180,16 @@ def test_steps_and_resets_make_new_states_and_never_change_old_ones(num_envs):
         env = BeachballToppleEnv(throws_per_episode=2)
         actions = [throw(14.0, 15.0), WAIT, throw(9.0, 25.0), WAIT, WAIT]
     env.reset(seed=1, options=dict(wind=(2.0, 0.0), wall_distance=6.0))
-    sim = env._sim
     stressed = 0
     for action in actions:  # the third step restarts the vector env's sub-envs
-        kept = (sim.wall, sim.gust, sim.scenario)
-        values = [{f.name: np.copy(getattr(s, f.name)) for f in fields(s)} for s in kept]
-        stressed += np.any(np.asarray(sim.wall.stress) > 0.0)
+        kept = (env.state.wall, env.state.gust, env.state.scenario)
+        values = [{n: np.copy(getattr(s, n)) for n in _names(s)} for s in kept]
+        stressed += np.any(np.asarray(env.state.wall.stress) > 0.0)
         _, _, terminated, _, _ = env.step(action)
         for state, before in zip(kept, values, strict=True):
             for name, value in before.items():
                 np.testing.assert_array_equal(getattr(state, name), value, err_msg=name)
-        assert sim.wall is not kept[0]
+        assert env.state.wall is not kept[0]
         if not num_envs and terminated:
             env.reset()
     assert stressed >= 2  # the interval's stress reset had something to clear

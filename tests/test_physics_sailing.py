@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -39,7 +38,7 @@ def hold_course(p, state, sheet, wx, wy, seconds):
     for _ in range(int(seconds / DT)):
         heading = state.heading_rad.copy()
         state, _ = substep(p, state, rudder, limit, wx, wy, DT)
-        state = replace(state, heading_rad=heading, yaw_rate_rps=np.zeros_like(heading))
+        state = state._replace(heading_rad=heading, yaw_rate_rps=np.zeros_like(heading))
     return state
 
 
@@ -139,7 +138,7 @@ def test_sail_force_splits_into_drive_and_side_by_boom_angle():
 
 def test_heel_scales_sail_area_by_cos_heel():
     upright = dinghy_at_rest(1, boom_rad=-0.4)
-    heeled = replace(upright, heel_rad=np.array([math.radians(40.0)]))
+    heeled = upright._replace(heel_rad=np.array([math.radians(40.0)]))
     aw = (np.array([-3.0]), np.array([-4.0]))
     assert sail_force(P, heeled, *aw)[2][0] == pytest.approx(
         sail_force(P, upright, *aw)[2][0] * math.cos(math.radians(40.0))
@@ -258,7 +257,7 @@ def test_energy_does_not_grow_without_input():
     # No wind, no rudder: drag only takes energy away, step after step.
     p = P
     s = dinghy_at_rest(1, speed_mps=3.0)
-    s = replace(s, yaw_rate_rps=np.array([0.3]), heel_rate_rps=np.array([0.5]))
+    s = s._replace(yaw_rate_rps=np.array([0.3]), heel_rate_rps=np.array([0.5]))
 
     def kinetic(st):
         return (
@@ -282,7 +281,7 @@ def test_undamped_heel_swing_is_implicit_euler_exactly():
     # swings with the period 2 pi h / atan(w h) (explicit Euler would grow it by
     # 1 + (w h)^2 per substep).
     q = P.replace(heel_damping=0.0, crew_righting_nm=0.0)
-    s = replace(dinghy_at_rest(1), heel_rad=np.array([0.01]))
+    s = dinghy_at_rest(1)._replace(heel_rad=np.array([0.01]))
     w = math.sqrt(q.hull_righting_nm / q.heel_inertia_kgm2)
 
     def heel_energy(st):
@@ -339,12 +338,11 @@ def test_batched_physics_matches_elementwise():
 def test_scalar_namespace_matches_numpy():
     # One env runs on Python floats (bbgym.physics.backend.scalar), a batch on NumPy: the
     # same functions must give the same trajectory, through tacks, jibes and the sheet stop.
-    from dataclasses import fields
 
     from bbgym.physics.backend import scalar
 
     s = dinghy_at_rest(1, heading_rad=0.4, speed_mps=2.0, boom_rad=-0.3)
-    f = type(s)(**{k.name: getattr(s, k.name)[0].item() for k in fields(s)})
+    f = type(s)(**{k: getattr(s, k)[0].item() for k in s._fields})
     rng = np.random.default_rng(5)
     jibes = tacks = 0
     for _ in range(400):  # turning circles in a 6.3 m/s wind: tacks and a jibe

@@ -49,7 +49,7 @@ YAW_RATE_BOUND_RPS = 3.0
 def check_bounded(p: DinghyParams, s: DinghyState, wind_mps, speed0_mps, where: str) -> None:
     """Finite, and bounded as a boat is: never faster than twice the wind plus its start
     speed, heel within the capsize angle unless capsized, crew within its two sides."""
-    state = np.stack([np.asarray(getattr(s, f.name), dtype=float) for f in fields(s)])
+    state = np.stack([np.asarray(getattr(s, f), dtype=float) for f in s._fields])
     assert np.isfinite(state).all(), where
     speed = np.hypot(s.vx_mps, s.vy_mps)
     assert (speed <= 2.0 * np.asarray(wind_mps) + speed0_mps + 1e-9).all(), where
@@ -79,7 +79,7 @@ def sail_floats(p, steps, wind, speed0, seed, heading=0.7, wind_from=0.0):
     """One boat on Python floats (``backend.scalar``), random rudder and sheet."""
     rng = np.random.default_rng(seed)
     s0 = dinghy_at_rest(1, heading_rad=heading, speed_mps=speed0)
-    s = DinghyState(**{f.name: getattr(s0, f.name)[0].item() for f in fields(s0)})
+    s = DinghyState(**{f: getattr(s0, f)[0].item() for f in s0._fields})
     wx, wy = -wind * math.cos(wind_from), -wind * math.sin(wind_from)
     for t in range(steps):
         rudder = float(rng.uniform(-1.0, 1.0)) * p.rudder_max_rad
@@ -104,7 +104,7 @@ def test_floats_and_batch_agree_for_the_regression_boats():
     for boat in REGRESSION_BOATS:
         p = DinghyParams(**boat)
         s = dinghy_at_rest(1, heading_rad=0.4, speed_mps=2.0, boom_rad=-0.3)
-        f = DinghyState(**{k.name: getattr(s, k.name)[0].item() for k in fields(s)})
+        f = DinghyState(**{k: getattr(s, k)[0].item() for k in s._fields})
         for k in range(120):
             rudder, sheet = 0.35 * math.sin(0.1 * k), 0.2 + 0.4 * (k % 7) / 7
             s, _ = step(p, s, np.array([rudder]), np.array([sheet]), np.array([-7.0]),
@@ -134,7 +134,7 @@ def test_hull_drag_decays_a_fast_boat_without_overshoot():
     p = DinghyParams()
     for dt in (0.05, 0.25):
         s0 = dinghy_at_rest(1, speed_mps=100.0)
-        f = DinghyState(**{k.name: getattr(s0, k.name)[0].item() for k in fields(s0)})
+        f = DinghyState(**{k: getattr(s0, k)[0].item() for k in s0._fields})
         speeds = [100.0]
         for _ in range(200):
             f, _ = substep(p, f, 0.0, p.sheet_min_rad, 0.0, 0.0, dt, scalar)
@@ -158,7 +158,7 @@ def test_gale_and_hurricane_winds_stay_finite():
 
 def sail_floats_unbounded_yaw(p, steps, wind):
     s0 = dinghy_at_rest(1, heading_rad=1.0, speed_mps=2.0)
-    s = DinghyState(**{f.name: getattr(s0, f.name)[0].item() for f in fields(s0)})
+    s = DinghyState(**{f: getattr(s0, f)[0].item() for f in s0._fields})
     for t in range(steps):
         s, _ = step(p, s, 0.2 * p.rudder_max_rad, 0.5, -wind, 0.0, 0.05, 5, scalar)
         check_bounded(p, s, wind, 2.0, f"step {t}")
@@ -276,7 +276,7 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
     for t in range(200):
         rudder = rng.uniform(-1.0, 1.0, n) * p.rudder_max_rad
         s, events = step(p, s, rudder, rng.uniform(0.0, 1.0, n), wx, wy, dt, round(0.25 / dt))
-        state = np.stack([np.asarray(getattr(s, f.name), dtype=float) for f in fields(s)])
+        state = np.stack([np.asarray(getattr(s, f), dtype=float) for f in s._fields])
         assert np.isfinite(state).all(), t
         assert np.isfinite(events.jibe_severity_rps).all(), t
         assert (np.hypot(s.vx_mps, s.vy_mps) <= 10.0 * (wind + speed0) + 1.0).all(), t
@@ -284,12 +284,12 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
         assert (np.abs(np.where(upright, s.heel_rad, 0.0)) <= p.capsize_heel_rad).all(), t
         assert (np.abs(s.crew_out) <= 1.0).all(), t
     # The same boat on Python floats (math.* raises where NumPy would only warn).
-    f = DinghyState(**{k.name: getattr(s, k.name)[0].item() for k in fields(s)})
-    f = replace(f, capsized=False, heel_rad=0.0, heel_rate_rps=0.0)
+    f = DinghyState(**{k: getattr(s, k)[0].item() for k in s._fields})
+    f = f._replace(capsized=False, heel_rad=0.0, heel_rate_rps=0.0)
     for _ in range(50):
         f, _ = step(p, f, 0.5 * p.rudder_max_rad, 0.5, float(wx[0]), float(wy[0]), dt,
                     round(0.25 / dt), scalar)  # fmt: skip
-        assert all(math.isfinite(getattr(f, k.name)) for k in fields(f))
+        assert all(math.isfinite(getattr(f, k)) for k in f._fields)
 
 
 def passive(p: DinghyParams) -> DinghyParams:
@@ -327,8 +327,7 @@ def test_implicit_damping_never_creates_energy(p, dt, seed):
     sheet = rng.uniform(0.0, 1.0, n)
     limit = q.sheet_min_rad + sheet * (q.sheet_max_rad - q.sheet_min_rad)
     upright = dinghy_at_rest(n)
-    upright = replace(
-        upright,
+    upright = upright._replace(
         heel_rad=rng.uniform(-0.9, 0.9, n) * q.capsize_heel_rad,
         heel_rate_rps=rng.uniform(-3.0, 3.0, n),
         yaw_rate_rps=rng.uniform(-2.0, 2.0, n),
@@ -338,8 +337,7 @@ def test_implicit_damping_never_creates_energy(p, dt, seed):
     check_energy_never_grows(q, upright, sheet, dt)
     heading = rng.uniform(-math.pi, math.pi, n)
     moving = dinghy_at_rest(n, heading_rad=heading, speed_mps=rng.uniform(0.0, 15.0, n))
-    moving = replace(
-        moving,
+    moving = moving._replace(
         heading_rad=heading + rng.uniform(-math.pi, math.pi, n),  # drifting any way
         yaw_rate_rps=rng.uniform(-2.0, 2.0, n),
         capsized=np.ones(n, dtype=bool),

@@ -72,8 +72,9 @@ def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
 
 
 def element(obj: Any, i: int) -> Any:
-    """Element ``i`` of a batch dataclass, as Python scalars."""
-    return type(obj)(**{f.name: getattr(obj, f.name)[i].item() for f in fields(obj)})
+    """Element ``i`` of a batch dataclass or NamedTuple, as Python scalars."""
+    names = obj._fields if isinstance(obj, tuple) else [f.name for f in fields(obj)]
+    return type(obj)(**{name: getattr(obj, name)[i].item() for name in names})
 
 
 def vector_seeds(seed: int | list[int | None] | None, num_envs: int) -> list[int | None]:
@@ -113,7 +114,8 @@ def ensure_renderer(env: Any) -> Any:
             "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
         )
         return None
-    if not env._sim.started:
+    started = env.started if hasattr(env, "started") else env._sim.started
+    if not started:
         raise gym.error.ResetNeeded("Call reset() before render()")
     if env._renderer is None:
         env._renderer = env._make_renderer()

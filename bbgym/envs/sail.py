@@ -1,7 +1,8 @@
 """BeachballSail-v0: sail a dinghy to a mark with rudder and sheet.
 
-The task code (:class:`SailTask`) is batched: the single env runs a batch of one, the
-native vector env a batch of ``num_envs``, through the same functions.
+The task's functional core (:class:`SailTask`) is pure functions over a batch of
+immutable :class:`SailState`: the single env runs it on Python floats, the native vector
+env on NumPy or compiled torch (:mod:`bbgym.envs.core`).
 """
 
 from __future__ import annotations
@@ -9,34 +10,33 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
+from bbgym import backends
 from bbgym.envs.common import (
-    NativeVectorEnv,
-    SingleEnv,
-    TaskSim,
     check_multiple,
     check_option_keys,
-    element,
     ensure_renderer,
     option_path,
 )
-from bbgym.physics import backend
-from bbgym.physics.backend import Array
+from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
+from bbgym.physics.backend import Array, floats
 from bbgym.physics.common import wrap_angle
 from bbgym.physics.sailing import (
     DinghyParams,
     DinghyState,
     StepEvents,
     apparent_wind_body,
-    dinghy_at_rest,
+    crew_step,
+    dinghy_moving,
     sail_force,
     split_along,
-    step,
+    step_begin,
+    step_end,
+    step_substep,
 )
 from bbgym.physics.validation import (
     ANGLE_RAD,
@@ -89,23 +89,50 @@ ARGUMENT_TABLE = (
 RENDER_PIXELS_PER_M = 16.0
 
 
-@dataclass
-class Scenario:
-    """What an episode is about, per env (arrays of shape ``(batch,)``)."""
+class Scenario(NamedTuple):
+    """What an episode is about, per env."""
 
-    wind_speed_mps: np.ndarray
-    wind_from_rad: np.ndarray
-    mark_x_m: np.ndarray
-    mark_y_m: np.ndarray
-    gusts: np.ndarray
+    wind_speed_mps: Array
+    wind_from_rad: Array
+    mark_x_m: Array
+    mark_y_m: Array
+    gusts: Array
 
 
-class SailTask:
-    """The sailing task over a batch: scenario sampling, transition, observation, reward.
+class SailState(NamedTuple):
+    """Everything an env is, immutable: the boat, the gusts, the scenario, this episode's
+    counters and what the last step reported (its reward terms)."""
 
-    Holds the arguments shared by :class:`BeachballSailEnv` and
+    boat: DinghyState
+    gust: GustState
+    scenario: Scenario
+    jibes: Array
+    tacks: Array
+    max_jibe_severity: Array
+    last_jibe_severity: Array
+    elapsed_s: Array
+    arrived: Array
+    progress: Array
+    arrival: Array
+    capsize: Array
+    time: Array
+
+
+REWARD_TERMS = ("progress", "arrival", "capsize", "time")
+
+
+class SailTask(TaskCore):
+    """The sailing task's functional core (see :mod:`bbgym.envs.core`): pure functions
+    over a batch of :class:`SailState`, for floats, NumPy and torch alike.
+
+    Holds the validated arguments shared by :class:`BeachballSailEnv` and
     :class:`BeachballSailVectorEnv`; see the env docstring for their meaning.
     """
+
+    initial_noise_counts = (6, 2)
+    """Uniform and normal draws per env for :meth:`initial`."""
+    step_noise_pairs = 1
+    """Pairs of standard normals a transition may use per env (the gusts)."""
 
     def __init__(
         self,
@@ -142,6 +169,9 @@ class SailTask:
         self.ctrl_dt = check_number("ctrl_dt", ctrl_dt, CTRL_DT_S)
         self.sim_dt = check_number("sim_dt", sim_dt, SIM_DT_S)
         self.n_substeps = check_multiple("ctrl_dt", self.ctrl_dt, "sim_dt", self.sim_dt)
+        # A compiled backend compiles one chunk of substeps: up to 5 (the default step) in a
+        # graph, so a step is few calls yet the graph stays small to compile.
+        self.substeps_per_chunk = max(k for k in range(1, 6) if self.n_substeps % k == 0)
         self.progress_weight = check_number("progress_weight", progress_weight, REWARD_WEIGHT)
         self.arrival_bonus = check_number("arrival_bonus", arrival_bonus, REWARD_WEIGHT)
         self.capsize_penalty = check_number("capsize_penalty", capsize_penalty, REWARD_WEIGHT)
@@ -149,6 +179,9 @@ class SailTask:
         # Progress is measured against what a fast boat covers in one step, so the dense
         # term stays within [-1, 1] per step.
         self.progress_scale_m = BOAT_SPEED_SCALE_MPS * self.ctrl_dt
+        # Fill the physics' per-step-size caches now, not while torch.compile traces a step
+        # (a cache filled during tracing changes the guards and forces a recompile).
+        crew_step(self.params, 0.0, 0.0, 0.0, self.sim_dt, floats)
 
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
@@ -158,46 +191,51 @@ class SailTask:
         )
 
     # -- scenario ---------------------------------------------------------------------------
-    def sample(
-        self, rngs: list[np.random.Generator], options: Mapping[str, Any] | None
-    ) -> tuple[Scenario, DinghyState, GustState]:
-        """Draw a scenario and the initial boat and gust state for each generator."""
-        options = self.check_options(options)
-        batch = len(rngs)
-        draws = np.array([rng.random(6) for rng in rngs]).T  # (6, batch), one row per use
-        noise = np.array([rng.standard_normal(2) for rng in rngs]).T
+    def initial(self, noise: InitialNoise, options: Mapping[str, Any], xp: Any) -> SailState:
+        """A fresh episode per env from its draws (``noise.uniform[0..5]``,
+        ``noise.normal[0..1]``); checked ``options`` pin any of the draws' results."""
+        draws = noise.uniform
+        zero = 0.0 * draws[0]
+
+        def pinned(key: str, drawn: Any) -> Any:
+            return zero + options[key] if key in options else drawn
+
         lo, hi = self.wind_speed_range
-        wind_speed = options.get("wind_speed", lo + (hi - lo) * draws[0])
-        wind_from = options.get("wind_from", 2.0 * math.pi * draws[1])
+        wind_speed = pinned("wind_speed", lo + (hi - lo) * draws[0])
+        wind_from = pinned("wind_from", 2.0 * math.pi * draws[1])
         if "mark" in options:
-            mark_x, mark_y = options["mark"]
+            mark_x, mark_y = zero + options["mark"][0], zero + options["mark"][1]
         else:
             d_lo, d_hi = self.mark_distance_range
             distance = d_lo + (d_hi - d_lo) * draws[2]
             bearing = 2.0 * math.pi * draws[3]
-            mark_x, mark_y = distance * np.cos(bearing), distance * np.sin(bearing)
-        heading = options.get("heading", 2.0 * math.pi * draws[4])
+            mark_x, mark_y = distance * xp.cos(bearing), distance * xp.sin(bearing)
+        heading = pinned("heading", 2.0 * math.pi * draws[4])
         s_lo, s_hi = self.initial_speed_range
-        speed = options.get("speed", s_lo + (s_hi - s_lo) * draws[5])
-        gusts = np.broadcast_to(options.get("gusts", self.gusts), (batch,)).copy()
-
-        def full(value: Any) -> np.ndarray:
-            return np.broadcast_to(np.asarray(value, dtype=np.float64), (batch,)).copy()
-
-        heading = full(heading)
-        wind_from = full(wind_from)
+        speed = pinned("speed", s_lo + (s_hi - s_lo) * draws[5])
+        gusts = xp.full_like(zero, options.get("gusts", self.gusts), dtype=xp.bool)
         # Start with the boom to leeward, where the wind would put it.
-        wind_side = np.sin(wind_from - heading)
-        boom = -np.where(wind_side >= 0.0, 1.0, -1.0) * self.params.sheet_min_rad
-        scenario = Scenario(
-            wind_speed_mps=full(wind_speed),
-            wind_from_rad=wind_from,
-            mark_x_m=full(mark_x),
-            mark_y_m=full(mark_y),
-            gusts=gusts.astype(bool),
+        wind_side = xp.sin(wind_from - heading)
+        boom = xp.where(
+            wind_side >= 0.0, zero - self.params.sheet_min_rad, self.params.sheet_min_rad
         )
-        boat = dinghy_at_rest(batch, heading_rad=heading, speed_mps=full(speed), boom_rad=boom)
-        return scenario, boat, gust_init(self.gust_params, noise, scenario.gusts)
+        scenario = Scenario(wind_speed, wind_from, mark_x, mark_y, gusts)
+        count = xp.zeros_like(zero, dtype=xp.int64)
+        return SailState(
+            boat=dinghy_moving(heading, speed, boom, xp),
+            gust=gust_init(self.gust_params, noise.normal, gusts, xp),
+            scenario=scenario,
+            jibes=count,
+            tacks=count,
+            max_jibe_severity=zero,
+            last_jibe_severity=zero,
+            elapsed_s=zero,
+            arrived=zero > 0.0,
+            progress=zero,
+            arrival=zero,
+            capsize=zero,
+            time=zero,
+        )
 
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
         """Validate ``reset`` options against the same intervals as the constructor's
@@ -240,39 +278,91 @@ class SailTask:
             raise ValueError(f"action must be finite, got {action!r}")
         return np.clip(a, -1.0, 1.0)
 
-    def transition(
-        self,
-        boat: DinghyState,
-        gust: GustState,
-        scenario: Scenario,
-        rudder_action: Array,
-        sheet_action: Array,
-        noise: Any,
-        xp: Any = np,
-    ) -> tuple[DinghyState, GustState, StepEvents]:
-        """Hold rudder and sheet (actions in [-1, 1]) for ``ctrl_dt``, then move the gusts."""
+    def step_noise_mask(self, state: SailState, xp: Any) -> Any:
+        """Which envs draw a pair of normals this step: those with gusts (so an env's
+        random stream does not depend on the others)."""
+        return state.scenario.gusts
+
+    def wind(self, state: SailState, xp: Any) -> tuple[Array, Array, Array, Array]:
+        """True wind now: ``(vx, vy, speed, from)``."""
+        sc = state.scenario
+        return wind_vector(sc.wind_speed_mps, sc.wind_from_rad, state.gust, xp)
+
+    def begin(
+        self, state: SailState, action: Any, noise: Any, xp: Any, record: bool = False
+    ) -> tuple:
+        """Start a transition: hold rudder and sheet (actions in [-1, 1]: a ``(rudder,
+        sheet)`` pair of floats or a ``(batch, 2)`` array) and the wind for ``ctrl_dt``;
+        ``noise`` (a pair of standard normals per env) moves the gusts at the end."""
+        if xp is floats:
+            rudder_action, sheet_action = action
+        else:
+            rudder_action, sheet_action = action[:, 0], action[:, 1]
         rudder = rudder_action * self.params.rudder_max_rad
         sheet = 0.5 * (sheet_action + 1.0)
-        wind_x, wind_y, _, _ = wind_vector(
-            scenario.wind_speed_mps, scenario.wind_from_rad, gust, xp
-        )
-        boat, events = step(
-            self.params, boat, rudder, sheet, wind_x, wind_y, self.sim_dt, self.n_substeps, xp
-        )
-        gust = gust_step(gust, self.gust_params, self.ctrl_dt, noise, scenario.gusts, xp)
-        return boat, gust, events
+        wind_x, wind_y, _, _ = self.wind(state, xp)
+        carry = step_begin(self.params, state.boat, rudder, sheet, wind_x, wind_y, xp)
+        return (carry, noise[0], noise[1])
 
-    def measure(
-        self, boat: DinghyState, gust: GustState, scenario: Scenario, xp: Any = np
-    ) -> dict[str, Array]:
-        """Physical quantities of the current state (shared by observation, reward, info)."""
-        cos_h, sin_h = xp.cos(boat.heading_rad), xp.sin(boat.heading_rad)
-        wind_x, wind_y, wind_speed, wind_from = wind_vector(
-            scenario.wind_speed_mps, scenario.wind_from_rad, gust, xp
+    @property
+    def chunks(self) -> int:
+        """Chunks (:meth:`chunk`) per transition."""
+        return self.n_substeps // self.substeps_per_chunk
+
+    stops_early = False
+
+    def chunk(self, carry: tuple, xp: Any) -> tuple:
+        """``substeps_per_chunk`` physics substeps."""
+        boat = carry[0]
+        for _ in range(self.substeps_per_chunk):
+            boat = step_substep(self.params, boat, self.sim_dt, xp)
+        return (boat, carry[1], carry[2])
+
+    def end(self, state: SailState, carry: tuple, xp: Any) -> tuple[SailState, StepEvents]:
+        """Finish a transition: count the tack, move the gusts, score the step."""
+        sc = state.scenario
+        boat, events = step_end(self.params, state.boat, carry[0], xp)
+        noise = (carry[1], carry[2])
+        gust = gust_step(state.gust, self.gust_params, self.ctrl_dt, noise, sc.gusts, xp)
+        distance_before = xp.hypot(sc.mark_x_m - state.boat.x_m, sc.mark_y_m - state.boat.y_m)
+        distance = xp.hypot(sc.mark_x_m - boat.x_m, sc.mark_y_m - boat.y_m)
+        capsized = boat.capsized
+        arrived = (distance <= self.mark_radius) & xp.logical_not(capsized)
+        progress = (distance_before - distance) / self.progress_scale_m
+        progress = self.progress_weight * xp.clip(progress, -1.0, 1.0)
+        new = SailState(
+            boat=boat,
+            gust=gust,
+            scenario=sc,
+            jibes=state.jibes + events.jibes,
+            tacks=state.tacks + events.tacks,
+            max_jibe_severity=xp.maximum(state.max_jibe_severity, events.jibe_severity_rps),
+            last_jibe_severity=events.jibe_severity_rps,
+            elapsed_s=state.elapsed_s + self.ctrl_dt,
+            arrived=arrived,
+            progress=progress,
+            arrival=xp.where(arrived, self.arrival_bonus + 0.0 * progress, 0.0),
+            capsize=xp.where(capsized, -self.capsize_penalty + 0.0 * progress, 0.0),
+            time=0.0 * progress - self.time_penalty,  # same shape as the others
         )
+        return new, events
+
+    def reward(self, state: SailState, xp: Any) -> Array:
+        """Dense progress toward the mark, arrival bonus, capsize penalty, time cost."""
+        return state.progress + state.arrival + state.capsize + state.time
+
+    def terminal(self, state: SailState, xp: Any) -> Array:
+        """Arrived at the mark, or capsized."""
+        return state.arrived | state.boat.capsized
+
+    def measure(self, state: SailState, xp: Any) -> dict[str, Array]:
+        """Physical quantities of the current state (shared by observation and info)."""
+        boat, sc = state.boat, state.scenario
+        cos_h, sin_h = xp.cos(boat.heading_rad), xp.sin(boat.heading_rad)
+        wind_x, wind_y, wind_speed, wind_from = self.wind(state, xp)
         aw_u, aw_v = apparent_wind_body(boat, wind_x, wind_y, cos_h, sin_h)
         surge, sway = split_along(boat.vx_mps, boat.vy_mps, cos_h, sin_h)
-        dx, dy = scenario.mark_x_m - boat.x_m, scenario.mark_y_m - boat.y_m
+        dx, dy = sc.mark_x_m - boat.x_m, sc.mark_y_m - boat.y_m
         distance = xp.hypot(dx, dy)
         return {
             "surge": surge,
@@ -290,9 +380,9 @@ class SailTask:
             "leeway": xp.atan2(sway, xp.maximum(xp.abs(surge), 1e-9)) * xp.sign(surge),
         }
 
-    def observation_columns(self, boat: DinghyState, m: dict, xp: Any = np) -> tuple:
+    def observation(self, state: SailState, m: dict, xp: Any) -> tuple:
         """The 16 observation values (unclipped), in the order of the env's table."""
-        p = self.params
+        p, boat = self.params, state.boat
         return (
             xp.cos(m["apparent_wind_angle"]),
             xp.sin(m["apparent_wind_angle"]),
@@ -312,103 +402,17 @@ class SailTask:
             m["vmg_to_mark"] / BOAT_SPEED_SCALE_MPS,
         )
 
-    def reward(
-        self, previous_distance: Array, m: dict, arrived: Array, capsized: Array, xp: Any = np
-    ) -> tuple[Array, dict[str, Array]]:
-        """Dense progress toward the mark, arrival bonus, capsize penalty, time cost."""
-        progress = (previous_distance - m["distance_to_mark"]) / self.progress_scale_m
-        progress = self.progress_weight * xp.clip(progress, -1.0, 1.0)
-        terms = {
-            "progress": progress,
-            "arrival": self.arrival_bonus * arrived,
-            "capsize": -self.capsize_penalty * capsized,
-            "time": 0.0 * progress - self.time_penalty,  # same shape as the others
-        }
-        return terms["progress"] + terms["arrival"] + terms["capsize"] + terms["time"], terms
-
-
-class _SailSim(TaskSim):
-    """Task state over a batch (NumPy arrays) or for one env (Python floats, ``scalar``),
-    with per-env random streams and episode counters."""
-
-    boat: DinghyState
-
-    def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
-        """Start new episodes where ``mask`` is true."""
-        idx = np.flatnonzero(mask)
-        scenario, boat, gust = self.task.sample([self.streams.rngs[i] for i in idx], options)
-        self.streams.discard(mask)
-        if self.scalar:
-            self.scenario, self.boat, self.gust = (element(x, 0) for x in (scenario, boat, gust))
-            self.jibes = self.tacks = 0
-            self.max_jibe_severity = self.elapsed = 0.0
-        elif self.scenario is None or idx.size == self.batch:
-            self.scenario, self.boat, self.gust = scenario, boat, gust
-            self.jibes = np.zeros(self.batch, dtype=np.int64)
-            self.tacks = np.zeros(self.batch, dtype=np.int64)
-            self.max_jibe_severity = np.zeros(self.batch)
-            self.elapsed = np.zeros(self.batch)
-        else:
-            for name, new in (("scenario", scenario), ("boat", boat), ("gust", gust)):
-                old = getattr(self, name)
-                for f in fields(old):
-                    getattr(old, f.name)[idx] = getattr(new, f.name)
-            for counter in (self.jibes, self.tacks, self.max_jibe_severity, self.elapsed):
-                counter[idx] = 0
-        self.measures = self.task.measure(self.boat, self.gust, self.scenario, self.xp)
-        if self.scalar or idx.size == self.batch:
-            zero = 0.0 * self.measures["distance_to_mark"]
-            self.terms = {k: zero for k in ("progress", "arrival", "capsize", "time")}
-            self.last_jibe_severity = zero
-            self.arrived = zero > 0.0
-        else:  # the other envs keep what their last step reported
-            self.terms = {k: np.where(mask, 0.0, v) for k, v in self.terms.items()}
-            self.last_jibe_severity = np.where(mask, 0.0, self.last_jibe_severity)
-            self.arrived = self.arrived & ~mask
-
-    def _noise(self, active: np.ndarray | None) -> Any:
-        """Standard normal pairs for the gusts: only envs with gusts (and still running)
-        draw, so an env's random stream does not depend on the others."""
-        if self.scalar:
-            return self.streams.one(self.scenario.gusts)
-        gusts = self.scenario.gusts
-        return self.streams.pairs(gusts if active is None else gusts & active)
-
-    def step(self, action: Any, active: np.ndarray | None = None) -> tuple[Any, Any]:
-        """Advance by one control step; returns ``(reward, terminated)``."""
-        task, xp = self.task, self.xp
-        if self.scalar:
-            rudder, sheet = action
-        else:
-            rudder, sheet = action[:, 0], action[:, 1]
-        previous_distance = self.measures["distance_to_mark"]
-        self.boat, self.gust, events = task.transition(
-            self.boat, self.gust, self.scenario, rudder, sheet, self._noise(active), xp
-        )
-        self.jibes = self.jibes + events.jibes
-        self.tacks = self.tacks + events.tacks
-        self.last_jibe_severity = events.jibe_severity_rps
-        self.max_jibe_severity = xp.maximum(self.max_jibe_severity, events.jibe_severity_rps)
-        self.elapsed = self.elapsed + task.ctrl_dt
-        self.measures = task.measure(self.boat, self.gust, self.scenario, xp)
-        capsized = self.boat.capsized
-        arrived = (self.measures["distance_to_mark"] <= task.mark_radius) & xp.logical_not(capsized)
-        reward, self.terms = task.reward(previous_distance, self.measures, arrived, capsized, xp)
-        self.arrived = arrived
-        return reward, arrived | capsized
-
-    def observation(self) -> np.ndarray:
-        """Observation(s), float32, clipped to the space's bounds."""
-        columns = self.task.observation_columns(self.boat, self.measures, self.xp)
-        if self.scalar:  # clip the floats first: one small array, no temporaries
-            return np.array([min(max(c, -1.0), 1.0) for c in columns], dtype=np.float32)
-        return np.clip(np.stack(columns, axis=1), -1.0, 1.0).astype(np.float32)
-
-    def info(self) -> dict[str, Any]:
+    def info(self, state: SailState, m: dict, xp: Any) -> dict[str, Any]:
         """Physical quantities: Python scalars for one env, arrays ``(batch,)`` for a batch."""
-        m, boat, xp = self.measures, self.boat, self.xp
-        pair = np.array if self.scalar else (lambda xy: np.stack(xy, axis=1))
-        info = {
+        boat, sc = state.boat, state.scenario
+        if xp is floats:
+            pair: Any = np.array
+        else:
+
+            def pair(xy: tuple) -> Any:
+                return xp.stack(xy, axis=1)
+
+        return {
             "position": pair((boat.x_m, boat.y_m)),
             "velocity": pair((boat.vx_mps, boat.vy_mps)),
             "boat_speed": m["boat_speed"],
@@ -422,21 +426,16 @@ class _SailSim(TaskSim):
             "boom_angle": boat.boom_rad,
             "vmg_to_mark": m["vmg_to_mark"],
             "distance_to_mark": m["distance_to_mark"],
-            "mark": pair((self.scenario.mark_x_m, self.scenario.mark_y_m)),
-            "jibes": self.jibes,
-            "jibe_severity": self.last_jibe_severity,
-            "max_jibe_severity": self.max_jibe_severity,
-            "tacks": self.tacks,
+            "mark": pair((sc.mark_x_m, sc.mark_y_m)),
+            "jibes": state.jibes,
+            "jibe_severity": state.last_jibe_severity,
+            "max_jibe_severity": state.max_jibe_severity,
+            "tacks": state.tacks,
             "capsized": boat.capsized,
-            "elapsed_time": self.elapsed,
-            "is_success": self.arrived,
-            "reward_terms": dict(self.terms),
+            "elapsed_time": state.elapsed_s,
+            "is_success": state.arrived,
+            "reward_terms": {k: getattr(state, k) for k in REWARD_TERMS},
         }
-        if not self.scalar:
-            # Counters are updated in place by resets: hand out copies.
-            for key in ("jibes", "tacks", "max_jibe_severity", "capsized", "elapsed_time"):
-                info[key] = info[key].copy()
-        return info
 
 
 _DOC_ARGS = """
@@ -470,7 +469,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballSailEnv(SingleEnv):
+class BeachballSailEnv(CoreEnv):
     """Sail a dinghy from the start to a mark, in any direction from the wind, upright.
 
     ## Description
@@ -568,7 +567,6 @@ class BeachballSailEnv(SingleEnv):
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
     task_class = SailTask
-    sim_class = _SailSim
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
         super().__init__(render_mode, **kwargs)
@@ -586,7 +584,7 @@ class BeachballSailEnv(SingleEnv):
     def _on_step(self, action: Any) -> None:
         self._last_action = action
         if self.render_mode is not None:
-            self._wake.append((self._sim.boat.x_m, self._sim.boat.y_m))
+            self._wake.append((self.state.boat.x_m, self.state.boat.y_m))
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
@@ -595,7 +593,7 @@ class BeachballSailEnv(SingleEnv):
         renderer = ensure_renderer(self)
         if renderer is None:
             return None
-        return renderer.render(_scene(self._sim, 0, tuple(self._wake), self._last_action))
+        return renderer.render(_scene(self.task, self.state, tuple(self._wake), self._last_action))
 
 
 def _make_renderer(env: Any) -> Any:
@@ -608,20 +606,16 @@ def _make_renderer(env: Any) -> Any:
     )
 
 
-def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
-    """Drawing description of env ``i`` (the renderer itself does no physics)."""
+def _scene(task: SailTask, state: SailState, wake: tuple, action: np.ndarray) -> Any:
+    """Drawing description of one env's state, as floats (the renderer does no physics)."""
     from bbgym.render.sail_view import SailScene
 
-    xp = backend.scalar
-    if sim.scalar:
-        boat, gust, scenario = sim.boat, sim.gust, sim.scenario
-        jibes, tacks, elapsed = sim.jibes, sim.tacks, sim.elapsed
-    else:
-        boat, gust, scenario = (element(x, i) for x in (sim.boat, sim.gust, sim.scenario))
-        jibes, tacks, elapsed = int(sim.jibes[i]), int(sim.tacks[i]), float(sim.elapsed[i])
-    p = sim.task.params
-    m = sim.task.measure(boat, gust, scenario, xp)
-    wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed_mps, scenario.wind_from_rad, gust, xp)
+    xp = floats
+    boat, scenario = state.boat, state.scenario
+    jibes, tacks, elapsed = int(state.jibes), int(state.tacks), float(state.elapsed_s)
+    p = task.params
+    m = task.measure(state, xp)
+    wind_x, wind_y, _, _ = task.wind(state, xp)
     cos_h, sin_h = xp.cos(boat.heading_rad), xp.sin(boat.heading_rad)
     aw_u, aw_v = apparent_wind_body(boat, wind_x, wind_y, cos_h, sin_h)
     sail_normal_n = abs(sail_force(p, boat, aw_u, aw_v, xp)[2])
@@ -635,7 +629,7 @@ def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
         sail_force_n=sail_normal_n,
         sail_luffing=sail_normal_n < 5.0,
         mark_m=(scenario.mark_x_m, scenario.mark_y_m),
-        mark_radius_m=sim.task.mark_radius,
+        mark_radius_m=task.mark_radius,
         true_wind_mps=(wind_x, wind_y),
         apparent_wind_speed_mps=m["apparent_wind_speed"],
         apparent_wind_angle_rad=m["apparent_wind_angle"],
@@ -650,17 +644,16 @@ def _scene(sim: _SailSim, i: int, wake: tuple, action: np.ndarray) -> Any:
     )
 
 
-class BeachballSailVectorEnv(NativeVectorEnv):
+class BeachballSailVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballSailEnv`: one batched simulation.
 
-    Same task, spaces, arguments and info keys as the single env; see
-    :class:`bbgym.envs.common.NativeVectorEnv` for seeding, autoreset and infos.
+    Same task, spaces, arguments and info keys as the single env, plus the backend
+    keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``; see
+    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset and infos.
     """
 
-    metadata = {**NativeVectorEnv.metadata, "render_fps": 4}
+    metadata = {**CoreVectorEnv.metadata, "render_fps": 4}
     task_class = SailTask
-    sim_class = _SailSim
-
     default_max_episode_steps = 1200
 
     def __init__(
@@ -673,23 +666,29 @@ class BeachballSailVectorEnv(NativeVectorEnv):
         super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
         self._wakes = [deque(maxlen=120) for _ in range(self.num_envs)]
         self._last_action = np.zeros((self.num_envs, 2))
+        self._wants_reset_hook = render_mode is not None
 
     def _on_reset(self, mask: np.ndarray) -> None:
-        for i in np.flatnonzero(mask):
+        for i in np.flatnonzero(mask)[:4]:
             self._wakes[i].clear()
         self._last_action[mask] = 0.0
 
-    def _on_step(self, actions: np.ndarray) -> None:
-        self._last_action = actions
+    def _on_step(self, actions: Any) -> None:
         if self.render_mode is not None:
+            self._last_action = np.array(backends.to_numpy(actions), dtype=np.float64)
+            x = backends.to_numpy(self.state.boat.x_m)
+            y = backends.to_numpy(self.state.boat.y_m)
             for i in range(min(self.num_envs, 4)):
-                self._wakes[i].append((float(self._sim.boat.x_m[i]), float(self._sim.boat.y_m[i])))
+                self._wakes[i].append((float(x[i]), float(y[i])))
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
     def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
-        return renderer.render(_scene(self._sim, i, tuple(self._wakes[i]), self._last_action[i]))
+        state = self.element_state(i)
+        return renderer.render(
+            _scene(self.task, state, tuple(self._wakes[i]), self._last_action[i])
+        )
 
 
 BeachballSailEnv.__doc__ = BeachballSailEnv.__doc__.replace("{args}", _DOC_ARGS)

@@ -1,33 +1,48 @@
 """BeachballThrow-v0 and BeachballCurve-v0: throw a beach ball through wind into a ring.
 
 Each env step is one throw, simulated until the ball rests, leaves the field or time runs
-out. The task code (:class:`ThrowTask`) is batched; the single env runs it on Python
-floats, the native vector env on NumPy arrays.
+out. The task's functional core (:class:`ThrowTask`) is pure functions over a batch of
+immutable :class:`ThrowState`: the single env runs it on Python floats, the native vector
+env on NumPy or compiled torch (:mod:`bbgym.envs.core`).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import replace
+from typing import Any, NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
+from bbgym import backends
 from bbgym.envs.common import (
-    NativeVectorEnv,
-    SingleEnv,
-    TaskSim,
     check_box_action,
     check_option_keys,
-    element,
     ensure_renderer,
     mean_wind,
     option_path,
 )
-from bbgym.physics import backend
-from bbgym.physics.ball import BallParams, Screen, ball_at, simulate_throw
+from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
+from bbgym.physics.backend import Array, floats
+from bbgym.physics.ball import (
+    FLIGHT_SUBSTEPS_MAX,
+    BallParams,
+    Flight,
+    Screen,
+    ball_at,
+    flight_chunk,
+    flight_record_every,
+    flight_result,
+    flight_start,
+    flight_substeps,
+    launch_spin_parameter,
+    pose_of,
+    recorded_poses,
+    sample_count,
+    simulate_throw,
+)
 from bbgym.physics.validation import (
     build_params,
     check_bool,
@@ -95,16 +110,91 @@ ARGUMENT_TABLE = (
 """The README's table of the throw envs' arguments and options (a test keeps them equal)."""
 
 
-@dataclass
-class ThrowScenario:
-    """Per env (arrays ``(batch,)`` or floats): target, mean wind, screen, gusts."""
+CHUNK_SUBSTEPS = 2
+"""Flight substeps per chunk of a batched throw (between two "all landed?" checks). Small,
+because inductor's compile time grows faster than the chunk (one substep compiles in
+about 8 s on two CPU cores, 4 in 35 s, 8 in 85 s) while a call costs little."""
+RECORD_DT_S = 0.05
+"""Time between two recorded poses of a trajectory."""
+REWARD_TERMS = ("closeness", "hit")
 
-    target_x: Any
-    target_y: Any
-    wind_speed: Any
-    wind_from: Any
-    gusts: Any
-    screen: Any
+
+class ThrowScenario(NamedTuple):
+    """What an episode is about, per env (arrays ``(batch,)`` or floats): target, mean
+    wind, screen, gusts."""
+
+    target_x: Array
+    target_y: Array
+    wind_speed: Array
+    wind_from: Array
+    gusts: Array
+    screen: Array
+
+
+class LastAction(NamedTuple):
+    """The last throw's action (clipped to [-1, 1]), as the observation shows it."""
+
+    impulse_x: Array
+    impulse_y: Array
+    impulse_z: Array
+    spin_x: Array
+    spin_y: Array
+    spin_z: Array
+
+
+class ThrowState(NamedTuple):
+    """Everything an env is, immutable: the scenario, the gusts, the windsock's reading,
+    this episode's counters and what the last throw did (its reward terms included)."""
+
+    scenario: ThrowScenario
+    gust: GustState
+    sock_x: Array
+    sock_y: Array
+    throws_left: Array
+    thrown: Array
+    """A throw has been made this episode (the fields below describe the last one)."""
+    action: LastAction
+    landing_x: Array
+    landing_y: Array
+    miss_distance: Array
+    flight_time: Array
+    apex_height: Array
+    spin_parameter: Array
+    hit_screen: Array
+    wind_x: Array
+    """The wind during the last throw."""
+    wind_y: Array
+    is_success: Array
+    closeness: Array
+    hit: Array
+
+
+class ThrowCarry(NamedTuple):
+    """What a throw carries from chunk to chunk: arrays only (``poses`` is ``None``
+    unless recording, on NumPy or floats), so one compiled chunk serves every call."""
+
+    flight: Flight
+    wind_x: Array
+    wind_y: Array
+    screen: Screen
+    spin_parameter: Array
+    action: LastAction
+    noise: tuple
+    poses: list | None
+    """The launch's pose, then the pose after every substep flown (when recording)."""
+
+
+class ThrowEvents(NamedTuple):
+    """What a transition reports besides the new state."""
+
+    noise_used: Array
+    """Pairs of the step's noise window used per env: 2 with gusts (gusts, then the
+    windsock), else 1 (the windsock)."""
+    trajectory: list
+    """The recorded poses (every ``RECORD_DT_S``, the launch's first) of the batch, cut
+    to the last flight's (empty unless recording)."""
+    steps: Array
+    """How many of them belong to each env's flight."""
 
 
 def launch_from_action(
@@ -121,8 +211,34 @@ def launch_from_action(
     return scaled(action[..., :3], max_speed), scaled(action[..., 3:], max_spin)
 
 
-class ThrowTask:
-    """The throwing task over a batch; see :class:`BeachballThrowEnv` for the arguments."""
+def _scaled(columns: tuple, limit: float, xp: Any) -> list:
+    """:func:`launch_from_action` on three columns, in any namespace (same bits)."""
+    v = [c * limit for c in columns]
+    norm = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    scale = xp.minimum(1.0, limit / xp.maximum(norm, 1e-12))
+    return [c * scale for c in v]
+
+
+class ThrowTask(TaskCore):
+    """The throwing task's functional core (see :mod:`bbgym.envs.core`): pure functions
+    over a batch of :class:`ThrowState`, for floats, NumPy and torch alike. A transition
+    is one throw: :meth:`begin` launches, :meth:`chunk` flies ``CHUNK_SUBSTEPS`` substeps
+    (finished balls frozen), :meth:`end` scores it and moves the gusts on.
+
+    Holds the validated arguments shared by :class:`BeachballThrowEnv` and
+    :class:`BeachballThrowVectorEnv`; see the env docstring for their meaning.
+    """
+
+    initial_noise_counts = (4, 2)
+    """Uniform draws (target distance and bearing, wind speed and direction) and normal
+    draws (the gusts' start) per env for :meth:`initial`."""
+    initial_stream_pairs = 1
+    """The windsock's first reading noise."""
+    step_noise_pairs = 2
+    """A window of two pairs per throw: the gusts' step (with gusts), then the windsock's
+    reading noise; :attr:`ThrowEvents.noise_used` says how many an env used."""
+    stops_early = True
+    chunk_substeps = CHUNK_SUBSTEPS
 
     def __init__(
         self,
@@ -198,6 +314,12 @@ class ThrowTask:
         )
         self.miss_scale = check_number("miss_scale", miss_scale, MISS_SCALE_M)
         self.hit_bonus = check_number("hit_bonus", hit_bonus, REWARD_WEIGHT)
+        self.flight_substeps = flight_substeps(self.sim_dt, self.max_flight_time)
+        assert self.flight_substeps < FLIGHT_SUBSTEPS_MAX  # 600 s / 1e-4 s = 6e6
+        self.record_every = flight_record_every(self.sim_dt, RECORD_DT_S)
+        # Fill the ball's derived constants now, not while torch.compile traces a chunk (a
+        # cache filled during tracing changes the guards and forces a recompile).
+        _ = self.ball.mass_kg, self.ball.inertia_kgm2, self.ball.area_m2
 
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
@@ -218,36 +340,38 @@ class ThrowTask:
                 checked[key] = check_norm(path, check_pair(path, value), self.target_distance)
         return checked
 
-    def sample(
-        self, rngs: list[np.random.Generator], options: Mapping[str, Any] | None
-    ) -> tuple[ThrowScenario, GustState]:
-        """Draw target, wind and gust state for each generator."""
-        options = self.check_options(options)
-        batch = len(rngs)
-        draws = np.array([rng.random(4) for rng in rngs]).T
-        noise = np.array([rng.standard_normal(2) for rng in rngs]).T
+    def initial(self, noise: InitialNoise, options: Mapping[str, Any], xp: Any) -> ThrowState:
+        """A fresh episode per env from its draws (``noise.uniform[0..3]``: target distance
+        and bearing, wind speed and direction; ``noise.normal[0..1]``: the gusts' start;
+        ``noise.stream[0..1]``: the windsock's reading noise); checked ``options`` pin
+        any of the draws' results."""
+        draws = noise.uniform
+        zero = xp.zeros_like(draws[0])
         if "target" in options:
-            target_x, target_y = options["target"]
+            target_x, target_y = zero + options["target"][0], zero + options["target"][1]
         else:
             d_lo, d_hi = self.target_distance_range
             b_lo, b_hi = self.target_bearing_range
             distance = d_lo + (d_hi - d_lo) * draws[0]
             bearing = b_lo + (b_hi - b_lo) * draws[1]
-            target_x, target_y = distance * np.cos(bearing), distance * np.sin(bearing)
+            target_x, target_y = distance * xp.cos(bearing), distance * xp.sin(bearing)
         wind_speed, wind_from = mean_wind(options, self.wind_speed_range, draws[2], draws[3])
-
-        def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
-            return np.broadcast_to(np.asarray(value, dtype=dtype), (batch,)).copy()
-
+        gusts = xp.full_like(zero, options.get("gusts", self.gusts), dtype=xp.bool)
+        screen = xp.full_like(zero, options.get("screen", self.screen), dtype=xp.bool)
         scenario = ThrowScenario(
-            target_x=full(target_x),
-            target_y=full(target_y),
-            wind_speed=full(wind_speed),
-            wind_from=full(wind_from),
-            gusts=full(options.get("gusts", self.gusts), bool),
-            screen=full(options.get("screen", self.screen), bool),
+            target_x, target_y, zero + wind_speed, zero + wind_from, gusts, screen
         )
-        return scenario, gust_init(self.gust_params, noise, scenario.gusts)
+        gust = gust_init(self.gust_params, noise.normal, gusts, xp)
+        sock_x, sock_y = self.windsock(scenario, gust, noise.stream, xp)
+        no = zero > 0.0
+        return ThrowState(
+            scenario=scenario, gust=gust, sock_x=sock_x, sock_y=sock_y,
+            throws_left=xp.zeros_like(zero, dtype=xp.int64) + self.throws_per_episode,
+            thrown=no, action=LastAction(*(zero for _ in range(6))), landing_x=zero,
+            landing_y=zero, miss_distance=zero, flight_time=zero, apex_height=zero,
+            spin_parameter=zero, hit_screen=no, wind_x=zero, wind_y=zero, is_success=no,
+            closeness=zero, hit=zero,
+        )  # fmt: skip
 
     def screen_geometry(self, scenario: ThrowScenario, xp: Any = np) -> Screen:
         """The screen stands across the line to the target at ``screen_position`` of it."""
@@ -263,6 +387,11 @@ class ThrowTask:
             enabled=scenario.screen,
         )
 
+    def windsock(self, scenario: ThrowScenario, gust: GustState, noise: Any, xp: Any = np) -> Any:
+        """What the windsock shows: the wind now plus reading noise (a pair)."""
+        wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
+        return wind_x + self.windsock_noise * noise[0], wind_y + self.windsock_noise * noise[1]
+
     # -- dynamics ---------------------------------------------------------------------------
     def check_action(self, action: Any, batch: int) -> np.ndarray:
         """Actions as float64 ``(6,)`` or ``(batch, 6)``, clipped to [-1, 1]."""
@@ -272,29 +401,107 @@ class ThrowTask:
         """Launch velocity and spin ``(..., 3)`` from actions: scaled, norms clipped."""
         return launch_from_action(action, self.max_speed, self.max_spin)
 
-    def throw(
-        self,
-        velocity: np.ndarray,
-        spin: np.ndarray,
-        scenario: ThrowScenario,
-        gust: GustState,
-        xp: Any = np,
-    ) -> tuple[Any, Any, Any]:
-        """Simulate one throw per env; returns ``(result, wind_x, wind_y)``."""
-        wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
-        if xp is np:
-            v, w = velocity.T, spin.T
-            zero = np.zeros(velocity.shape[0])
+    def step_noise_mask(self, state: ThrowState, xp: Any) -> Any:
+        """Every env may use its window (at least the windsock's pair)."""
+        return xp.full_like(state.sock_x, True, dtype=xp.bool)
+
+    @property
+    def chunks(self) -> int:
+        """Chunks (:meth:`chunk`) per throw: enough for the longest flight."""
+        return -(-self.flight_substeps // self.chunk_substeps)
+
+    def begin(
+        self, state: ThrowState, action: Any, noise: Any, xp: Any, record: bool = False
+    ) -> ThrowCarry:
+        """Launch a throw: actions in [-1, 1] (six floats, or a ``(batch, 6)`` array) scale
+        to the launch velocity and spin (norms clipped); the wind now holds for the flight.
+        ``noise`` (two pairs of standard normals per env) moves the gusts at the end."""
+        if xp is floats:
+            columns = tuple(float(c) for c in action)
         else:
-            v, w = (float(c) for c in velocity), (float(c) for c in spin)
-            zero = 0.0
-        start = ball_at(zero, zero, zero + self.launch_height, *v, *w)
-        screen = self.screen_geometry(scenario, xp) if xp.any(scenario.screen) else None
-        result = simulate_throw(
-            self.ball, start, wind_x, wind_y, screen, self.sim_dt, self.max_flight_time,
-            self.max_roll_time, self.field_radius, xp=xp,
+            columns = tuple(action[:, k] for k in range(6))
+        sc = state.scenario
+        v = _scaled(columns[:3], self.max_speed, xp)
+        w = _scaled(columns[3:], self.max_spin, xp)
+        # Distinct arrays throughout: the compiled chunk sees the same aliasing every call.
+        x, y = xp.zeros_like(state.sock_x), xp.zeros_like(state.sock_y)
+        launch = ball_at(x, y, xp.zeros_like(state.sock_x) + self.launch_height, *v, *w)
+        wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, state.gust, xp)
+        return ThrowCarry(
+            flight=flight_start(self.ball, launch, xp),
+            wind_x=wind_x,
+            wind_y=wind_y,
+            screen=self.screen_geometry(sc, xp),
+            spin_parameter=launch_spin_parameter(self.ball, launch, wind_x, wind_y, xp),
+            # clipped already: a new array (not a view of the action) of the batch's layout
+            action=LastAction(*(xp.clip(c, -1.0, 1.0) for c in columns)),
+            noise=tuple(noise),
+            poses=[pose_of(launch)] if record else None,
+        )
+
+    def chunk(self, carry: ThrowCarry, xp: Any) -> ThrowCarry:
+        """``CHUNK_SUBSTEPS`` substeps of the flight."""
+        return self._fly(carry, self.chunk_substeps, xp)
+
+    def _fly(self, carry: ThrowCarry, substeps: int, xp: Any) -> ThrowCarry:
+        recording = carry.poses is not None
+        flight, poses = flight_chunk(
+            self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
+            substeps, self.flight_substeps, self.record_every, recording, xp,
+            self.max_roll_time, self.field_radius,
         )  # fmt: skip
-        return result, wind_x, wind_y
+        return carry._replace(flight=flight, poses=carry.poses + poses if recording else None)
+
+    def all_done(self, carry: ThrowCarry, xp: Any) -> Any:
+        """Every ball has finished its flight."""
+        return carry.flight.done
+
+    def transition(self, state: ThrowState, action: Any, noise: Any, xp: Any,
+                   record: bool = False) -> tuple[ThrowState, ThrowEvents]:  # fmt: skip
+        """One throw. On Python floats the flight stops at the substep it finishes (the
+        check is free there); batches check every chunk. The results are the same."""
+        if xp is not floats:
+            return super().transition(state, action, noise, xp, record)
+        carry = self.begin(state, action, noise, xp, record)
+        for _ in range(self.flight_substeps):
+            if carry.flight.done:
+                break
+            carry = self._fly(carry, 1, xp)
+        return self.end(state, carry, xp)
+
+    def end(self, state: ThrowState, carry: ThrowCarry, xp: Any) -> tuple[ThrowState, ThrowEvents]:
+        """Score the throw (first touchdown against the ring), move the gusts on by
+        ``throw_interval`` and read the windsock anew."""
+        sc, flight = state.scenario, carry.flight
+        trajectory = []
+        if carry.poses is not None:
+            trajectory = carry.poses[:1] + recorded_poses(
+                carry.poses[1:], 1, self.record_every, self.flight_substeps
+            )
+            del trajectory[sample_count(flight.samples, xp) :]
+        result = flight_result(flight, carry.spin_parameter, trajectory, xp)
+        miss, hit, terms = self.score(result, sc, xp)
+        n0, n1, n2, n3 = carry.noise
+        gusts = sc.gusts
+        gust_noise = (xp.where(gusts, n0, 0.0), xp.where(gusts, n1, 0.0))
+        sock_noise = (xp.where(gusts, n2, n0), xp.where(gusts, n3, n1))
+        gust = gust_step(state.gust, self.gust_params, self.throw_interval, gust_noise, gusts, xp)
+        sock_x, sock_y = self.windsock(sc, gust, sock_noise, xp)
+        new = ThrowState(
+            scenario=sc, gust=gust, sock_x=sock_x, sock_y=sock_y,
+            throws_left=state.throws_left - 1,
+            thrown=xp.full_like(state.sock_x, True, dtype=xp.bool),
+            action=carry.action, landing_x=result.landing_x, landing_y=result.landing_y,
+            miss_distance=miss, flight_time=result.flight_time_s,
+            apex_height=result.apex_height_m, spin_parameter=result.spin_parameter,
+            hit_screen=result.hit_screen, wind_x=carry.wind_x, wind_y=carry.wind_y,
+            is_success=hit, closeness=terms["closeness"], hit=terms["hit"],
+        )  # fmt: skip
+        events = ThrowEvents(
+            noise_used=xp.astype(gusts, xp.int64) + 1, trajectory=result.trajectory,
+            steps=result.steps,
+        )  # fmt: skip
+        return new, events
 
     def score(self, result: Any, scenario: ThrowScenario, xp: Any = np) -> tuple[Any, Any, dict]:
         """Miss distance, hit (first touchdown inside the ring), and reward terms."""
@@ -302,200 +509,112 @@ class ThrowTask:
         dy = result.landing_y - scenario.target_y
         miss = xp.sqrt(dx * dx + dy * dy)
         hit = miss <= self.target_radius
-        terms = {"closeness": xp.exp(-miss / self.miss_scale), "hit": self.hit_bonus * hit}
+        closeness = xp.exp(-miss / self.miss_scale)
+        terms = {"closeness": closeness, "hit": xp.where(hit, self.hit_bonus + 0.0 * miss, 0.0)}
         return miss, hit, terms
 
-    def windsock(self, scenario: ThrowScenario, gust: GustState, noise: Any, xp: Any = np) -> Any:
-        """What the windsock shows: the wind now plus reading noise."""
+    def throw(
+        self, velocity: np.ndarray, spin: np.ndarray, scenario: ThrowScenario, gust: GustState,
+        xp: Any = np,
+    ) -> tuple[Any, Any, Any]:  # fmt: skip
+        """Simulate one throw per env from launch velocities and spins ``(batch, 3)``
+        (NumPy; what a planner asks); returns ``(result, wind_x, wind_y)``. The same
+        flight as a step's (:func:`simulate_throw` drives the same masked substeps)."""
         wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
-        return wind_x + self.windsock_noise * noise[0], wind_y + self.windsock_noise * noise[1]
-
-
-class _ThrowSim(TaskSim):
-    """Task state over a batch (NumPy) or for one env (Python floats), with per-env random
-    streams, the last throw's results and episode counters."""
-
-    def _normals(self, mask: np.ndarray) -> np.ndarray:
-        """Two standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``."""
-        return self.streams.pairs(mask)
-
-    def _pick(self, noise: np.ndarray) -> Any:
-        return (float(noise[0, 0]), float(noise[1, 0])) if self.scalar else noise
-
-    def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
-        idx = np.flatnonzero(mask)
-        scenario, gust = self.task.sample([self.streams.rngs[i] for i in idx], options)
-        self.streams.discard(mask)
-        sock_noise = self._normals(mask)
-        n = self.batch
-        if self.scalar:
-            self.scenario, self.gust = element(scenario, 0), element(gust, 0)
-            self.throws_left = self.task.throws_per_episode
-            self.last = _empty_throw(0)
-            self.last_action = np.zeros(6)
-        elif self.scenario is None or idx.size == n:
-            self.scenario, self.gust = scenario, gust
-            self.throws_left = np.full(n, self.task.throws_per_episode)
-            self.last = _empty_throw(n)
-            self.last_action = np.zeros((n, 6))
-        else:
-            for old, new in ((self.scenario, scenario), (self.gust, gust)):
-                for f in fields(old):
-                    getattr(old, f.name)[idx] = getattr(new, f.name)
-            self.throws_left[idx] = self.task.throws_per_episode
-            for key, value in _empty_throw(idx.size).items():
-                if key == "reward_terms":
-                    for term, zeros in value.items():
-                        self.last[key][term][idx] = zeros
-                else:
-                    self.last[key][idx] = value
-            self.last_action[idx] = 0.0
-        if self.scalar or idx.size == n:
-            self.sock_noise = sock_noise
-        else:
-            self.sock_noise[:, idx] = sock_noise[:, idx]
-        self._read_windsock()
-
-    def _read_windsock(self) -> None:
-        """The windsock now: the wind plus each env's reading noise."""
-        noise = self._pick(self.sock_noise)
-        self.sock = self.task.windsock(self.scenario, self.gust, noise, self.xp)
-
-    def step(self, action: np.ndarray, active: np.ndarray | None = None) -> tuple[Any, Any]:
-        """One throw per env; returns ``(reward, terminated)``."""
-        task, xp = self.task, self.xp
-        velocity, spin = task.launch(action)
-        result, wind_x, wind_y = task.throw(velocity, spin, self.scenario, self.gust, xp)
-        miss, hit, terms = task.score(result, self.scenario, xp)
-        active = np.ones(self.batch, dtype=bool) if active is None else active
-        gust_noise = self._normals(active & np.atleast_1d(self.scenario.gusts))
-        self.sock_noise = np.where(active, self._normals(active), self.sock_noise)
-        self.gust = gust_step(
-            self.gust, task.gust_params, task.throw_interval, self._pick(gust_noise),
-            self.scenario.gusts, xp,
+        start = ball_at(0.0, 0.0, self.launch_height, *velocity.T, *spin.T, xp=xp)
+        result = simulate_throw(
+            self.ball, start, wind_x, wind_y, self.screen_geometry(scenario, xp), self.sim_dt,
+            self.max_flight_time, self.max_roll_time, self.field_radius, RECORD_DT_S, xp=xp,
         )  # fmt: skip
-        self._read_windsock()
-        self.throws_left = self.throws_left - 1
-        self.last_action = action.copy()
-        self.last = _throw_record(result, miss, hit, terms, wind_x, wind_y, self.scalar)
-        reward = terms["closeness"] + terms["hit"]
-        return reward, hit | (self.throws_left <= 0)
+        return result, wind_x, wind_y
 
-    def observation(self) -> np.ndarray:
-        task, sc, last = self.task, self.scenario, self.last
-        screen = task.screen_geometry(sc, self.xp)
-        thrown = np.asarray(last["thrown"], dtype=np.float64)
-        d = DISTANCE_SCALE_M
-        columns = [
-            np.asarray(sc.target_x) / d,
-            np.asarray(sc.target_y) / d,
-            np.asarray(self.sock[0]) / WIND_SCALE_MPS,
-            np.asarray(self.sock[1]) / WIND_SCALE_MPS,
-            thrown * (np.asarray(last["landing_point"])[..., 0] - sc.target_x) / d,
-            thrown * (np.asarray(last["landing_point"])[..., 1] - sc.target_y) / d,
-            np.asarray(self.throws_left) / task.throws_per_episode,
+    # -- what the agent sees --------------------------------------------------------------------
+    def reward(self, state: ThrowState, xp: Any) -> Array:
+        """Closeness of the first touchdown to the ring's centre, plus the hit bonus."""
+        return state.closeness + state.hit
+
+    def terminal(self, state: ThrowState, xp: Any) -> Array:
+        """A hit, or the last throw made."""
+        return state.is_success | (state.throws_left <= 0)
+
+    def measure(self, state: ThrowState, xp: Any) -> dict[str, Any]:
+        """Where the screen stands (also where none does: then it is masked out)."""
+        screen = self.screen_geometry(state.scenario, xp)
+        return {"screen_x": screen.center_x, "screen_y": screen.center_y}
+
+    def observation(self, state: ThrowState, m: dict, xp: Any) -> tuple:
+        """The 19 observation values (unclipped), in the order of the env's table."""
+        sc, d = state.scenario, DISTANCE_SCALE_M
+        zero = xp.zeros_like(sc.target_x)
+        thrown = xp.where(state.thrown, zero + 1.0, zero)
+        on = xp.where(sc.screen, zero + 1.0, zero)
+        return (
+            sc.target_x / d,
+            sc.target_y / d,
+            state.sock_x / WIND_SCALE_MPS,
+            state.sock_y / WIND_SCALE_MPS,
+            thrown * (state.landing_x - sc.target_x) / d,
+            thrown * (state.landing_y - sc.target_y) / d,
+            (zero + state.throws_left) / self.throws_per_episode,
             thrown,
-        ]
-        columns += [self.last_action[..., k] for k in range(6)]
-        on = np.asarray(sc.screen, dtype=np.float64)
-        columns += [
+            *state.action,
             on,
-            on * np.asarray(screen.center_x) / d,
-            on * np.asarray(screen.center_y) / d,
-            on * task.screen_height / d,
-            on * task.screen_half_width / d,
-        ]
-        stacked = np.stack(columns, axis=-1)
-        return np.clip(stacked, -1.0, 1.0).astype(np.float32)
+            on * m["screen_x"] / d,
+            on * m["screen_y"] / d,
+            on * self.screen_height / d,
+            on * self.screen_half_width / d,
+        )
 
-    def info(self) -> dict[str, Any]:
-        info = dict(self.last)
-        info["throws_left"] = self.throws_left
-        info["target"] = _pair(self.scenario.target_x, self.scenario.target_y, self.scalar)
-        info["windsock"] = _pair(self.sock[0], self.sock[1], self.scalar)
-        return info
+    def info(self, state: ThrowState, m: dict, xp: Any) -> dict[str, Any]:
+        """The last throw and the scenario: Python scalars (pairs as NumPy arrays) for
+        one env, arrays ``(batch,)`` or ``(batch, 2)`` for a batch."""
+        sc = state.scenario
+        if xp is floats:
+            pair: Any = np.array
+        else:
 
+            def pair(xy: tuple) -> Any:
+                return xp.stack(xy, axis=1)
 
-def _pair(x: Any, y: Any, scalar: bool) -> np.ndarray:
-    return np.array([x, y]) if scalar else np.stack([x, y], axis=1)
-
-
-def _empty_throw(n: int) -> dict[str, Any]:
-    """The ``last`` record before any throw: for a batch of ``n``, or for one env (``n=0``:
-    Python scalars, as after a throw)."""
-    if n == 0:
-        record: dict[str, Any] = {}
-        for key, value in _empty_throw(1).items():
-            if key == "reward_terms":
-                record[key] = {k: 0.0 for k in value}
-            elif value.dtype == object or value.ndim == 2:
-                record[key] = value[0]
-            else:
-                record[key] = value[0].item()
-        return record
-    empty = {
-        "thrown": np.zeros(n, dtype=bool),
-        "landing_point": np.zeros((n, 2)),
-        "miss_distance": np.zeros(n),
-        "flight_time": np.zeros(n),
-        "apex_height": np.zeros(n),
-        "spin_parameter": np.zeros(n),
-        "hit_screen": np.zeros(n, dtype=bool),
-        "wind": np.zeros((n, 2)),
-        "is_success": np.zeros(n, dtype=bool),
-        "reward_terms": {"closeness": np.zeros(n), "hit": np.zeros(n)},
-        "trajectory": np.empty(n, dtype=object),
-        "orientations": np.empty(n, dtype=object),
-    }
-    for i in range(n):
-        empty["trajectory"][i] = np.zeros((0, 3))
-        empty["orientations"][i] = np.zeros((0, 4))
-    return empty
-
-
-def _throw_record(
-    result: Any, miss: Any, hit: Any, terms: dict, wind_x: Any, wind_y: Any, scalar: bool
-) -> dict[str, Any]:
-    """What the info reports about a throw (Python scalars for one env, arrays for a batch)."""
-    positions = np.array([(s.x, s.y, s.z) for s in result.trajectory], dtype=np.float64)
-    quats = np.array([(s.qw, s.qx, s.qy, s.qz) for s in result.trajectory], dtype=np.float64)
-    if scalar:
-        k = int(result.steps)
         return {
-            "thrown": True,
-            "landing_point": np.array([result.landing_x, result.landing_y]),
-            "miss_distance": float(miss),
-            "flight_time": float(result.flight_time_s),
-            "apex_height": float(result.apex_height_m),
-            "spin_parameter": float(result.spin_parameter),
-            "hit_screen": bool(result.hit_screen),
-            "wind": np.array([wind_x, wind_y]),
-            "is_success": bool(hit),
-            "reward_terms": {key: float(v) for key, v in terms.items()},
-            "trajectory": positions[:k],
-            "orientations": quats[:k],
+            "thrown": state.thrown,
+            "landing_point": pair((state.landing_x, state.landing_y)),
+            "miss_distance": state.miss_distance,
+            "flight_time": state.flight_time,
+            "apex_height": state.apex_height,
+            "spin_parameter": state.spin_parameter,
+            "hit_screen": state.hit_screen,
+            "wind": pair((state.wind_x, state.wind_y)),
+            "is_success": state.is_success,
+            "reward_terms": {k: getattr(state, k) for k in REWARD_TERMS},
+            "throws_left": state.throws_left,
+            "target": pair((sc.target_x, sc.target_y)),
+            "windsock": pair((state.sock_x, state.sock_y)),
         }
-    n = miss.shape[0]
+
+
+def flight_records(events: ThrowEvents | None, thrown: Any) -> tuple[Any, Any]:
+    """The last throw's ``(trajectory, orientations)``: ``(K, 3)`` positions and ``(K, 4)``
+    quaternions for one env (``thrown`` a bool), or object arrays of them for a batch;
+    empty where nothing was thrown since the reset."""
+    batch = not isinstance(thrown, (bool, np.bool_))
+    if batch:
+        thrown = np.asarray(thrown)
+    poses = events.trajectory if events is not None else []
+    positions = np.array([(s.x, s.y, s.z) for s in poses], dtype=np.float64)
+    quats = np.array([(s.qw, s.qx, s.qy, s.qz) for s in poses], dtype=np.float64)
+    if not batch:
+        k = int(events.steps) if thrown and poses else 0
+        return positions.reshape(-1, 3)[:k], quats.reshape(-1, 4)[:k]
+    n = thrown.shape[0]
     trajectory = np.empty(n, dtype=object)
     orientations = np.empty(n, dtype=object)
+    steps = np.asarray(events.steps) if poses else np.zeros(n, dtype=np.int64)
     for i in range(n):
-        k = int(result.steps[i])
-        trajectory[i] = positions[:k, :, i]
-        orientations[i] = quats[:k, :, i]
-    return {
-        "thrown": np.ones(n, dtype=bool),
-        "landing_point": np.stack([result.landing_x, result.landing_y], axis=1),
-        "miss_distance": miss,
-        "flight_time": result.flight_time_s,
-        "apex_height": result.apex_height_m,
-        "spin_parameter": result.spin_parameter,
-        "hit_screen": result.hit_screen,
-        "wind": np.stack([wind_x, wind_y], axis=1),
-        "is_success": hit,
-        "reward_terms": {key: np.asarray(v, dtype=np.float64) for key, v in terms.items()},
-        "trajectory": trajectory,
-        "orientations": orientations,
-    }
+        k = int(steps[i]) if thrown[i] else 0
+        trajectory[i] = positions[:k, :, i] if k else np.zeros((0, 3))
+        orientations[i] = quats[:k, :, i] if k else np.zeros((0, 4))
+    return trajectory, orientations
 
 
 _DOC_ARGS = """
@@ -535,7 +654,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballThrowEnv(SingleEnv):
+class BeachballThrowEnv(CoreEnv):
     """Throw a beach ball through a gusty wind into a ring on the ground.
 
     ## Description
@@ -623,13 +742,22 @@ class BeachballThrowEnv(SingleEnv):
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
     task_class = ThrowTask
-    sim_class = _ThrowSim
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        super().__init__(render_mode, **kwargs)
+        self._landings: list[tuple[float, float]] = []
+        self._records: tuple[Any, Any] = flight_records(None, False)
 
     def _on_reset(self) -> None:
-        self._landings: list[tuple[float, float]] = []
+        self._landings = []
+        self._records = flight_records(None, False)
 
     def _on_step(self, action: Any) -> None:
-        self._landings.append(tuple(self._sim.last["landing_point"]))
+        self._landings.append((self.state.landing_x, self.state.landing_y))
+        self._records = flight_records(self.events, self.state.thrown)
+
+    def _step_info(self) -> dict[str, Any]:
+        return {"trajectory": self._records[0], "orientations": self._records[1]}
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
@@ -638,7 +766,7 @@ class BeachballThrowEnv(SingleEnv):
         renderer = ensure_renderer(self)
         if renderer is None:
             return None
-        scene = _scene(self._sim, 0, tuple(self._landings[:-1]))
+        scene = _scene(self.task, self.state, self._records, tuple(self._landings[:-1]))
         if self._animate:
             # Human mode plays a new throw's flight in real time (one recorded point per
             # frame at render_fps = 1 / 0.05 s), then shows where it landed.
@@ -656,7 +784,7 @@ class BeachballThrowEnv(SingleEnv):
         renderer = ensure_renderer(self)
         if renderer is None:
             return []
-        scene = _scene(self._sim, 0, tuple(self._landings[:-1]))
+        scene = _scene(self.task, self.state, self._records, tuple(self._landings[:-1]))
         frames = [renderer.render(s) for s in _flight_scenes(scene)]
         return [f for f in frames if f is not None]
 
@@ -674,20 +802,14 @@ def _make_renderer(env: Any) -> Any:
     return ThrowRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
 
 
-def _scene(sim: _ThrowSim, i: int, previous: tuple) -> Any:
-    """Drawing description of env ``i``'s latest throw (no physics in the renderer)."""
+def _scene(task: ThrowTask, state: ThrowState, records: tuple, previous: tuple) -> Any:
+    """Drawing description of one env's latest throw, from its state as floats and its
+    ``(trajectory, orientations)`` (no physics in the renderer)."""
     from bbgym.render.throw_view import ThrowScene, ThrowScreen
 
-    task = sim.task
-    if sim.scalar:
-        scenario, gust, last = sim.scenario, sim.gust, sim.last
-        sock, throws_left = sim.sock, sim.throws_left
-    else:
-        scenario, gust = element(sim.scenario, i), element(sim.gust, i)
-        last = {k: (v[i] if k != "reward_terms" else None) for k, v in sim.last.items()}
-        sock, throws_left = (sim.sock[0][i], sim.sock[1][i]), int(sim.throws_left[i])
-    xp = backend.scalar
-    wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
+    xp = floats
+    scenario = state.scenario
+    wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, state.gust, xp)
     screen = None
     if scenario.screen:
         g = task.screen_geometry(scenario, xp)
@@ -697,46 +819,79 @@ def _scene(sim: _ThrowSim, i: int, previous: tuple) -> Any:
             half_width_m=task.screen_half_width,
             height_m=task.screen_height,
         )
-    thrown = bool(last["thrown"])
+    thrown = bool(state.thrown)
     return ThrowScene(
-        trajectory_m=last["trajectory"],
-        orientations=last["orientations"],
+        trajectory_m=records[0],
+        orientations=records[1],
         ball_radius_m=task.ball.radius_m,
         target_m=(scenario.target_x, scenario.target_y),
         target_radius_m=task.target_radius,
         wind_mps=(wind_x, wind_y),
-        windsock_mps=(float(sock[0]), float(sock[1])),
+        windsock_mps=(float(state.sock_x), float(state.sock_y)),
         screen=screen,
-        landing_m=tuple(float(c) for c in last["landing_point"]) if thrown else None,
+        landing_m=(float(state.landing_x), float(state.landing_y)) if thrown else None,
         previous_landings_m=previous,
-        hit=bool(last["is_success"]),
-        throws_left=int(throws_left),
+        hit=bool(state.is_success),
+        throws_left=int(state.throws_left),
         throws_total=task.throws_per_episode,
-        miss_distance_m=float(last["miss_distance"]) if thrown else None,
-        spin_parameter=float(last["spin_parameter"]),
-        flight_time_s=float(last["flight_time"]) if thrown else None,
-        apex_height_m=float(last["apex_height"]) if thrown else None,
+        miss_distance_m=float(state.miss_distance) if thrown else None,
+        spin_parameter=float(state.spin_parameter),
+        flight_time_s=float(state.flight_time) if thrown else None,
+        apex_height_m=float(state.apex_height) if thrown else None,
     )
 
 
-class BeachballThrowVectorEnv(NativeVectorEnv):
+class BeachballThrowVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballThrowEnv`: all throws fly in one batch.
 
-    Same task, spaces, arguments and info keys as the single env; `trajectory` and
-    `orientations` are object arrays of per-env ``(K, 3)`` / ``(K, 4)`` arrays. See
-    :class:`bbgym.envs.common.NativeVectorEnv` for seeding, autoreset and infos.
+    Same task, spaces, arguments and info keys as the single env, plus the backend
+    keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``; see
+    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset and infos. On
+    NumPy, `trajectory` and `orientations` are object arrays of per-env ``(K, 3)`` /
+    ``(K, 4)`` arrays; the torch backend does not record them (its step stays on the
+    device).
     """
 
-    metadata = {**NativeVectorEnv.metadata, "render_fps": 20}
+    metadata = {**CoreVectorEnv.metadata, "render_fps": 20}
     task_class = ThrowTask
-    sim_class = _ThrowSim
     default_max_episode_steps = 100
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+        self._records: tuple[Any, Any] | None = None
+
+    def _on_reset(self, mask: np.ndarray) -> None:
+        self._records = None
+
+    def _on_step(self, actions: Any) -> None:
+        self._records = None
+
+    def _flight_records(self) -> tuple[Any, Any]:
+        """The last throw's records per env (none where reset since, nor on torch), made
+        when first asked for after a step."""
+        if self._records is None:
+            events = self.events if self.backend.name == "numpy" else None
+            self._records = flight_records(events, backends.to_numpy(self.state.thrown))
+        return self._records
+
+    def _step_info(self) -> dict[str, Any]:
+        trajectory, orientations = self._flight_records()
+        return {"trajectory": trajectory, "orientations": orientations}
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
     def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
-        return renderer.render(_scene(self._sim, i, ()))
+        state = self.element_state(i)
+        trajectory, orientations = self._flight_records()
+        records = (trajectory[i], orientations[i])
+        return renderer.render(_scene(self.task, state, records, ()))
 
 
 BeachballThrowEnv.__doc__ = BeachballThrowEnv.__doc__.replace("{args}", _DOC_ARGS)

@@ -1,32 +1,33 @@
 """BeachballTopple-v0: bring down a wall standing in gusty wind by throwing beach balls.
 
 Each step is one throw (or a wait) followed by a fixed interval in which the ball flies,
-the wind gusts, and hits and wind act on the wall. The task code (:class:`ToppleTask`) is
-batched; the single env runs it on Python floats, the native vector env on NumPy.
+the wind gusts, and hits and wind act on the wall. The task's functional core
+(:class:`ToppleTask`) is pure functions over a batch of immutable :class:`ToppleState`:
+the single env runs it on Python floats, the native vector env on NumPy or compiled torch
+(:mod:`bbgym.envs.core`).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import replace
+from functools import cached_property
+from typing import Any, NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
+from bbgym import backends
 from bbgym.envs.common import (
-    NativeVectorEnv,
-    SingleEnv,
-    TaskSim,
     check_box_action,
     check_multiple,
     check_option_keys,
-    element,
     ensure_renderer,
     mean_wind,
     option_path,
 )
+from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
 from bbgym.envs.throw import (
     BALL_GUSTS,
     BALL_SIM_DT_S,
@@ -37,11 +38,18 @@ from bbgym.envs.throw import (
     THROWS_PER_EPISODE,
     WIND_SPEED_MPS,
     WINDSOCK_NOISE_MPS,
-    launch_from_action,
 )
-from bbgym.physics import backend
-from bbgym.physics.ball import BallParams, ball_at, ground_contact
-from bbgym.physics.ball import substep as ball_substep
+from bbgym.physics.backend import Array, floats
+from bbgym.physics.ball import BallParams, ball_at
+from bbgym.physics.toppling import (
+    IntervalCarry,
+    IntervalParams,
+    interval_chunk,
+    interval_start,
+    noise_pair,
+    noise_rows,
+    run_interval,
+)
 from bbgym.physics.validation import (
     build_params,
     check_bool,
@@ -56,18 +64,18 @@ from bbgym.physics.wall import (
     FALLEN_AWAY,
     FALLEN_TOWARD,
     LOOSE,
-    STANDING,
     STATE_NAMES,
     WallParams,
-    ball_hits_wall,
+    WallState,
     wall_at,
-    wall_step,
 )
-from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
+from bbgym.physics.wind import GustParams, GustState, gust_init, wind_vector
 
 RESET_OPTIONS = ("wind", "wall_distance", "gusts")
 OBS_SIZE = 19
 RECORD_DT_S = 0.05
+COMPILED_CHUNK_SUBSTEPS = 1
+"""Substeps per :meth:`ToppleTask.chunk`, the part of the step that torch compiles."""
 # Accepted intervals (README, "Validation and errors"); the rest are shared with the throw envs.
 WALL_DISTANCE_MAX_M = 50.0
 INTERVAL_S = span(0.0, 60.0, low_open=True)
@@ -93,18 +101,104 @@ ARGUMENT_TABLE = (
 """The README's table of this env's arguments and options (a test keeps them equal)."""
 
 
-@dataclass
-class ToppleScenario:
-    """Per env (arrays ``(batch,)`` or floats): wall distance, mean wind, gusts."""
+class ToppleScenario(NamedTuple):
+    """What an episode is about, per env: wall distance, mean wind, gusts."""
 
-    wall_distance: Any
-    wind_speed: Any
-    wind_from: Any
-    gusts: Any
+    wall_distance: Array
+    wind_speed: Array
+    wind_from: Array
+    gusts: Array
 
 
-class ToppleTask:
-    """The toppling task over a batch; see :class:`BeachballToppleEnv` for the arguments."""
+class Launch(NamedTuple):
+    """A step's action, clipped to [-1, 1]: launch velocity and spin components."""
+
+    vx: Array
+    vy: Array
+    vz: Array
+    wx: Array
+    wy: Array
+    wz: Array
+
+
+class ToppleState(NamedTuple):
+    """Everything an env is, immutable: the scenario, gusts and wall, this episode's
+    counters, the windsock's noise, the last action and what the last step reported (its
+    hit and reward terms)."""
+
+    scenario: ToppleScenario
+    gust: GustState
+    wall: WallState
+    throws_left: Array
+    hits: Array
+    throws: Array
+    last_hit: Array
+    hit_height: Array
+    hit_y: Array
+    sock_x: Array
+    sock_y: Array
+    last_action: Launch
+    success: Array
+    failure: Array
+    throw: Array
+    lean: Array
+
+
+REWARD_TERMS = ("success", "failure", "throw", "lean")
+
+
+class ToppleCarry(NamedTuple):
+    """A transition between its chunks: the interval, its noise rows, the scenario, and
+    what :meth:`ToppleTask.end` needs of the throw: its launch speed (not whether a ball
+    flies: that is the interval's ``flying`` at the start, and no two of a compiled
+    chunk's inputs may be one tensor) and the action."""
+
+    interval: IntervalCarry
+    noise: tuple
+    scenario: ToppleScenario
+    speed: Array
+    action: Launch
+
+
+class ToppleEvents(NamedTuple):
+    """What a transition did, per env: noise pairs used (gusts, then the windsock's), the
+    ball thrown, the samples (tuples of :data:`~bbgym.physics.toppling.SAMPLE_FIELDS`,
+    ``None`` if not recording) and how many of them were taken while the env ran."""
+
+    noise_used: Array
+    thrown: Array
+    taken: tuple | None
+    samples: Array
+
+
+def _launch(a: tuple, max_speed: float, max_spin: float, xp: Any) -> tuple[list, list]:
+    """Launch velocity and spin components from the six action components in [-1, 1]:
+    scaled by ``max_speed`` and ``max_spin``, each vector's norm clipped to its limit."""
+
+    def scaled(c: tuple, limit: float) -> list:
+        v = [x * limit for x in c]
+        norm = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        factor = xp.minimum(1.0, limit / xp.maximum(norm, 1e-12))
+        return [x * factor for x in v]
+
+    return scaled(a[:3], max_speed), scaled(a[3:], max_spin)
+
+
+class ToppleTask(TaskCore):
+    """The toppling task's functional core (see :mod:`bbgym.envs.core`): pure functions
+    over a batch of :class:`ToppleState`, for floats, NumPy and torch alike. A transition
+    is a throw (:meth:`begin`), the interval in chunks (:meth:`chunk`, stopping early once
+    no env runs) and the score (:meth:`end`).
+
+    Holds the validated arguments shared by :class:`BeachballToppleEnv` and
+    :class:`BeachballToppleVectorEnv`; see the env docstring for their meaning.
+    """
+
+    initial_noise_counts = (3, 2)
+    """Uniform draws (wall distance, wind speed, wind direction) and normals (the gusts)."""
+    initial_stream_pairs = 1
+    """The windsock's first noise pair."""
+    stops_early = True
 
     def __init__(
         self,
@@ -157,6 +251,19 @@ class ToppleTask:
         self.n_substeps = check_multiple("interval", self.interval, "sim_dt", self.sim_dt)
         self.gust_every = check_multiple("gust_dt", self.gust_dt, "sim_dt", self.sim_dt)
         self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
+        # The compiled step's chunk is one substep (inductor's code for one takes about
+        # 30 s to build on 2 CPU cores; a chunk of 25 took 10 minutes and crashed gcc),
+        # the host's (floats, NumPy: no compiler) ``gust_every``: one gust update per
+        # chunk, at its start (or per sample), each masked test known when tracing.
+        self.interval_params = IntervalParams(
+            wall=self.wall, ball=self.ball, gust=self.gust_params, sim_dt=self.sim_dt,
+            gust_dt=self.gust_dt, n_substeps=self.n_substeps, gust_every=self.gust_every,
+            record_every=self.record_every, chunk_substeps=COMPILED_CHUNK_SUBSTEPS,
+        )  # fmt: skip
+        ge, re = self.gust_every, self.record_every
+        self.host_interval_params = replace(
+            self.interval_params, chunk_substeps=ge if ge % re == 0 else re
+        )
         self.success_bonus = check_number("success_bonus", success_bonus, REWARD_WEIGHT)
         self.failure_penalty = check_number("failure_penalty", failure_penalty, REWARD_WEIGHT)
         self.throw_cost = check_number("throw_cost", throw_cost, REWARD_WEIGHT)
@@ -167,6 +274,68 @@ class ToppleTask:
         self.reward_range = (
             -(self.failure_penalty + self.throw_cost + self.lean_weight),
             self.success_bonus + self.lean_weight,
+        )
+        # The compiled step's chunk is one substep (inductor's code for one takes about
+        # 30 s to build on 2 CPU cores; a chunk of 25 took 10 minutes and crashed gcc),
+        # the host's (floats, NumPy: no compiler) ``gust_every``: one gust update per
+        # chunk, at its start (or per sample), each masked test known when tracing.
+        self.interval_params = IntervalParams(
+            wall=self.wall, ball=self.ball, gust=self.gust_params, sim_dt=self.sim_dt,
+            gust_dt=self.gust_dt, n_substeps=self.n_substeps, gust_every=self.gust_every,
+            record_every=self.record_every, chunk_substeps=COMPILED_CHUNK_SUBSTEPS,
+        )  # fmt: skip
+        ge, re = self.gust_every, self.record_every
+        self.host_interval_params = replace(
+            self.interval_params, chunk_substeps=ge if ge % re == 0 else re
+        )
+        self.n_gust_updates = self.interval_params.n_gust_updates
+        # A step uses one pair per gust update while the env runs with gusts, then the
+        # windsock's next pair: a window of n + 1, of which ``noise_used`` are used.
+        self.step_noise_pairs = self.n_gust_updates + 1
+        self.chunks = self.interval_params.n_chunks
+        # Fill the parameters' cached properties now, not while torch.compile traces a
+        # step (a cached_property's first read takes a lock: a graph break).
+        for params in (self.wall, self.ball, self.gust_params):
+            for name, attribute in vars(type(params)).items():
+                if isinstance(attribute, cached_property):
+                    getattr(params, name)
+
+    # -- scenario ---------------------------------------------------------------------------
+    def initial(self, noise: InitialNoise, options: Mapping[str, Any], xp: Any) -> ToppleState:
+        """A fresh episode per env from its draws (``noise.uniform[0..2]``,
+        ``noise.normal[0..1]``, the windsock's ``noise.stream[0..1]``); checked ``options``
+        pin any of the draws' results."""
+        draws = noise.uniform
+        zero = xp.zeros_like(draws[0])
+        d_lo, d_hi = self.wall_distance_range
+        if "wall_distance" in options:
+            distance = zero + options["wall_distance"]
+        else:
+            distance = d_lo + (d_hi - d_lo) * draws[0]
+        wind_speed, wind_from = mean_wind(options, self.wind_speed_range, draws[1], draws[2])
+        gusts = xp.full_like(zero, options.get("gusts", self.gusts), dtype=xp.bool)
+        scenario = ToppleScenario(distance, zero + wind_speed, zero + wind_from, gusts)
+
+        def count(value: int = 0) -> Any:
+            return xp.full_like(zero, value, dtype=xp.int64)
+
+        return ToppleState(
+            scenario=scenario,
+            gust=gust_init(self.gust_params, noise.normal, gusts, xp),
+            wall=wall_at(distance, xp),
+            throws_left=count(self.throws_per_episode),
+            hits=count(),
+            throws=count(),
+            last_hit=zero,
+            hit_height=zero - 1.0,
+            hit_y=zero,
+            sock_x=zero + noise.stream[0],
+            sock_y=zero + noise.stream[1],
+            last_action=Launch(*(zero for _ in range(6))),
+            success=zero,
+            failure=zero,
+            throw=zero,
+            lean=zero,
         )
 
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -183,295 +352,176 @@ class ToppleTask:
                 checked[key] = check_number(path, value, self.wall_distance)
         return checked
 
-    def sample(
-        self, rngs: list[np.random.Generator], options: Mapping[str, Any] | None
-    ) -> tuple[ToppleScenario, GustState]:
-        options = self.check_options(options)
-        batch = len(rngs)
-        draws = np.array([rng.random(3) for rng in rngs]).T
-        noise = np.array([rng.standard_normal(2) for rng in rngs]).T
-        d_lo, d_hi = self.wall_distance_range
-        distance = options.get("wall_distance", d_lo + (d_hi - d_lo) * draws[0])
-        wind_speed, wind_from = mean_wind(options, self.wind_speed_range, draws[1], draws[2])
+    # -- dynamics ---------------------------------------------------------------------------
+    def check_action(self, action: Any, batch: int) -> Any:
+        """Validate and clip actions to [-1, 1]: six floats for one env (``batch == 0``), a
+        float64 ``(batch, 6)`` array for a batch. NaN/inf or a wrong shape raise
+        ``ValueError``."""
+        a = check_box_action(action, 6, batch)
+        return tuple(a.tolist()) if batch == 0 else a
 
-        def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
-            return np.broadcast_to(np.asarray(value, dtype=dtype), (batch,)).copy()
+    def step_noise_mask(self, state: ToppleState, xp: Any) -> Any:
+        """Every env may draw (its windsock does, every step; its gusts while it runs with
+        them): the window is cut to what each used (``events.noise_used``)."""
+        return xp.logical_not(xp.zeros_like(state.wall.angle, dtype=xp.bool))
 
-        scenario = ToppleScenario(
-            wall_distance=full(distance),
-            wind_speed=full(wind_speed),
-            wind_from=full(wind_from),
-            gusts=full(options.get("gusts", self.gusts), bool),
-        )
-        return scenario, gust_init(self.gust_params, noise, scenario.gusts)
+    def transition(
+        self, state: ToppleState, action: Any, noise: Any, xp: Any, record: bool = False
+    ) -> tuple[ToppleState, ToppleEvents]:
+        """:meth:`begin`, the interval, :meth:`end`: on the host (floats, NumPy) in chunks
+        of ``gust_every`` substeps, checked for an early stop between them (the results do
+        not depend on the chunks: :meth:`chunk` runs the compiled step's short ones)."""
+        carry = self.begin(state, action, noise, xp, record)
+        sc = carry.scenario
+        interval = run_interval(
+            self.host_interval_params, carry.interval, sc.wind_speed, sc.wind_from,
+            sc.gusts, carry.noise, xp,
+        )  # fmt: skip
+        return self.end(state, carry._replace(interval=interval), xp)
 
-    def check_action(self, action: Any, batch: int) -> np.ndarray:
-        return check_box_action(action, 6, batch)
-
-
-class _ToppleSim(TaskSim):
-    """Task state over a batch (NumPy) or for one env (Python floats), with per-env random
-    streams; ``step`` flies the ball and rocks the wall for one interval."""
-
-    def _normals(self, mask: np.ndarray) -> Any:
-        """Two standard normals per env where ``mask`` (floats for the single env)."""
-        if self.scalar:
-            return self.streams.one(bool(mask[0]))
-        return self.streams.pairs(mask)
-
-    def reset(self, mask: np.ndarray, options: Mapping[str, Any] | None) -> None:
-        idx = np.flatnonzero(mask)
-        scenario, gust = self.task.sample([self.streams.rngs[i] for i in idx], options)
-        self.streams.discard(mask)
-        wall = wall_at(scenario.wall_distance)
-        sock = self._normals(mask)
-        n = self.batch
-        fresh = {
-            "throws_left": np.full(idx.size, self.task.throws_per_episode),
-            "hits": np.zeros(idx.size, dtype=np.int64),
-            "throws": np.zeros(idx.size, dtype=np.int64),
-            "last_hit": np.zeros(idx.size),
-            "hit_height": np.full(idx.size, -1.0),
-            "hit_y": np.zeros(idx.size),
-            "last_action": np.zeros((idx.size, 6)),
-        }
-        if self.scalar:
-            self.scenario, self.gust, self.wall = (element(x, 0) for x in (scenario, gust, wall))
-            self.counters = {k: v[0].item() if v.ndim == 1 else v[0] for k, v in fresh.items()}
-            self.sock_noise = sock
-            self.record = _empty_record()
-            self.terms = {k: 0.0 for k in ("success", "failure", "throw", "lean")}
-        elif self.scenario is None or idx.size == n:
-            self.scenario, self.gust, self.wall = scenario, gust, wall
-            self.counters = fresh
-            self.sock_noise = sock
-            self.record = [_empty_record() for _ in range(n)]
-            self.terms = {k: np.zeros(n) for k in ("success", "failure", "throw", "lean")}
-        else:  # a partial reset builds new states (arrays are never written once made)
-            self.scenario, self.gust, self.wall = (
-                _scatter(old, idx, new)
-                for old, new in ((self.scenario, scenario), (self.gust, gust), (self.wall, wall))
-            )
-            self.counters = {k: _put(v, idx, fresh[k]) for k, v in self.counters.items()}
-            self.sock_noise = np.where(mask, sock, self.sock_noise)
-            self.record = [
-                _empty_record() if m else r for m, r in zip(mask, self.record, strict=True)
-            ]
-            self.terms = {k: np.where(mask, 0.0, v) for k, v in self.terms.items()}
-
-    def windsock(self) -> tuple[Any, Any]:
-        sc = self.scenario
-        wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, self.xp)
-        noise = self.task.windsock_noise
-        return wind_x + noise * self.sock_noise[0], wind_y + noise * self.sock_noise[1]
-
-    def step(self, action: np.ndarray, active: np.ndarray | None = None) -> tuple[Any, Any]:
-        """Throw (or wait), then run the interval; returns ``(reward, terminated)``."""
-        task, xp, p = self.task, self.xp, self.task.ball
-        active = np.ones(self.batch, dtype=bool) if active is None else active
-        velocity, spin = launch_from_action(action, task.max_speed, task.max_spin)
-        speed = np.sqrt((velocity * velocity).sum(axis=-1))
-        thrown = speed >= task.wait_speed
-        if self.scalar:
-            v, w, thrown = [float(c) for c in velocity], [float(c) for c in spin], bool(thrown)
-            zero = 0.0
+    def begin(
+        self, state: ToppleState, action: Any, noise: Any, xp: Any, record: bool = False
+    ) -> ToppleCarry:
+        """Throw (a launch slower than ``wait_speed`` is a wait: no ball) and start the
+        interval. ``action``: six floats or a ``(batch, 6)`` array; ``noise``: the window of
+        ``step_noise_pairs`` pairs (``2 * step_noise_pairs`` rows)."""
+        if xp is floats:
+            a = tuple(action)
         else:
-            v, w = velocity.T, spin.T
-            zero = np.zeros(self.batch)
-        ball = ball_at(zero, zero, zero + task.launch_height, *v, *w)
-        flying = thrown
-        # The interval starts with no stress on the foot, in a new state: states are never
-        # changed once made, so whoever kept the old one does not see it change.
-        wall = replace(self.wall, stress=0.0 * self.wall.stress)
-        lean_before = xp.sin(wall.angle)
-        hit_height, hit_y = zero - 1.0, zero
-        hits = 0 * zero
-        sc = self.scenario
-        wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, xp)
-        ball_track, wall_track, loose_track = [], [], []
-        # An env's interval ends once its wall is down and its ball (if any) has stopped,
-        # where the single env breaks out of this loop. A batch freezes each finished env
-        # (no substeps, no gust draws from its stream, no samples) until all are done, so
-        # sub-env i stays the single env seeded seed + i. Envs not ``active`` (restarting:
-        # a reset replaces their state next) start frozen.
-        running = True if self.scalar else active
-        gusty = active & np.atleast_1d(sc.gusts)
-        samples = 0 if self.scalar else np.zeros(self.batch, dtype=np.int64)  # while running
-        for i in range(task.n_substeps):
-            if i and i % task.gust_every == 0:
-                noise = self._normals(gusty & running)
-                gust = gust_step(self.gust, task.gust_params, task.gust_dt, noise, sc.gusts, xp)
-                self.gust = _select(running, gust, self.gust, xp)
-                wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, self.gust, xp)
-            if i % task.record_every == 0:
-                ball_track.append((ball.x, ball.y, ball.z, ball.qw, ball.qx, ball.qy, ball.qz))
-                wall_track.append(wall.angle)
-                loose_track.append((wall.loose_x, wall.loose_z, wall.loose_angle, wall.status))
-                samples = samples + running
-            moving = flying & running
-            if xp.any(moving):
-                moved = ball_substep(p, ball, wind_x, wind_y, task.sim_dt, xp)
-                moved, _ = ground_contact(p, moved, task.sim_dt, xp)
-                ball = _select(moving, moved, ball, xp)
-                # Only a moving ball strikes: one at rest against the face must not change
-                # the wall's rate (the single env skips this block then).
-                hit_wall, vx, vz, height = ball_hits_wall(
-                    task.wall, wall, p.mass_kg, p.radius_m, ball.x, ball.y, ball.z, ball.vx,
-                    ball.vz, xp,
-                )  # fmt: skip
-                wall = _select(moving, hit_wall, wall, xp)
-                struck = moving & (height >= 0.0)
-                if xp.any(struck):  # rare: skip building a new ball state when none hit
-                    vx, vz = xp.where(struck, vx, ball.vx), xp.where(struck, vz, ball.vz)
-                    ball = replace(ball, vx=vx, vz=vz)
-                hits = hits + struck
-                hit_height = xp.where(struck, height, hit_height)
-                hit_y = xp.where(struck, ball.y, hit_y)
-                resting = (ball.z <= p.radius_m * 1.001) & (
-                    ball.vx * ball.vx + ball.vy * ball.vy + ball.vz * ball.vz < 0.01
-                )
-                flying = flying & xp.logical_not(resting)
-            wall = _select(running, wall_step(task.wall, wall, wind_x, task.sim_dt, xp), wall, xp)
-            settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)
-            done = (settled | xp.logical_not(flying)) & (wall.status != STANDING)
-            running = running & xp.logical_not(done)
-            if not xp.any(running):
-                break
-        self.wall = wall
-        self.sock_noise = _where2(active, self._normals(active), self.sock_noise, self.scalar)
+            # Columns of their own (clipped already: a copy), not strided views.
+            a = tuple(xp.clip(action[:, k], -1.0, 1.0) for k in range(6))
+        v, w = _launch(a, self.max_speed, self.max_spin, xp)
+        speed = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        thrown = speed >= self.wait_speed
+        # Zeros of their own (a compiled chunk's inputs must not alias each other).
+        x, y, z, qx, qy, qz = (xp.zeros_like(c) for c in (*v, *w))
+        ball = ball_at(x, y, z + self.launch_height, *v, *w)._replace(qx=qx, qy=qy, qz=qz)
+        # The interval starts with no stress on the foot, in a new state (states are never
+        # changed once made).
+        wall = state.wall._replace(stress=0.0 * state.wall.stress)
+        sc = state.scenario
+        # Every env runs until its own interval ends (bbgym.physics.toppling): a stopped env
+        # changes no more, draws no more gust pairs, takes no more samples.
+        running = xp.logical_not(xp.zeros_like(speed, dtype=xp.bool))
+        carry = interval_start(
+            self.interval_params, ball, wall, state.gust, sc.wind_speed, sc.wind_from,
+            thrown, running, xp, record,
+        )  # fmt: skip
+        rows = noise_rows(noise, 2 * self.step_noise_pairs)
+        return ToppleCarry(carry, rows, sc, speed, Launch(*a))
 
+    def chunk(self, carry: ToppleCarry, xp: Any) -> ToppleCarry:
+        """One chunk of the interval: ``chunk_substeps`` substeps
+        (:func:`~bbgym.physics.toppling.interval_chunk`)."""
+        sc = carry.scenario
+        interval = interval_chunk(
+            self.interval_params, carry.interval, sc.wind_speed, sc.wind_from, sc.gusts,
+            carry.noise, xp,
+        )  # fmt: skip
+        return carry._replace(interval=interval)
+
+    def all_done(self, carry: ToppleCarry, xp: Any) -> Any:
+        """Per env: its interval has ended (its wall is down and its ball stopped)."""
+        return xp.logical_not(carry.interval.running)
+
+    def end(
+        self, state: ToppleState, carry: ToppleCarry, xp: Any
+    ) -> tuple[ToppleState, ToppleEvents]:
+        """Finish a transition: read the windsock's next noise pair, count, score."""
+        c, thrown = carry.interval, carry.speed >= self.wait_speed
+        used = c.noise_used
+        # The windsock's pair follows the gust pairs the env used.
+        sock_x, sock_y = noise_pair(carry.noise, used, self.step_noise_pairs, xp)
+        wall = c.wall
         status = wall.status
         success = (status == FALLEN_AWAY) | (status == LOOSE)
         failure = status == FALLEN_TOWARD
-        c = self.counters
-        c["throws_left"] = c["throws_left"] - 1
-        c["throws"] = c["throws"] + thrown
-        c["hits"] = c["hits"] + (hits > 0)
-        c["last_hit"] = xp.where(hits > 0, 1.0, xp.where(thrown, -1.0, 0.0))
-        c["hit_height"], c["hit_y"] = hit_height, hit_y
-        c["last_action"] = action.copy()
-        self.terms = {
-            "success": task.success_bonus * success,
-            "failure": -task.failure_penalty * failure,
-            "throw": -task.throw_cost * thrown,
-            "lean": task.lean_weight * (xp.sin(wall.angle) - lean_before),
+        zero = xp.zeros_like(wall.angle)
+        hit = c.hits > 0
+        new = ToppleState(
+            scenario=state.scenario,
+            gust=c.gust,
+            wall=wall,
+            throws_left=state.throws_left - 1,
+            hits=state.hits + xp.astype(hit, xp.int64),
+            throws=state.throws + xp.astype(thrown, xp.int64),
+            last_hit=xp.where(hit, zero + 1.0, xp.where(thrown, zero - 1.0, zero)),
+            hit_height=c.hit_height,
+            hit_y=c.hit_y,
+            sock_x=sock_x,
+            sock_y=sock_y,
+            last_action=carry.action,
+            success=xp.where(success, zero + self.success_bonus, zero),
+            failure=xp.where(failure, zero - self.failure_penalty, zero),
+            throw=xp.where(thrown, zero - self.throw_cost, zero),
+            lean=self.lean_weight * (xp.sin(wall.angle) - xp.sin(state.wall.angle)),
+        )
+        return new, ToppleEvents(used + 1, thrown, c.taken, c.samples)
+
+    def reward(self, state: ToppleState, xp: Any) -> Array:
+        """Success bonus, failure penalty, throw cost, change of the wall's lean."""
+        return state.success + state.failure + state.throw + state.lean
+
+    def terminal(self, state: ToppleState, xp: Any) -> Array:
+        """The wall is down (either way) or loose, or the throws are used up."""
+        status = state.wall.status
+        down = (status == FALLEN_AWAY) | (status == LOOSE) | (status == FALLEN_TOWARD)
+        return down | (state.throws_left <= 0)
+
+    def measure(self, state: ToppleState, xp: Any) -> dict[str, Array]:
+        """The true wind now and the windsock's (noisy) reading of it."""
+        sc = state.scenario
+        wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, state.gust, xp)
+        noise = self.windsock_noise
+        return {
+            "wind_x": wind_x,
+            "wind_y": wind_y,
+            "sock_x": wind_x + noise * state.sock_x,
+            "sock_y": wind_y + noise * state.sock_y,
         }
-        reward = self.terms["success"] + self.terms["failure"] + self.terms["throw"]
-        reward = reward + self.terms["lean"]
-        self._keep_record(ball_track, wall_track, loose_track, thrown, samples)
-        return reward, success | failure | (c["throws_left"] <= 0)
 
-    def _keep_record(
-        self, ball_track: list, wall_track: list, loose_track: list, thrown: Any, samples: Any
-    ) -> None:
-        """Keep the step's samples (for info and rendering) per env: the first
-        ``samples[i]`` rows, those taken while env ``i`` was running."""
-        balls = np.array(ball_track, dtype=np.float64)  # (K, 7) or (K, 7, n)
-        walls = np.array(wall_track, dtype=np.float64)
-        loose = np.array(loose_track, dtype=np.float64)
-        if self.scalar:
-            self.record = _record(balls, walls, loose, thrown)
-            return
-        records = list(self.record)
-        for i in range(self.batch):
-            k = samples[i]
-            records[i] = _record(balls[:k, :, i], walls[:k, i], loose[:k, :, i], thrown[i])
-        self.record = records
+    def observation(self, state: ToppleState, m: dict, xp: Any) -> tuple:
+        """The 19 observation values (unclipped), in the order of the env's table."""
+        wp, wall = self.wall, state.wall
+        zero = xp.zeros_like(wall.angle)
+        throws_left = xp.astype(state.throws_left, floats.float64 if xp is floats else zero.dtype)
+        return (
+            wall.angle / (0.5 * math.pi),
+            wall.rate / 2.0,
+            state.scenario.wall_distance / 10.0,
+            zero + wp.height_m / 5.0,
+            zero + wp.width_m / 5.0,
+            m["sock_x"] / 10.0,
+            m["sock_y"] / 10.0,
+            throws_left / self.throws_per_episode,
+            state.last_hit,
+            xp.maximum(state.hit_height, 0.0) / wp.height_m,
+            state.hit_y / (0.5 * wp.width_m),
+            wall.stress,
+            wall.pivot,
+            *state.last_action,
+        )
 
-    def observation(self) -> np.ndarray:
-        task, sc, wall, c = self.task, self.scenario, self.wall, self.counters
-        wp = task.wall
-        sock_x, sock_y = self.windsock()
-        columns = [
-            np.asarray(wall.angle) / (0.5 * math.pi),
-            np.asarray(wall.rate) / 2.0,
-            np.asarray(sc.wall_distance) / 10.0,
-            np.asarray(0.0 * wall.angle + wp.height_m / 5.0),
-            np.asarray(0.0 * wall.angle + wp.width_m / 5.0),
-            np.asarray(sock_x) / 10.0,
-            np.asarray(sock_y) / 10.0,
-            np.asarray(c["throws_left"]) / task.throws_per_episode,
-            np.asarray(c["last_hit"], dtype=np.float64),
-            np.maximum(np.asarray(c["hit_height"]), 0.0) / wp.height_m,
-            np.asarray(c["hit_y"]) / (0.5 * wp.width_m),
-            np.asarray(wall.stress),
-            np.asarray(wall.pivot),
-        ]
-        columns += [np.asarray(c["last_action"])[..., k] for k in range(6)]
-        return np.clip(np.stack(columns, axis=-1), -1.0, 1.0).astype(np.float32)
-
-    def info(self) -> dict[str, Any]:
-        wall, c = self.wall, self.counters
-        sock = self.windsock()
-        names = np.asarray(STATE_NAMES, dtype=object)
-        status = np.asarray(wall.status).astype(int)
-        success = (status == FALLEN_AWAY) | (status == LOOSE)
-        info = {
+    def info(self, state: ToppleState, m: dict, xp: Any) -> dict[str, Any]:
+        """Physical quantities: Python scalars for one env, arrays ``(batch,)`` for a batch
+        (``wall_state``, a name, and the samples are added by the env on the host)."""
+        wall = state.wall
+        status = wall.status
+        if xp is floats:
+            windsock: Any = np.array((m["sock_x"], m["sock_y"]))
+        else:
+            windsock = xp.stack((m["sock_x"], m["sock_y"]), axis=1)
+        return {
             "wall_angle": wall.angle,
             "wall_angular_velocity": wall.rate,
-            "wall_state": names[status] if not self.scalar else STATE_NAMES[int(status)],
             "wall_stress": wall.stress,
-            "hits": c["hits"],
-            "throws": c["throws"],
-            "throws_left": c["throws_left"],
-            "is_success": bool(success) if self.scalar else success,
-            "reward_terms": dict(self.terms),
-            "windsock": np.array(sock) if self.scalar else np.stack(sock, axis=1),
+            "hits": state.hits,
+            "throws": state.throws,
+            "throws_left": state.throws_left,
+            "is_success": (status == FALLEN_AWAY) | (status == LOOSE),
+            "reward_terms": {k: getattr(state, k) for k in REWARD_TERMS},
+            "windsock": windsock,
         }
-        for key in _empty_record():
-            if self.scalar:
-                info[key] = self.record[key]
-            else:
-                column = np.empty(self.batch, dtype=object)
-                for i in range(self.batch):
-                    column[i] = self.record[i][key]
-                info[key] = column
-        if not self.scalar:
-            info = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in info.items()}
-        return info
-
-
-_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
-
-
-def _select(mask: Any, new: Any, old: Any, xp: Any) -> Any:
-    """A state with ``new``'s values where ``mask`` (per env) and ``old``'s elsewhere.
-
-    It runs every substep, so it skips the ``where`` for a field that ``new`` took over
-    unchanged from ``old`` (the same array: states are never written, so sharing it is
-    safe), as ``ball_hits_wall`` does for most of the wall's fields."""
-    if xp is not np:
-        return new if mask else old
-    cls = type(old)
-    names = _FIELD_NAMES.get(cls)
-    if names is None:
-        names = _FIELD_NAMES[cls] = tuple(f.name for f in fields(cls))
-    values = []
-    for name in names:
-        a, b = getattr(new, name), getattr(old, name)
-        values.append(b if a is b else np.where(mask, a, b))
-    return cls(*values)
-
-
-def _put(old: np.ndarray, idx: np.ndarray, values: Any) -> np.ndarray:
-    """A copy of ``old`` with rows ``idx`` set to ``values``."""
-    new = old.copy()
-    new[idx] = values
-    return new
-
-
-def _scatter(old: Any, idx: np.ndarray, new: Any) -> Any:
-    """A batch dataclass like ``old`` with the envs ``idx`` taken from ``new`` (a batch of
-    ``len(idx)``)."""
-    return type(old)(
-        **{f.name: _put(getattr(old, f.name), idx, getattr(new, f.name)) for f in fields(old)}
-    )
-
-
-def _where2(mask: np.ndarray, new: Any, old: Any, scalar: bool) -> Any:
-    if scalar:
-        return new if mask[0] else old
-    return np.where(mask, new, old)
 
 
 def _empty_record() -> dict[str, np.ndarray]:
@@ -484,14 +534,37 @@ def _empty_record() -> dict[str, np.ndarray]:
     }
 
 
-def _record(balls: np.ndarray, walls: np.ndarray, loose: np.ndarray, thrown: Any) -> dict:
-    return {
-        "ball_trajectory": balls[:, :3] if thrown else np.zeros((0, 3)),
-        "ball_orientations": balls[:, 3:] if thrown else np.zeros((0, 4)),
-        "wall_angle_samples": walls,
-        "loose_samples": loose[:, :3],
-        "loose_mask": loose[:, 3] == LOOSE,
-    }
+def _records(
+    events: ToppleEvents | None, every: int, fresh: np.ndarray, only: int | None = None
+) -> list:
+    """Each env's samples of the last transition (for info and rendering; env ``only``
+    alone if given): of the substeps' samples every ``every``-th, the first ``samples[i]``
+    of them (those taken while env ``i`` ran); empty for the envs reset since (``fresh``)
+    or without ``events``."""
+    envs = range(len(fresh)) if only is None else [only]
+    if events is None or events.taken is None:
+        return [_empty_record() for _ in envs]
+    taken = events.taken[::every]
+    rows = np.array(taken, dtype=np.float64)  # (K, 12) or (K, 12, n): SAMPLE_FIELDS
+    rows = rows.reshape(len(taken), 12, -1)
+    samples, thrown = np.atleast_1d(events.samples), np.atleast_1d(events.thrown)
+    out = []
+    for i in envs:
+        if fresh[i]:
+            out.append(_empty_record())
+            continue
+        k = int(samples[i])
+        balls, walls, loose = rows[:k, :7, i], rows[:k, 7, i], rows[:k, 8:, i]
+        out.append(
+            {
+                "ball_trajectory": balls[:, :3] if thrown[i] else np.zeros((0, 3)),
+                "ball_orientations": balls[:, 3:] if thrown[i] else np.zeros((0, 4)),
+                "wall_angle_samples": walls,
+                "loose_samples": loose[:, :3],
+                "loose_mask": loose[:, 3] == LOOSE,
+            }
+        )
+    return out
 
 
 _DOC_ARGS = """
@@ -525,7 +598,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballToppleEnv(SingleEnv):
+class BeachballToppleEnv(CoreEnv):
     """Bring down a wall standing in gusty wind by throwing beach balls at it.
 
     ## Description
@@ -610,7 +683,18 @@ class BeachballToppleEnv(SingleEnv):
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
     task_class = ToppleTask
-    sim_class = _ToppleSim
+
+    def _on_reset(self) -> None:
+        self.events = None  # a new episode has no samples yet
+
+    def _step_info(self) -> dict[str, Any]:
+        """The wall's state by name and the last step's samples."""
+        info: dict[str, Any] = {"wall_state": STATE_NAMES[int(self.state.wall.status)]}
+        info.update(self._record())
+        return info
+
+    def _record(self) -> dict[str, np.ndarray]:
+        return _records(self.events, self.task.record_every, np.zeros(1, dtype=bool))[0]
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
@@ -619,7 +703,7 @@ class BeachballToppleEnv(SingleEnv):
         renderer = ensure_renderer(self)
         if renderer is None:
             return None
-        scene = _scene(self._sim, 0)
+        scene = _scene(self.task, self.state, self._record())
         if self._animate:
             # Human mode plays the step's interval in real time, then shows its end.
             self._animate = False
@@ -636,7 +720,8 @@ class BeachballToppleEnv(SingleEnv):
         renderer = ensure_renderer(self)
         if renderer is None:
             return []
-        frames = [renderer.render(s) for s in _flight_scenes(_scene(self._sim, 0))]
+        scene = _scene(self.task, self.state, self._record())
+        frames = [renderer.render(s) for s in _flight_scenes(scene)]
         return [f for f in frames if f is not None]
 
 
@@ -651,30 +736,17 @@ def _make_renderer(env: Any) -> Any:
     return ToppleRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
 
 
-def _scene(sim: _ToppleSim, i: int) -> Any:
-    """Drawing description of env ``i`` (no physics in the renderer)."""
+def _scene(task: ToppleTask, state: ToppleState, record: dict[str, np.ndarray]) -> Any:
+    """Drawing description of one env's state, as floats, and its last step's samples (no
+    physics in the renderer)."""
     from bbgym.render.topple_view import ToppleScene
 
-    task = sim.task
-    if sim.scalar:
-        sc, gust, wall, record = sim.scenario, sim.gust, sim.wall, sim.record
-        counters = sim.counters
-        sock_noise = sim.sock_noise
-    else:
-        sc, gust, wall = (element(x, i) for x in (sim.scenario, sim.gust, sim.wall))
-        record = sim.record[i]
-        counters = {k: np.asarray(v)[i] for k, v in sim.counters.items()}
-        sock_noise = (sim.sock_noise[0][i], sim.sock_noise[1][i])
-    xp = backend.scalar
-    wind_x, wind_y, _, _ = wind_vector(sc.wind_speed, sc.wind_from, gust, xp)
-    noise = task.windsock_noise
+    sc, wall = state.scenario, state.wall
+    m = task.measure(state, floats)
     status = int(wall.status)
-    hit = float(counters["hit_height"]) >= 0.0 and float(counters["last_hit"]) > 0
-    trajectory = record["ball_trajectory"]
     hit_point = None
-    if hit:
-        height = float(counters["hit_height"])
-        hit_point = (sc.wall_distance, float(counters["hit_y"]), height)
+    if float(state.hit_height) >= 0.0 and float(state.last_hit) > 0:
+        hit_point = (float(sc.wall_distance), float(state.hit_y), float(state.hit_height))
     wp = task.wall
     return ToppleScene(
         wall_distance_m=float(sc.wall_distance),
@@ -686,36 +758,84 @@ def _scene(sim: _ToppleSim, i: int) -> Any:
         pivot_side=int(wall.pivot),
         wall_state=STATE_NAMES[status],
         loose_panel=(wall.loose_x, wall.loose_z, wall.loose_angle) if status == LOOSE else None,
-        ball_trajectory_m=trajectory,
+        ball_trajectory_m=record["ball_trajectory"],
         ball_orientations=record["ball_orientations"],
         ball_radius_m=task.ball.radius_m,
         wall_angle_samples=record["wall_angle_samples"],
         # The renderer marks samples of an attached wall as NaN rows.
         loose_samples=np.where(record["loose_mask"][:, None], record["loose_samples"], np.nan),
         hit_point_m=hit_point,
-        wind_mps=(wind_x, wind_y),
-        windsock_mps=(wind_x + noise * sock_noise[0], wind_y + noise * sock_noise[1]),
-        throws_left=int(counters["throws_left"]),
+        wind_mps=(m["wind_x"], m["wind_y"]),
+        windsock_mps=(m["sock_x"], m["sock_y"]),
+        throws_left=int(state.throws_left),
         throws_total=task.throws_per_episode,
-        hits=int(counters["hits"]),
+        hits=int(state.hits),
     )
 
 
-class BeachballToppleVectorEnv(NativeVectorEnv):
+class BeachballToppleVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballToppleEnv`: all walls and balls in one
-    batch. Same task, spaces, arguments and info keys as the single env (the per-step
-    samples are object arrays); see :class:`bbgym.envs.common.NativeVectorEnv`."""
+    batch.
 
-    metadata = {**NativeVectorEnv.metadata, "render_fps": 20}
+    Same task, spaces, arguments and info keys as the single env (the per-step samples are
+    object arrays, on the NumPy backend only), plus the backend keywords ``backend``,
+    ``device``, ``dtype``, ``output``, ``compile``; see
+    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset and infos.
+    """
+
+    metadata = {**CoreVectorEnv.metadata, "render_fps": 20}
     task_class = ToppleTask
-    sim_class = _ToppleSim
     default_max_episode_steps = 100
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+        self._fresh = np.ones(self.num_envs, dtype=bool)
+        self._fresh_events: Any = None
+
+    def _on_reset(self, mask: np.ndarray) -> None:
+        # The envs reset since the last transition have no samples of it.
+        if self._fresh_events is not self.events:
+            self._fresh_events = self.events
+            self._fresh = np.zeros(self.num_envs, dtype=bool)
+        self._fresh = self._fresh | np.asarray(mask, dtype=bool)
+
+    def _fresh_mask(self) -> np.ndarray:
+        if self._fresh_events is self.events:
+            return self._fresh
+        return np.zeros(self.num_envs, dtype=bool)
+
+    def _step_info(self) -> dict[str, Any]:
+        """The walls' states by name and (NumPy) the last step's samples, object arrays."""
+        status = np.asarray(backends.to_numpy(self.state.wall.status)).astype(int)
+        info: dict[str, Any] = {"wall_state": np.asarray(STATE_NAMES, dtype=object)[status]}
+        if self.backend.name == "numpy":
+            records = _records(self.events, self.task.record_every, self._fresh_mask())
+            for key in _empty_record():
+                column = np.empty(self.num_envs, dtype=object)
+                for i, record in enumerate(records):
+                    column[i] = record[key]
+                info[key] = column
+        return info
+
+    def _vector_info(self, info: dict[str, Any]) -> dict[str, Any]:
+        # A reset's info (and the torch step's) has no host entries yet: added here.
+        if "wall_state" not in info:
+            info = {**info, **self._step_info()}
+        return super()._vector_info(info)
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
     def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
-        return renderer.render(_scene(self._sim, i))
+        fresh = self._fresh_mask() if self.backend.name == "numpy" else np.ones(self.num_envs, bool)
+        record = _records(self.events, self.task.record_every, fresh, only=i)[0]
+        return renderer.render(_scene(self.task, self.element_state(i), record))
 
 
 BeachballToppleEnv.__doc__ = BeachballToppleEnv.__doc__.replace("{args}", _DOC_ARGS)

@@ -2,7 +2,9 @@
 
 3D, world frame x east, y north, z up, SI units. Like the sailing physics every function is
 pure and written against an array namespace ``xp`` (:mod:`bbgym.physics.backend`): NumPy
-arrays for a batch, Python floats for one ball. Vectors are passed as separate components.
+arrays for a batch, Python floats for one ball, or any namespace of the array API standard
+(``array_api_strict``, torch): only the standard's names, no Python branch on array values,
+states are immutable NamedTuples. Vectors are passed as separate components.
 
 ==========================  ============================================================
 law                         function
@@ -16,15 +18,19 @@ bounce, friction, rolling   :func:`ground_contact` (restitution §3, friction §
                             :func:`friction_impulse`, :func:`rolling_resistance_spin_change`
 panel (screen, wall) hits   :func:`panel_contact`
 ball-ball collision         :func:`collide_balls` (restitution formula of §4)
-flight to rest              :func:`simulate_throw`
+flight to rest              :func:`simulate_throw`, driving :func:`flight_start`,
+                            :func:`flight_chunk` (fixed substeps, finished balls
+                            frozen) and :func:`flight_result`
 ==========================  ============================================================
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
-from typing import Any
+from dataclasses import dataclass
+from functools import cached_property
+from itertools import repeat
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -86,19 +92,19 @@ class BallParams:
     def __post_init__(self) -> None:
         check_fields(self)
 
-    @property
+    @cached_property  # derived from frozen fields: computed once
     def mass_kg(self) -> float:
         r = self.radius_m
         if self.solid:
             return self.density_kgm3 * 4.0 / 3.0 * math.pi * r**3
         return self.shell_areal_density_kgm2 * 4.0 * math.pi * r**2
 
-    @property
+    @cached_property
     def inertia_kgm2(self) -> float:
         """Moment of inertia about a diameter: thin shell 2/3 m r^2, solid 2/5 m r^2 (§5)."""
         return (0.4 if self.solid else 2.0 / 3.0) * self.mass_kg * self.radius_m**2
 
-    @property
+    @cached_property
     def area_m2(self) -> float:
         return math.pi * self.radius_m**2
 
@@ -111,10 +117,10 @@ class BallParams:
         return math.sqrt(2 * self.mass_kg * GRAVITY_MPS2 / drag_per_speed_sq)
 
 
-@dataclass
-class BallState:
+class BallState(NamedTuple):
     """Position, velocity, spin (rad/s, world frame) and orientation (unit quaternion
-    ``(qw, qx, qy, qz)``, body to world: it only serves to draw the stripes)."""
+    ``(qw, qx, qy, qz)``, body to world: it only serves to draw the stripes). Immutable:
+    make a changed copy with ``_replace``."""
 
     x: Array
     y: Array
@@ -132,12 +138,28 @@ class BallState:
 
 
 def ball_at(
-    x: Array, y: Array, z: Array, vx: Array, vy: Array, vz: Array, wx: Array, wy: Array, wz: Array
-) -> BallState:
-    """A ball at a position with a velocity and spin, in its reference orientation."""
-    one = 1.0 + 0.0 * x
-    zero = 0.0 * x
-    return BallState(x, y, z, vx, vy, vz, wx, wy, wz, one, zero, zero, zero)
+    x: Array, y: Array, z: Array, vx: Array, vy: Array, vz: Array, wx: Array, wy: Array,
+    wz: Array, xp: Any = None,
+) -> BallState:  # fmt: skip
+    """A ball at a position with a velocity and spin, in its reference orientation.
+
+    Without ``xp`` the components are taken as they are (Python floats for one ball, arrays
+    of one shape for a batch). With an array namespace ``xp`` they may mix Python numbers
+    and arrays: all become arrays of ``xp`` of the arrays' common shape and float dtype
+    (float64 if all are numbers)."""
+    if xp is not None and hasattr(xp, "asarray"):  # the namespace, never array values
+        x, y, z, vx, vy, vz, wx, wy, wz = _as_arrays(xp, x, y, z, vx, vy, vz, wx, wy, wz)
+    # an array per component (none shared): a compiled step sees the same aliasing on every call
+    return BallState(x, y, z, vx, vy, vz, wx, wy, wz, 1.0 + 0.0 * x, 0.0 * x, 0.0 * x, 0.0 * x)
+
+
+def _as_arrays(xp: Any, *values: Any) -> list:
+    """``values`` as arrays of ``xp`` broadcast to one shape, in the first array's float
+    dtype (numbers keep their exact value: no arithmetic touches them)."""
+    arrays = [v for v in values if not isinstance(v, (int, float))]
+    dtype = arrays[0].dtype if arrays else xp.float64
+    converted = [xp.asarray(v, dtype=dtype) for v in values]
+    return list(xp.broadcast_arrays(*converted))
 
 
 def magnus_force(
@@ -257,9 +279,7 @@ def ground_contact(
     the normal impulse carries the substep's length. Returns the new state and whether the
     ball touched the ground in this substep.
     """
-    r = p.radius_m
-    if not xp.any(s.z <= r):  # all in the air: nothing touches (the common case mid-flight)
-        return s, s.z < 0.0 * s.z
+    near = s.z <= p.radius_m
     touching, bounce, normal_impulse, z, vz = _normal_impulse(p, s, xp)
     # A bounce is over in an instant: rolling resistance acts in resting contact only. It
     # goes first, so that friction (if it can) leaves the ball rolling at the end.
@@ -271,6 +291,9 @@ def ground_contact(
     slip_x, slip_y = contact_slip(p, s.vx, s.vy, wx, wy)
     jx, jy = friction_impulse(p, slip_x, slip_y, normal_impulse, xp)
     vx, vy, wx, wy = _apply_contact_impulse(p, s.vx, s.vy, wx, wy, jx, jy)
+    # A ball in the air keeps its values exactly (zero impulses could flip a zero's sign).
+    vx, vy = xp.where(near, vx, s.vx), xp.where(near, vy, s.vy)
+    wx, wy = xp.where(near, wx, s.wx), xp.where(near, wy, s.wy)
     new = BallState(s.x, s.y, z, vx, vy, vz, wx, wy, s.wz, s.qw, s.qx, s.qy, s.qz)
     return new, touching
 
@@ -282,7 +305,7 @@ def _normal_impulse(p: BallParams, s: BallState, xp: Any) -> tuple:
     r, m = p.radius_m, p.mass_kg
     touching = (s.z <= r) & (s.vz <= 0.0)
     bounce = touching & (-s.vz > p.rest_speed_mps)
-    e = xp.where(bounce, p.restitution, 0.0)
+    e = xp.where(bounce, p.restitution, xp.zeros_like(s.vz))
     normal_impulse = xp.where(touching, -(1.0 + e) * m * s.vz, 0.0)
     vz = xp.where(touching, -e * s.vz, s.vz)
     z = xp.where(s.z <= r, r + e * (r - s.z), s.z)
@@ -379,7 +402,7 @@ def panel_contact(
     approach = s.vx * normal_x + s.vy * normal_y
     over_face = (xp.abs(lateral) <= half_width_m) & (s.z <= height_m)
     hit = enabled & over_face & (xp.abs(offset) < radius_m) & (approach * offset < 0.0)
-    side = xp.where(offset >= 0.0, 1.0, -1.0)
+    side = xp.where(offset >= 0.0, 1.0, xp.zeros_like(offset) - 1.0)
     change = xp.where(hit, -(1.0 + restitution) * approach, 0.0)
     push = xp.where(hit, side * radius_m - offset, 0.0)
     new = BallState(
@@ -462,8 +485,7 @@ def collide_balls(
     )
 
 
-@dataclass
-class Screen:
+class Screen(NamedTuple):
     """A vertical panel the ball cannot pass through (see :func:`panel_contact`)."""
 
     center_x: Array
@@ -476,8 +498,7 @@ class Screen:
     restitution: float = 0.4
 
 
-@dataclass
-class BallPose:
+class BallPose(NamedTuple):
     """Where a ball is and how it is turned: what a trajectory records (for plots and for
     drawing the stripes), without the velocities and spin."""
 
@@ -494,8 +515,7 @@ def pose_of(s: BallState) -> BallPose:
     return BallPose(s.x, s.y, s.z, s.qw, s.qx, s.qy, s.qz)
 
 
-@dataclass
-class ThrowResult:
+class ThrowResult(NamedTuple):
     """Outcome of :func:`simulate_throw`, per ball."""
 
     landing_x: Array
@@ -514,6 +534,160 @@ class ThrowResult:
     """Number of recorded samples that belong to each ball's flight."""
 
 
+class Flight(NamedTuple):
+    """What a flight carries from substep to substep (:func:`flight_chunk`), per ball.
+
+    Everything is an array of the batch (or a Python number for one ball), the substep
+    counter included, so a compiled chunk sees the same kinds of inputs on every call."""
+
+    ball: BallState
+    landed: Array
+    """Touched the ground at least once."""
+    landing_x: Array
+    """First touchdown (meaningful once ``landed``)."""
+    landing_y: Array
+    flight_time_s: Array
+    """Time to the first touchdown (meaningful once ``landed``)."""
+    apex_height_m: Array
+    hit_screen: Array
+    done: Array
+    """Finished (at rest, rolled long enough or out of the field): frozen from then on."""
+    end_time_s: Array
+    """Time of the last substep flown."""
+    steps: Array
+    """Recorded samples that belong to the ball's flight (int64), the launch's included."""
+    samples: Array
+    """Recorded samples with any ball of the batch still flying (int64, the same count
+    for every ball)."""
+    substep: Array
+    """Number of the next substep (substep ``i`` ends at ``i * dt_s``), in the balls'
+    float dtype (exact: at most ``FLIGHT_SUBSTEPS_MAX`` substeps)."""
+
+
+FLIGHT_SUBSTEPS_MAX = 2**24
+"""Substeps a flight may have: float32 counts them exactly up to here."""
+
+
+def flight_start(p: BallParams, launch: BallState, xp: Any = np) -> Flight:
+    """A flight at its launch: nothing landed, hit or done; the launch recorded. Every
+    field is an array of its own (none is another's, nor the launch's): a compiled chunk
+    sees the same aliasing on every call."""
+    return Flight(
+        ball=launch,
+        landed=xp.zeros_like(launch.x, dtype=xp.bool),
+        landing_x=launch.x + 0.0,
+        landing_y=launch.y + 0.0,
+        flight_time_s=xp.zeros_like(launch.x),
+        apex_height_m=launch.z + 0.0,
+        hit_screen=xp.zeros_like(launch.x, dtype=xp.bool),
+        done=xp.zeros_like(launch.x, dtype=xp.bool),
+        end_time_s=xp.zeros_like(launch.x),
+        steps=xp.zeros_like(launch.x, dtype=xp.int64) + 1,
+        samples=xp.zeros_like(launch.x, dtype=xp.int64) + 1,
+        substep=xp.zeros_like(launch.x) + 1.0,
+    )
+
+
+def flight_chunk(
+    p: BallParams, flight: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
+    dt_s: float, substeps: int, last: int, record_every: int, record: bool = True,
+    xp: Any = np, max_roll_s: float | None = None, field_radius_m: float = 30.0,
+) -> tuple[Flight, list]:  # fmt: skip
+    """The next ``substeps`` substeps of a flight (from ``flight.substep`` on), a fixed
+    number: a finished ball is frozen where it stopped, and so is every ball after substep
+    ``last`` (every update is masked). The substep number is an array, so one compiled
+    chunk serves every call. Returns the flight and, if ``record``, the pose after every
+    substep (:func:`recorded_poses` keeps those of the record)."""
+    poses = []
+    for _ in range(substeps):
+        flight, pose = _flight_substep(
+            p, flight, wind_x, wind_y, screen, dt_s, last, record_every, xp, max_roll_s,
+            field_radius_m,
+        )  # fmt: skip
+        if record:
+            poses.append(pose)
+    return flight, poses
+
+
+def recorded_poses(poses: list, first_substep: int, record_every: int, last: int) -> list:
+    """Of the poses after substeps ``first_substep, first_substep + 1, ...`` (from
+    :func:`flight_chunk`), those the record keeps: every ``record_every``-th substep, up to
+    substep ``last``."""
+    return [pose for i, pose in enumerate(poses, first_substep)
+            if i % record_every == 0 and i <= last]  # fmt: skip
+
+
+def _flight_substep(
+    p: BallParams, f: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
+    dt_s: float, last: int, record_every: int, xp: Any, max_roll_s: float | None,
+    field_radius_m: float,
+) -> tuple[Flight, BallPose]:  # fmt: skip
+    """Substep ``f.substep`` of every ball still flying: air, screen, ground, then the
+    bookkeeping."""
+    i = f.substep
+    before = f.ball
+    frozen = f.done | (i > last)
+    flying = xp.logical_not(frozen)
+    s = substep(p, before, wind_x, wind_y, dt_s, xp)
+    hit_screen = f.hit_screen
+    if screen is not None:
+        s, hit = _screen_contact(p, s, screen, xp)
+        hit_screen = hit_screen | (hit & flying)
+    flown = s
+    s, touching = ground_contact(p, s, dt_s, xp)
+    first = touching & xp.logical_not(f.landed) & flying
+    x, y, t = _touchdown(p, before, flown, i, dt_s, xp)
+    s = BallState._make(map(xp.where, repeat(frozen, len(s)), before, s))  # frozen
+    landed = f.landed | first
+    flight_time = xp.where(first, t, f.flight_time_s)
+    recorded = (i % record_every) == 0
+    steps = f.steps + xp.astype(flying & recorded, xp.int64)
+    samples = f.samples + xp.astype(xp.any(flying) & recorded, xp.int64)
+    now = i * dt_s
+    finished = _finished(p, s, landed, flight_time, now, max_roll_s, field_radius_m, xp)
+    new = Flight(
+        ball=s, landed=landed, landing_x=xp.where(first, x, f.landing_x),
+        landing_y=xp.where(first, y, f.landing_y), flight_time_s=flight_time,
+        # a frozen ball's height is in its apex already: no mask needed
+        apex_height_m=xp.maximum(f.apex_height_m, s.z), hit_screen=hit_screen,
+        done=f.done | (flying & finished), end_time_s=xp.where(frozen, f.end_time_s, now),
+        steps=steps, samples=samples, substep=i + 1.0,
+    )  # fmt: skip
+    return new, pose_of(s)
+
+
+def flight_result(
+    flight: Flight, spin_parameter: Array, trajectory: list, xp: Any = np
+) -> ThrowResult:
+    """The outcome: a ball that never touched down (it left the field, or time ran out)
+    "lands" where it is, when the flight ended."""
+    never = xp.logical_not(flight.landed)
+    final = flight.ball
+    return ThrowResult(
+        xp.where(never, final.x, flight.landing_x), xp.where(never, final.y, flight.landing_y),
+        xp.where(never, flight.end_time_s, flight.flight_time_s), flight.apex_height_m,
+        spin_parameter, flight.hit_screen, final, trajectory, flight.steps,
+    )  # fmt: skip
+
+
+def sample_count(samples: Array, xp: Any = np) -> int:
+    """The number of recorded samples of a batch (:attr:`Flight.samples`) as an int."""
+    return int(samples) if isinstance(samples, (int, float)) else int(xp.max(samples))
+
+
+def launch_spin_parameter(
+    p: BallParams, launch: BallState, wind_x: Array, wind_y: Array, xp: Any = np
+) -> Array:
+    """``S = r |omega| / |v|`` at launch, against the air."""
+    return magnus_force(
+        p, launch.vx - wind_x, launch.vy - wind_y, launch.vz, launch.wx, launch.wy, launch.wz, xp
+    )[3]
+
+
+CHECK_EVERY_ARRAYS = 16
+"""Substeps between the "all done?" checks of a batch (a device sync on a GPU)."""
+
+
 def simulate_throw(
     p: BallParams,
     launch: BallState,
@@ -526,56 +700,58 @@ def simulate_throw(
     field_radius_m: float = 30.0,
     record_dt_s: float = 0.05,
     xp: Any = np,
+    check_every: int | None = None,
+    record: bool = True,
 ) -> ThrowResult:
     """Fly balls from launch until they rest on the ground, leave the field or time runs out
     (``max_time_s`` in all, or ``max_roll_s`` after the first touchdown).
 
-    The wind is held during the flight (a gust outlasts a throw). A batch keeps only the
-    balls still flying in its working set (early exit: a finished ball costs nothing more,
-    and the loop ends with the last one); a finished ball stays where it stopped.
+    The wind is held during the flight (a gust outlasts a throw). A finished ball is frozen
+    where it stopped; the loop stops once all are finished, checked every ``check_every``
+    substeps (default: every substep for Python floats, where the check is free, else
+    :data:`CHECK_EVERY_ARRAYS`). The results do not depend on ``check_every``. All fields of
+    ``launch`` share one shape (as :func:`ball_at` makes them). Without ``record`` the
+    trajectory is empty (``steps`` still counts).
     """
-    _, _, _, spin_parameter = magnus_force(
-        p, launch.vx - wind_x, launch.vy - wind_y, launch.vz, launch.wx, launch.wy, launch.wz, xp
-    )
-    if xp is np:
-        return _simulate_batch(
-            p, launch, wind_x, wind_y, screen, dt_s, max_time_s, max_roll_s, field_radius_m,
-            record_dt_s, spin_parameter,
+    spin_parameter = launch_spin_parameter(p, launch, wind_x, wind_y, xp)
+    if check_every is None:
+        check_every = 1 if isinstance(launch.x, (int, float)) else CHECK_EVERY_ARRAYS
+    record_every = flight_record_every(dt_s, record_dt_s)
+    last = flight_substeps(dt_s, max_time_s)
+    flight = flight_start(p, launch, xp)
+    trajectory = [pose_of(launch)] if record else []
+    i = 1
+    while i <= last:
+        n = min(check_every, last + 1 - i)
+        flight, poses = flight_chunk(
+            p, flight, wind_x, wind_y, screen, dt_s, n, last, record_every, record, xp,
+            max_roll_s, field_radius_m,
         )  # fmt: skip
-    record_every = max(1, round(record_dt_s / dt_s))
-    s, landed, hit_screen = launch, False, False
-    landing_x, landing_y, flight_time, apex = s.x, s.y, 0.0, s.z
-    trajectory, steps = [pose_of(s)], 1
-    for i in range(1, int(round(max_time_s / dt_s)) + 1):
-        before = s
-        s = substep(p, s, wind_x, wind_y, dt_s, xp)
-        if screen is not None:
-            s, hit = _screen_contact(p, s, screen, xp)
-            hit_screen = hit_screen or bool(hit)
-        flown = s
-        s, touching = ground_contact(p, s, dt_s, xp)
-        if touching and not landed:
-            landed = True
-            landing_x, landing_y, flight_time = _touchdown(p, before, flown, i, dt_s, xp)
-        apex = max(apex, s.z)
-        if i % record_every == 0:
-            trajectory.append(pose_of(s))
-            steps += 1
-        if _finished(p, s, landed, flight_time, i * dt_s, max_roll_s, field_radius_m, xp):
+        trajectory += recorded_poses(poses, i, record_every, last)
+        i += n
+        if bool(xp.all(flight.done)):
             break
-    if not landed:  # it left the field, or time ran out: it "lands" where it is
-        landing_x, landing_y, flight_time = s.x, s.y, i * dt_s
-    return ThrowResult(
-        landing_x, landing_y, flight_time, apex, spin_parameter, hit_screen, s, trajectory, steps
-    )
+    if record:  # a chunk may run past the last ball's finish: those samples are not kept
+        del trajectory[sample_count(flight.samples, xp) :]
+    return flight_result(flight, spin_parameter, trajectory, xp)
+
+
+def flight_record_every(dt_s: float, record_dt_s: float = 0.05) -> int:
+    """Substeps between two recorded poses."""
+    return max(1, round(record_dt_s / dt_s))
+
+
+def flight_substeps(dt_s: float, max_time_s: float) -> int:
+    """The substeps of a flight of at most ``max_time_s``."""
+    return int(round(max_time_s / dt_s))
 
 
 def _touchdown(
-    p: BallParams, before: BallState, after: BallState, i: int, dt_s: float, xp: Any
+    p: BallParams, before: BallState, after: BallState, i: Array, dt_s: float, xp: Any
 ) -> tuple[Array, Array, Array]:
-    """Where and when the ball first touched the ground during substep ``i``: linear
-    interpolation to the moment its centre was one radius up, so the landing point does
-    not depend on where the substep happened to end."""
+    """Where and when the ball first touched the ground during substep ``i`` (an array or
+    a number): linear interpolation to the moment its centre was one radius up, so the
+    landing point does not depend on where the substep happened to end."""
     drop = before.z - after.z
     f = xp.clip((before.z - p.radius_m) / xp.where(drop > 0.0, drop, 1.0), 0.0, 1.0)
     x = before.x + f * (after.x - before.x)
@@ -604,91 +780,3 @@ def _finished(
     if max_roll_s is not None:  # a ball blown along the ground may never stop
         at_rest = at_rest | (landed & (t - flight_time > max_roll_s))
     return at_rest | (s.x * s.x + s.y * s.y > field_radius_m * field_radius_m)
-
-
-def _simulate_batch(
-    p: BallParams, launch: BallState, wind_x: Array, wind_y: Array, screen: Screen | None,
-    dt_s: float, max_time_s: float, max_roll_s: float | None, field_radius_m: float,
-    record_dt_s: float, spin_parameter: Array,
-) -> ThrowResult:  # fmt: skip
-    """:func:`simulate_throw` for a batch, on the working set of balls still flying."""
-    n = launch.x.shape[0]
-    record_every = max(1, round(record_dt_s / dt_s))
-    names = [f.name for f in fields(BallState)]
-    final = BallState(*(np.array(getattr(launch, k), dtype=np.float64) for k in names))
-    pose = pose_of(BallState(*(getattr(final, k).copy() for k in names)))
-    out = {
-        "landing_x": final.x.copy(), "landing_y": final.y.copy(), "flight_time": np.zeros(n),
-        "apex": final.z.copy(), "hit_screen": np.zeros(n, dtype=bool),
-        "landed": np.zeros(n, dtype=bool), "end_time": np.zeros(n),
-    }  # fmt: skip
-    steps = np.ones(n, dtype=np.int64)
-    trajectory = [pose_of(BallState(*(getattr(final, k).copy() for k in names)))]
-
-    # The working set: indices of flying balls and their own copies of everything per ball.
-    act = np.arange(n)
-    s = final
-    wx, wy = np.broadcast_to(wind_x, (n,)), np.broadcast_to(wind_y, (n,))
-    scr = None
-    if screen is not None:
-        scr = Screen(*(np.broadcast_to(getattr(screen, k), (n,)) for k in
-                       ("center_x", "center_y", "along_x", "along_y", "half_width_m",
-                        "height_m", "enabled")), restitution=screen.restitution)  # fmt: skip
-    w = {k: v.copy() for k, v in out.items()}
-
-    def store(rows: np.ndarray, keep: np.ndarray) -> None:
-        """Write the working set's rows ``keep`` back into the full arrays at ``rows``."""
-        for k in names:
-            getattr(final, k)[rows] = getattr(s, k)[keep]
-        for k in out:
-            out[k][rows] = w[k][keep]
-
-    for i in range(1, int(round(max_time_s / dt_s)) + 1):
-        before = s
-        s = substep(p, s, wx, wy, dt_s)
-        if scr is not None:
-            s, hit = _screen_contact(p, s, scr, np)
-            w["hit_screen"] = w["hit_screen"] | hit
-        flown = s
-        s, touching = ground_contact(p, s, dt_s)
-        first = touching & ~w["landed"]
-        if first.any():
-            x, y, t = _touchdown(p, before, flown, i, dt_s, np)
-            w["landing_x"] = np.where(first, x, w["landing_x"])
-            w["landing_y"] = np.where(first, y, w["landing_y"])
-            w["flight_time"] = np.where(first, t, w["flight_time"])
-        w["landed"] = w["landed"] | first
-        w["apex"] = np.maximum(w["apex"], s.z)
-        if i % record_every == 0:
-            for k in ("x", "y", "z", "qw", "qx", "qy", "qz"):
-                getattr(pose, k)[act] = getattr(s, k)
-            trajectory.append(BallPose(*(getattr(pose, k).copy() for k in
-                                         ("x", "y", "z", "qw", "qx", "qy", "qz"))))  # fmt: skip
-            steps[act] += 1
-        done = _finished(p, s, w["landed"], w["flight_time"], i * dt_s, max_roll_s,
-                         field_radius_m, np)  # fmt: skip
-        w["end_time"] = np.full(act.size, i * dt_s)
-        if done.any():
-            store(act[done], done)
-            keep = ~done
-            act = act[keep]
-            if act.size == 0:
-                break
-            s = BallState(*(getattr(s, k)[keep] for k in names))
-            w = {k: v[keep] for k, v in w.items()}
-            wx, wy = wx[keep], wy[keep]
-            if scr is not None:
-                scr = Screen(*(getattr(scr, k)[keep] for k in
-                               ("center_x", "center_y", "along_x", "along_y", "half_width_m",
-                                "height_m", "enabled")), restitution=scr.restitution)  # fmt: skip
-    if act.size:
-        store(act, np.ones(act.size, dtype=bool))
-    # A ball that never touched down (left the field, or still flying) lands where it is.
-    never = ~out["landed"]
-    out["landing_x"] = np.where(never, final.x, out["landing_x"])
-    out["landing_y"] = np.where(never, final.y, out["landing_y"])
-    out["flight_time"] = np.where(never, out["end_time"], out["flight_time"])
-    return ThrowResult(
-        out["landing_x"], out["landing_y"], out["flight_time"], out["apex"], spin_parameter,
-        out["hit_screen"], final, trajectory, steps,
-    )  # fmt: skip

@@ -8,7 +8,7 @@ leeway and heel.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -75,7 +75,7 @@ def compute_polar(
     for _ in range(int(round(duration_s / dt_s))):
         state, _ = substep(params, state, rudder, limit, wind_x, wind_y, dt_s)
         # Hold the course: the helmsman keeps the bow where it is.
-        state = replace(state, heading_rad=np.zeros(batch), yaw_rate_rps=np.zeros(batch))
+        state = state._replace(heading_rad=np.zeros(batch), yaw_rate_rps=np.zeros(batch))
 
     speed = np.hypot(state.vx_mps, state.vy_mps)
     speed = np.where(state.capsized, 0.0, speed).reshape(angles.size, sheets.size)

@@ -73,8 +73,8 @@ along ``(-cos(boom), sin(boom))`` in the body frame and the sail's normal (to po
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -298,48 +298,57 @@ class DinghyParams:
         return replace(self, **changes)
 
 
-@dataclass
-class DinghyState:
-    """State of a batch of dinghies; every field has shape ``(batch,)``."""
+class DinghyState(NamedTuple):
+    """State of a batch of dinghies; every field has shape ``(batch,)`` (or is a Python
+    float for one boat). Immutable: a step makes a new state."""
 
-    x_m: np.ndarray
-    y_m: np.ndarray
-    heading_rad: np.ndarray
-    vx_mps: np.ndarray
-    vy_mps: np.ndarray
-    yaw_rate_rps: np.ndarray
-    heel_rad: np.ndarray
-    heel_rate_rps: np.ndarray
-    boom_rad: np.ndarray
-    boom_rate_rps: np.ndarray
-    crew_out: np.ndarray
+    x_m: Array
+    y_m: Array
+    heading_rad: Array
+    vx_mps: Array
+    vy_mps: Array
+    yaw_rate_rps: Array
+    heel_rad: Array
+    heel_rate_rps: Array
+    boom_rad: Array
+    boom_rate_rps: Array
+    crew_out: Array
     """Helmsman's position, -1 (hiked to port) .. +1 (hiked to starboard)."""
-    capsized: np.ndarray
+    capsized: Array
     """Bool; once capsized the boat stays down (the sail lies in the water)."""
 
-    def copy(self) -> DinghyState:
-        return DinghyState(**{f.name: getattr(self, f.name).copy() for f in fields(self)})
 
-    def select(self, mask: np.ndarray, other: DinghyState) -> DinghyState:
-        """Elementwise: ``other`` where ``mask`` else ``self`` (used by vector resets)."""
-        return DinghyState(
-            **{
-                f.name: np.where(mask, getattr(other, f.name), getattr(self, f.name))
-                for f in fields(self)
-            }
-        )
-
-
-@dataclass
-class StepEvents:
+class StepEvents(NamedTuple):
     """What happened during one :func:`step`, per boat."""
 
-    jibes: np.ndarray
-    """Boom crossings of the centerline with the apparent wind from aft."""
-    jibe_severity_rps: np.ndarray
+    jibes: Array
+    """Boom crossings of the centerline with the apparent wind from aft (int)."""
+    jibe_severity_rps: Array
     """Largest boom angular speed at such a crossing (0 if none)."""
-    tacks: np.ndarray
-    """Bow crossings of the true wind direction."""
+    tacks: Array
+    """Bow crossings of the true wind direction (int, 0 or 1)."""
+
+
+def dinghy_moving(
+    heading_rad: Array, speed_mps: Array, boom_rad: Array, xp: Any = np
+) -> DinghyState:
+    """Upright boats at the origin moving straight ahead at ``speed_mps``, the boom at
+    ``boom_rad`` (arrays of one shape, any namespace)."""
+    zeros = 0.0 * heading_rad
+    return DinghyState(
+        x_m=zeros,
+        y_m=zeros,
+        heading_rad=heading_rad,
+        vx_mps=speed_mps * xp.cos(heading_rad),
+        vy_mps=speed_mps * xp.sin(heading_rad),
+        yaw_rate_rps=zeros,
+        heel_rad=zeros,
+        heel_rate_rps=zeros,
+        boom_rad=boom_rad,
+        boom_rate_rps=zeros,
+        crew_out=zeros,
+        capsized=zeros > 0.0,
+    )
 
 
 def dinghy_at_rest(
@@ -350,28 +359,13 @@ def dinghy_at_rest(
     speed_mps: Any = 0.0,
     boom_rad: Any = 0.0,
 ) -> DinghyState:
-    """A batch of upright boats moving straight ahead at ``speed_mps``."""
+    """A NumPy batch of upright boats moving straight ahead at ``speed_mps``."""
 
     def full(v: object) -> np.ndarray:
         return np.broadcast_to(np.asarray(v, dtype=np.float64), (batch,)).copy()
 
-    heading = full(heading_rad)
-    speed = full(speed_mps)
-    zeros = np.zeros(batch)
-    return DinghyState(
-        x_m=full(x_m),
-        y_m=full(y_m),
-        heading_rad=heading,
-        vx_mps=speed * np.cos(heading),
-        vy_mps=speed * np.sin(heading),
-        yaw_rate_rps=zeros.copy(),
-        heel_rad=zeros.copy(),
-        heel_rate_rps=zeros.copy(),
-        boom_rad=full(boom_rad),
-        boom_rate_rps=zeros.copy(),
-        crew_out=zeros.copy(),
-        capsized=np.zeros(batch, dtype=bool),
-    )
+    boat = dinghy_moving(full(heading_rad), full(speed_mps), full(boom_rad))
+    return boat._replace(x_m=full(x_m), y_m=full(y_m))
 
 
 def apparent_wind_body(
@@ -436,7 +430,7 @@ def sail_force_linearised(
     Only the apparent-wind component perpendicular to the sail, ``w_n = v_a . n``, pushes
     it, so the force is along the sail's normal ``n``; it pushes the sail (and the boat) to
     the side the air flows to. Heel tilts the sail out of the wind: the effective area is
-    ``A cos(heel)`` (§9 "tilt"); a capsized boat (``upright`` 0) has none. The normal force
+    ``A cos(heel)`` (§9 "tilt"); a capsized boat (``upright`` false) has none. The normal force
     is ``F_N = q |v_a|^2 C_N(alpha)`` with ``q = 1/2 rho A cos(heel)`` and
     ``sin(alpha) = |w_n| / |v_a|``.
 
@@ -477,7 +471,7 @@ def sail_force_linearised(
     sin_attack = wind_normal_abs * inv_speed
     cos_attack = xp.abs(wind_chord) * inv_speed
     secant, sin_d_secant = sail_normal_coefficients(p, sin_attack, cos_attack, xp)
-    q_speed = p._sail_q * cos_heel * upright * speed
+    q_speed = xp.where(upright, p._sail_q * cos_heel * speed, 0.0)
     # |F_N| = q |v_a|^2 C_N = q |v_a| (C_N / sin(alpha)) |w_n|, along sign(w_n).
     pressure = (q_speed * secant) * wind_normal
     # By the lee the boom is blown across, toward -sign(boom).
@@ -487,10 +481,9 @@ def sail_force_linearised(
     # 2 sin C_N + cos dC_N/dalpha = (1 + sin^2) S + cos sin dS/dalpha
     c_n = q_speed * xp.abs((1.0 + sin_attack * sin_attack) * secant + cos_attack * sin_d_secant)
     # The weathervane stiffness holds while the air runs aft along the boom (luff to leech).
-    k_boom = (
-        ((wind_chord > 0.0) > by_the_lee)  # air running aft, and not by the lee
-        * (p.sail_ce_aft_m * q_speed * speed)
-        * (secant + xp.abs(sin_d_secant))
+    luff_to_leech = (wind_chord > 0.0) & xp.logical_not(by_the_lee)  # air running aft
+    k_boom = xp.where(luff_to_leech, p.sail_ce_aft_m * q_speed * speed, 0.0) * (
+        secant + xp.abs(sin_d_secant)
     )
     return pressure * normal_u, pressure * normal_v, normal, c_n, k_boom, speed
 
@@ -525,7 +518,7 @@ def hull_force_linearised(
     """
     ahead_minus_astern, astern, inv_wave_speed_sq, side = p._hull
     speed_u = xp.abs(surge)
-    drag_u = (astern + (surge >= 0.0) * ahead_minus_astern) * speed_u
+    drag_u = (astern + xp.where(surge >= 0.0, ahead_minus_astern, 0.0 * surge)) * speed_u
     wave = surge * surge * inv_wave_speed_sq
     keel = p.keel_lift_slope * speed_u
     drag_v = side * xp.abs(sway)
@@ -667,16 +660,16 @@ def apply_sheet_stop(
     start_rate = side * previous_rate
     gap = limit - side * previous_boom
     short_of_stop = gap > 0.0
-    gap = gap * short_of_stop
+    gap = xp.where(short_of_stop, gap, 0.0)
     # A boom already at (or, the sheet just hauled in, beyond) the stop (gap 0) hits it
     # only if it was moving out at the start. w^2 lies between the two rates' squares, so
     # it is >= 0 but for rounding.
     outward = (xp.abs(boom) > limit) & (outward_rate > 0.0)
     hits = outward & (short_of_stop | (start_rate > 0.0))
     contact_sq = start_rate * start_rate + (2.0 / dt_s) * (outward_rate - start_rate) * gap
-    impact_rate = (hits * side) * xp.sqrt(xp.abs(contact_sq))
+    impact_rate = xp.where(hits, side, 0.0) * xp.sqrt(xp.abs(contact_sq))
     boom = xp.clip(boom, -limit, limit)
-    return boom, boom_rate - outward * boom_rate, impact_rate  # stopped dead if outward
+    return boom, xp.where(outward, 0.0, boom_rate), impact_rate  # stopped dead if outward
 
 
 def substep(
@@ -715,10 +708,10 @@ def _substep(
     aw_u, aw_v = apparent_wind_body(state, wind_x, wind_y, cos_h, sin_h)
     heel = state.heel_rad
     cos_heel, sin_heel = xp.cos(heel), xp.sin(heel)
-    up = 1.0 - state.capsized  # 1 upright, 0 capsized
+    upright = xp.logical_not(state.capsized)
 
     drive, side, normal, c_sail, k_boom, aw_speed = sail_force_linearised(
-        p, state.boom_rad, cos_heel, up, aw_u, aw_v, xp
+        p, state.boom_rad, cos_heel, upright, aw_u, aw_v, xp
     )
     hull_u, hull_v, c_u, c_v = hull_force_linearised(p, surge, sway, xp)
     # Windage of hull, mast and crew, quadratic drag against the air (-k v_rel with v_rel =
@@ -782,17 +775,21 @@ def _substep(
     heel_m, k_heel = heel_moment_linearised(p, cos_heel, sin_heel, rate, crew, side, xp)
     k_crew = (p.crew_righting_nm * cos_heel) * gain
     k_heel = k_heel + k_crew
-    heel_rate = up * (
+    heel_rate = xp.where(
+        upright,
         rate
         + (h * (heel_m - h * k_heel * rate) + p._roll_arm * impulse)
-        / (p.heel_inertia_kgm2 + h * (p.heel_damping + p.crew_time_s * k_crew + h * k_heel))
+        / (p.heel_inertia_kgm2 + h * (p.heel_damping + p.crew_time_s * k_crew + h * k_heel)),
+        0.0,
     )
     new_heel = heel + h * heel_rate
     capsized = state.capsized | (xp.abs(new_heel) > p.capsize_heel_rad)
     # The crew's reaction to this substep's heel and rate, to first order (its gain): the
     # same as crew_step from the new state up to O(dt^2), without a second tanh.
     crew = crew + gain * (new_heel - heel + p.crew_time_s * (heel_rate - rate))
-    crew = state.crew_out + up * (xp.clip(crew, -1.0, 1.0) - state.crew_out)
+    crew = xp.where(
+        upright, state.crew_out + (xp.clip(crew, -1.0, 1.0) - state.crew_out), state.crew_out
+    )
 
     new_state = DinghyState(
         state.x_m + h * vx,
@@ -814,6 +811,57 @@ def _substep(
     return new_state, impact, jibe
 
 
+class StepCarry(NamedTuple):
+    """What :func:`step` carries from substep to substep: the boat, the held controls and
+    wind, and the jibes so far."""
+
+    boat: DinghyState
+    rudder_rad: Array
+    boom_limit_rad: Array
+    wind_x: Array
+    wind_y: Array
+    jibes: Array
+    jibe_severity_rps: Array
+
+
+def step_begin(
+    p: DinghyParams, state: DinghyState, rudder_rad: Array, sheet: Array, wind_x: Array,
+    wind_y: Array, xp: Any = np,
+) -> StepCarry:  # fmt: skip
+    """Start a :func:`step`: clip the controls and hold them, with the wind."""
+    rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
+    limit = boom_limit_from_sheet(p, sheet, xp)
+    jibes = xp.zeros_like(state.x_m, dtype=xp.int64)
+    return StepCarry(state, rudder, limit, wind_x, wind_y, jibes, xp.zeros_like(state.x_m))
+
+
+def step_substep(p: DinghyParams, carry: StepCarry, dt_s: float, xp: Any = np) -> StepCarry:
+    """One substep of a :func:`step`, counting jibes (the boom crosses the centerline while
+    the apparent wind comes from aft, checked every substep: a boom crosses in a fraction
+    of a second) and keeping the fastest boom speed at one."""
+    state, _impact, jibe = _substep(
+        p, carry.boat, carry.rudder_rad, carry.boom_limit_rad, carry.wind_x, carry.wind_y,
+        dt_s, xp,
+    )  # fmt: skip
+    jibes = carry.jibes + xp.astype(jibe, xp.int64)
+    severity = xp.maximum(carry.jibe_severity_rps, xp.where(jibe, xp.abs(state.boom_rate_rps), 0.0))
+    return carry._replace(boat=state, jibes=jibes, jibe_severity_rps=severity)
+
+
+def step_end(
+    p: DinghyParams, start: DinghyState, carry: StepCarry, xp: Any = np
+) -> tuple[DinghyState, StepEvents]:
+    """Finish a :func:`step` begun at ``start``: a tack is the bow crossing the true wind
+    between the start and the end of the step (a boat turns far less than half a circle
+    in one control step)."""
+    wind_from = xp.atan2(-carry.wind_y, -carry.wind_x)
+    state = carry.boat
+    wind_off_bow = xp.sin(wind_from - start.heading_rad)
+    off_bow = xp.sin(wind_from - state.heading_rad)
+    tacks = (off_bow * wind_off_bow < 0.0) & (xp.cos(wind_from - state.heading_rad) > 0.0)
+    return state, StepEvents(carry.jibes, carry.jibe_severity_rps, xp.astype(tacks, xp.int64))
+
+
 def step(
     p: DinghyParams,
     state: DinghyState,
@@ -828,25 +876,14 @@ def step(
     """Advance ``n_substeps`` substeps of ``dt_s`` (:func:`substep`) with the controls held.
 
     ``rudder_rad`` is clipped to ``+-rudder_max_rad``; ``sheet`` in [0, 1] is how far the
-    sheet is eased (0 fully in). Counts jibes (the boom crosses the centerline while the
-    apparent wind comes from aft, checked every substep: a boom crosses in a fraction of a
-    second) and tacks (the bow crosses the true wind between the start and the end of the
-    step: a boat turns far less than half a circle in one control step).
+    sheet is eased (0 fully in). Counts jibes and tacks (:func:`step_substep`,
+    :func:`step_end`). A compiled backend runs the same three parts, compiling the substep
+    once rather than unrolling the loop.
     """
-    rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
-    limit = boom_limit_from_sheet(p, sheet, xp)
-    wind_from = xp.atan2(-wind_y, -wind_x)
-    jibes = xp.zeros_like(state.x_m, dtype=int)
-    severity = xp.zeros_like(state.x_m)
-    wind_off_bow = xp.sin(wind_from - state.heading_rad)
+    carry = step_begin(p, state, rudder_rad, sheet, wind_x, wind_y, xp)
     for _ in range(n_substeps):
-        state, _impact, jibe = _substep(p, state, rudder, limit, wind_x, wind_y, dt_s, xp)
-        jibes = jibes + jibe
-        # max(severity, ...), as a clip from below (cheaper than max() on Python floats)
-        severity = xp.clip(jibe * xp.abs(state.boom_rate_rps), severity, math.inf)
-    off_bow = xp.sin(wind_from - state.heading_rad)
-    tacks = (off_bow * wind_off_bow < 0.0) & (xp.cos(wind_from - state.heading_rad) > 0.0)
-    return state, StepEvents(jibes, severity, tacks + 0)
+        carry = step_substep(p, carry, dt_s, xp)
+    return step_end(p, state, carry, xp)
 
 
 def mechanical_energy(p: DinghyParams, state: DinghyState, xp: Any = np) -> Array:

@@ -10,7 +10,9 @@ flies as a free panel, pushed by the wind normal to its face (seed §8, loose pa
 2D in the vertical x-z plane: the thrower is at x = 0, the wall's foot is centred on
 ``base_x``, its face toward the thrower. ``angle`` (phi) > 0 leans the top away (+x).
 Pure functions over :class:`WallParams` and :class:`WallState`, on the array namespace
-``xp`` (NumPy batch or Python floats), like the rest of the physics.
+``xp`` (Python floats, NumPy, ``array_api_strict``, torch: :mod:`bbgym.physics.backend`),
+with the standard's names only, like the rest of the physics. The status code is a float
+of the batch's dtype (``STANDING`` ... ``LOOSE`` compare equal to it).
 
 ==========================  ============================================================
 law                         function
@@ -27,11 +29,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array
+from bbgym.physics.backend import Array, namespace_of
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
 from bbgym.physics.validation import check_fields, interval, param
 
@@ -123,11 +125,11 @@ class WallParams:
         return math.sqrt(self.hold_n / k)
 
 
-@dataclass
-class WallState:
+class WallState(NamedTuple):
     """Per wall: lean and rate about the pivot edge, which edge (+1 far, -1 near, 0 resting
-    on the foot), status code (:data:`STATE_NAMES`), the foot's position, the largest edge
-    shear as a fraction of what holds it, and the loose panel's centre, angle, velocity."""
+    on the foot), status code (:data:`STATE_NAMES`, as a float), the foot's position, the
+    largest edge shear as a fraction of what holds it, the loose panel's centre, angle,
+    velocity, and whether it has landed (bool). Immutable: ``_replace`` makes a new one."""
 
     angle: Array
     rate: Array
@@ -144,12 +146,14 @@ class WallState:
     landed: Array
 
 
-def wall_at(base_x: Array) -> WallState:
-    """An upright wall resting on its foot at ``base_x``."""
+def wall_at(base_x: Array, xp: Any = None) -> WallState:
+    """An upright wall resting on its foot at ``base_x`` (``xp``: NumPy for a NumPy array,
+    else :data:`~bbgym.physics.backend.floats`, unless given)."""
+    xp = namespace_of(base_x) if xp is None else xp
     zero = 0.0 * base_x
     return WallState(
-        zero, zero, zero, STANDING + 0 * base_x, base_x, zero,
-        zero, zero, zero, zero, zero, zero, zero != zero,
+        zero, zero, zero, zero + float(STANDING), base_x, zero,
+        zero, zero, zero, zero, zero, zero, xp.zeros_like(base_x, dtype=xp.bool),
     )  # fmt: skip
 
 
@@ -204,15 +208,15 @@ def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any =
     angle, rate = xp.where(back, 0.0, angle), xp.where(back, 0.0, rate)
     pivot = xp.where(back, 0.0, pivot)
     away, toward = angle >= 0.5 * math.pi, angle <= -0.5 * math.pi
-    status = xp.where(standing & away, FALLEN_AWAY, s.status)
-    status = xp.where(standing & toward, FALLEN_TOWARD, status)
+    status = xp.where(standing & away, float(FALLEN_AWAY), s.status)
+    status = xp.where(standing & toward, float(FALLEN_TOWARD), status)
     angle = xp.clip(angle, -0.5 * math.pi, 0.5 * math.pi)
     rate = xp.where(away | toward, 0.0, rate)
 
     # Breaking loose: the panel leaves with the motion it had.
     x_rel, z_rel = _lever(p, s.angle, pivot, xp)
     pivot_x = s.base_x + pivot * b
-    status = xp.where(breaks, LOOSE, status)
+    status = xp.where(breaks, float(LOOSE), status)
     loose = _freeze_select(
         breaks,
         (pivot_x + x_rel, z_rel, s.angle, s.rate * z_rel, -s.rate * x_rel, s.rate),
@@ -225,21 +229,11 @@ def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any =
     landed = s.landed | (flying & flown[6])
 
     keep = xp.logical_not(standing)
+    stress = xp.maximum(s.stress, xp.where(standing, shear / max(p.hold_n, HOLD_FLOOR_N), 0.0))
     return WallState(
-        angle=xp.where(keep, s.angle, angle),
-        rate=xp.where(keep, s.rate, rate),
-        pivot=xp.where(keep, s.pivot, pivot),
-        status=status,
-        base_x=s.base_x,
-        stress=xp.maximum(s.stress, xp.where(standing, shear / max(p.hold_n, HOLD_FLOOR_N), 0.0)),
-        loose_x=loose[0],
-        loose_z=loose[1],
-        loose_angle=loose[2],
-        loose_vx=loose[3],
-        loose_vz=loose[4],
-        loose_rate=loose[5],
-        landed=landed,
-    )
+        xp.where(keep, s.angle, angle), xp.where(keep, s.rate, rate),
+        xp.where(keep, s.pivot, pivot), status, s.base_x, stress, *loose, landed,
+    )  # fmt: skip
 
 
 def _freeze_select(mask: Array, new: tuple, old: tuple, xp: Any) -> tuple:
@@ -304,8 +298,8 @@ def loose_step(
     )
     rate = xp.where(touching, rate + tip * dt_s, rate)
     landed = touching & (xp.abs(sa) >= math.sin(0.45 * math.pi))
-    flat = xp.where(sa >= 0.0, 0.5 * math.pi, -0.5 * math.pi)
     zero = 0.0 * x
+    flat = xp.where(sa >= 0.0, zero + 0.5 * math.pi, -0.5 * math.pi)
     return (
         x,
         xp.where(landed, zero + 0.5 * p.thickness_m, z),
@@ -374,8 +368,5 @@ def ball_hits_wall(
     )
     d_ball = xp.where(hit, -impulse / ball_mass_kg, 0.0)
     new_rate = xp.where(hit, s.rate + impulse * k_n / p.inertia_kgm2, s.rate)
-    wall = WallState(
-        s.angle, new_rate, xp.where(hit, side, s.pivot), s.status, s.base_x, s.stress,
-        s.loose_x, s.loose_z, s.loose_angle, s.loose_vx, s.loose_vz, s.loose_rate, s.landed,
-    )  # fmt: skip
+    wall = WallState(s.angle, new_rate, xp.where(hit, side, s.pivot), *s[3:])
     return wall, bvx + d_ball * c, bvz - d_ball * sn, xp.where(hit, along, -1.0)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -50,21 +50,20 @@ class GustParams:
         check_fields(self)
 
 
-@dataclass
-class GustState:
-    """Per-env gust process: raw OU values and their smoothed versions."""
+class GustState(NamedTuple):
+    """Per-env gust process: raw OU values and their smoothed versions (immutable)."""
 
-    speed_raw: np.ndarray
-    speed: np.ndarray
-    shift_raw: np.ndarray
-    shift: np.ndarray
+    speed_raw: Array
+    speed: Array
+    shift_raw: Array
+    shift: Array
 
 
-def gust_init(params: GustParams, noise: np.ndarray, enabled: np.ndarray) -> GustState:
+def gust_init(params: GustParams, noise: Any, enabled: Array, xp: Any = np) -> GustState:
     """Start the gust process in its stationary distribution from ``noise`` ``(2, batch)``."""
-    speed = np.where(enabled, params.speed_std * noise[0], 0.0)
-    shift = np.where(enabled, params.shift_std_rad * noise[1], 0.0)
-    return GustState(speed_raw=speed, speed=speed.copy(), shift_raw=shift, shift=shift.copy())
+    speed = xp.where(enabled, params.speed_std * noise[0], 0.0)
+    shift = xp.where(enabled, params.shift_std_rad * noise[1], 0.0)
+    return GustState(speed_raw=speed, speed=speed, shift_raw=shift, shift=shift)
 
 
 def gust_step(

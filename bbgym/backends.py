@@ -1,0 +1,249 @@
+"""Backends of the native vector envs: which array namespace runs the step, on which
+device, in which float dtype, and the random numbers drawn there.
+
+``numpy`` (float64, the reference) runs the task core op by op on NumPy with each env's
+own ``numpy.random.Generator``, so sub-env ``i`` equals the single env seeded ``seed + i``.
+``torch`` runs the same core through ``array_api_compat.torch`` as one ``torch.compile``d
+function per step on ``device`` (``"cpu"`` or ``"cuda"``), in float64 or float32, with a
+counter-based generator (:func:`uniforms`, :func:`normals`) evaluated inside that
+function: a pure hash of (env key, step counter, stream, index) in int64 arithmetic that
+never overflows, so the uniform draws are the same bits on every device and in every
+namespace (the normals agree to the rounding of ``log`` and ``cos``), a run is
+deterministic under a seed, and the generator's state is one counter per env.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+
+BACKENDS = ("numpy", "torch")
+DTYPES = ("float64", "float32")
+OUTPUTS = ("numpy", "torch")
+TORCH_EXTRA = "pip install 'bbgym[torch]'"
+
+_MASK32 = 0xFFFFFFFF
+
+
+@dataclass(frozen=True)
+class Backend:
+    """Where and how a vector env's step runs (see the module docstring)."""
+
+    name: str = "numpy"
+    device: str = "cpu"
+    dtype: str = "float64"
+    output: str = "numpy"
+    compile: bool = True
+
+    @property
+    def xp(self) -> Any:
+        """The array namespace."""
+        return np if self.name == "numpy" else torch_namespace()
+
+    @property
+    def float_dtype(self) -> Any:
+        return getattr(self.xp, self.dtype)
+
+
+def resolve_backend(
+    backend: str = "numpy",
+    device: str | None = None,
+    dtype: str = "float64",
+    output: str = "numpy",
+    compile: bool = True,
+) -> Backend:
+    """Validate the backend keywords of a vector env; errors name the argument."""
+    if backend not in BACKENDS:
+        raise ValueError(f"backend must be one of {list(BACKENDS)}, got {backend!r}")
+    if dtype not in DTYPES:
+        raise ValueError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
+    if output not in OUTPUTS:
+        raise ValueError(f"output must be one of {list(OUTPUTS)}, got {output!r}")
+    if not isinstance(compile, bool):
+        raise TypeError(f"compile must be a bool, got {compile!r}")
+    if backend == "numpy":
+        if device not in (None, "cpu"):
+            raise ValueError(f"device must be 'cpu' for backend='numpy', got {device!r}")
+        if dtype != "float64":
+            raise ValueError("dtype must be 'float64' for backend='numpy' (the reference)")
+        if output != "numpy":
+            raise ValueError("output='torch' needs backend='torch'")
+        return Backend()
+    try:
+        import array_api_compat  # noqa: F401
+        import torch
+    except ImportError as error:
+        raise ImportError(
+            f"backend='torch' needs torch and array-api-compat: {TORCH_EXTRA} ({error})"
+        ) from None
+    device = "cpu" if device is None else device
+    if not isinstance(device, str) or device.split(":")[0] not in ("cpu", "cuda"):
+        raise ValueError(f"device must be 'cpu' or 'cuda' (or 'cuda:N'), got {device!r}")
+    if device.startswith("cuda") and not torch.cuda.is_available():
+        raise ValueError(f"device={device!r}: torch finds no CUDA device on this machine")
+    return Backend("torch", device, dtype, output, compile)
+
+
+_TORCH_NAMESPACE: Any = None
+
+
+def torch_namespace() -> Any:
+    """``array_api_compat.torch`` with four functions traced better by ``torch.compile``.
+
+    array-api-compat turns a Python scalar argument of ``maximum``, ``minimum`` and ``clip``
+    into a tensor through ``torch.result_type``, which Dynamo cannot put in a graph: every
+    such call breaks the compiled step in two (measured: a sailing step fell from a fused
+    kernel to 0.3 s of graph fragments). Here a scalar bound goes to ``torch.clamp``, which
+    takes it natively with the same result (the standard's promotion: the tensor's dtype
+    wins over a Python scalar), and ``where`` to ``torch.where``, which does the same (two
+    Python scalars, which torch would turn into float32, raise as the standard says).
+    Everything else is array-api-compat's.
+    """
+    global _TORCH_NAMESPACE
+    if _TORCH_NAMESPACE is not None:
+        return _TORCH_NAMESPACE
+    import torch
+    from array_api_compat import torch as compat
+
+    scalar = (int, float)
+
+    def maximum(x1: Any, x2: Any, /) -> Any:
+        if isinstance(x2, scalar):
+            return torch.clamp(x1, min=x2)
+        if isinstance(x1, scalar):
+            return torch.clamp(x2, min=x1)
+        return compat.maximum(x1, x2)
+
+    def minimum(x1: Any, x2: Any, /) -> Any:
+        if isinstance(x2, scalar):
+            return torch.clamp(x1, max=x2)
+        if isinstance(x1, scalar):
+            return torch.clamp(x2, max=x1)
+        return compat.minimum(x1, x2)
+
+    def clip(x: Any, /, min: Any = None, max: Any = None) -> Any:  # noqa: A002 (the standard's names)
+        if min is not None:
+            x = maximum(x, min)
+        return x if max is None else minimum(x, max)
+
+    def where(condition: Any, x1: Any, x2: Any, /) -> Any:
+        if isinstance(x1, scalar) and isinstance(x2, scalar):
+            # torch would make torch's default dtype (float32) of two Python floats
+            raise TypeError("where() needs an array in x1 or x2 (the standard's rule)")
+        return torch.where(condition, x1, x2)
+
+    names = {k: getattr(compat, k) for k in dir(compat) if not k.startswith("_")}
+    names.update(maximum=maximum, minimum=minimum, clip=clip, where=where)
+    _TORCH_NAMESPACE = SimpleNamespace(**names)
+    return _TORCH_NAMESPACE
+
+
+_warned_eager = False
+
+
+def compiled(fn: Any, backend: Backend) -> Any:
+    """``fn`` under ``torch.compile`` (a static graph per input shape), falling back to
+    eager torch with one warning if the compiler fails on the first call."""
+    if backend.name != "torch" or not backend.compile:
+        return fn
+    import torch
+    import torch._dynamo
+
+    # Dynamo keeps compiled graphs per code object: every task, dtype and batch size runs
+    # the same FusedStep methods, so the default limit of 8 would send later envs to eager.
+    config = torch._dynamo.config
+    config.recompile_limit = max(config.recompile_limit, 256)
+    config.accumulated_recompile_limit = max(config.accumulated_recompile_limit, 4096)
+    compiled_fn = torch.compile(fn, dynamic=False)
+    state = {"fn": compiled_fn}
+
+    def call(*args: Any) -> Any:
+        global _warned_eager
+        try:
+            return state["fn"](*args)
+        except Exception as error:  # a missing or broken C++ compiler, an unsupported op
+            if state["fn"] is fn:
+                raise
+            if not _warned_eager:
+                warnings.warn(
+                    f"torch.compile failed ({type(error).__name__}: {error}); "
+                    "running the torch backend eagerly (slower)",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
+                _warned_eager = True
+            state["fn"] = fn
+            return fn(*args)
+
+    return call
+
+
+# -- counter-based random numbers -----------------------------------------------------------
+def _mul32(x: Any, c: int) -> Any:
+    """``x * c mod 2^32`` for ``0 <= x < 2^32`` in int64 without overflow (products stay
+    below 2^49), so the same bits come out of NumPy, torch (CPU, CUDA, compiled) and any
+    array-API namespace."""
+    low, high = c & 0xFFFF, c >> 16
+    return (x * low + (((x & 0xFFFF) * high) & 0xFFFF) * 65536) & _MASK32
+
+
+def hash32(x: Any) -> Any:
+    """A 32-bit integer hash with good avalanche (Wellons' "lowbias32"), on int64 arrays
+    holding values in ``[0, 2^32)``."""
+    x = x ^ (x >> 16)
+    x = _mul32(x, 0x7FEB352D)
+    x = x ^ (x >> 15)
+    x = _mul32(x, 0x846CA68B)
+    return x ^ (x >> 16)
+
+
+def env_keys(seed: int, num_envs: int, xp: Any, device: Any = None) -> Any:
+    """One 32-bit key per env from a seed: env ``i`` gets ``hash(seed + i)``."""
+    base = (int(seed) & _MASK32) + np.arange(num_envs, dtype=np.int64)
+    keys = hash32(hash32(base & _MASK32) ^ 0x5BD1E995)
+    return keys if xp is np else xp.asarray(keys, device=device)
+
+
+def _stream_base(key: Any, counter: Any, stream: int) -> Any:
+    """The hash every draw of one (env, step, stream) starts from."""
+    return hash32(hash32(key ^ (counter & _MASK32)) ^ ((stream * 0x9E3779B1 + 1) & _MASK32))
+
+
+def uniforms(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> list:
+    """``count`` uniform draws in (0, 1) per env: ``[(batch,)] * count``, a pure function of
+    the env's key, its step counter and the stream number: one 32-bit hash per draw
+    (float64 draws carry 32 random bits, float32 draws 24, both strictly inside (0, 1))."""
+    base = _stream_base(key, counter, stream)
+    out = []
+    for k in range(count):
+        bits = hash32(base ^ (((k + 1) * 0x85EBCA77) & _MASK32))
+        if dtype == xp.float32:
+            u = (xp.astype(bits >> 8, dtype) + 0.5) * (1.0 / 16777216.0)
+        else:
+            u = (xp.astype(bits, dtype) + 0.5) * (1.0 / 4294967296.0)
+        out.append(u)
+    return out
+
+
+def normals(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> list:
+    """``count`` standard normal draws per env (Box-Muller on :func:`uniforms`)."""
+    u = uniforms(key, counter, stream, 2 * ((count + 1) // 2), dtype, xp)
+    out = []
+    for k in range(0, len(u), 2):
+        radius = xp.sqrt(-2.0 * xp.log(u[k]))
+        angle = (2.0 * math.pi) * u[k + 1]
+        out += [radius * xp.cos(angle), radius * xp.sin(angle)]
+    return out[:count]
+
+
+def to_numpy(x: Any) -> Any:
+    """A torch tensor as a NumPy array (zero-copy on the CPU); anything else unchanged."""
+    if hasattr(x, "detach"):
+        x = x.detach()
+        return (x if x.device.type == "cpu" else x.cpu()).numpy()
+    return x

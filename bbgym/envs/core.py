@@ -1,0 +1,652 @@
+"""The functional core of a task and the two thin adapters every env is made of.
+
+A task core is a set of pure functions over a batch of immutable states (NamedTuples of
+arrays, nested), in the shape of Gymnasium's ``FuncEnv`` and gymnax:
+
+=====================================  ==================================================
+``initial(noise, options, xp)``        a fresh state per env from its random draws
+``transition(state, action, noise,     the state one env step later, and what happened
+xp) -> (state, events)``               (the physics; the step's reward terms are part of
+                                       the new state)
+``measure(state, xp)``                 the physical quantities observation and info share
+``observation(state, m, xp)``          the observation's columns (unclipped)
+``reward(state, xp)``                  the last transition's reward
+``terminal(state, xp)``                whether the episode has ended
+``info(state, m, xp)``                 what a researcher plots, as arrays
+=====================================  ==================================================
+
+Every function takes the array namespace ``xp`` and keeps the contract of
+:mod:`bbgym.physics.backend`, so the same source runs one env on Python floats
+(:class:`CoreEnv`), a batch on NumPy, and a batch on torch compiled for the CPU or a GPU
+(:class:`CoreVectorEnv`). A partial reset is one :func:`tree_select`. The randomness is
+passed in: the NumPy adapters draw it from each env's ``numpy.random.Generator`` (so
+sub-env ``i`` equals the single env seeded ``seed + i``), the torch backend from the
+counter-based generator of :mod:`bbgym.backends` inside the compiled step.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from bbgym import backends
+from bbgym.envs.common import (
+    NormalStreams,
+    check_render_mode,
+    ensure_renderer,
+    vector_info,
+    vector_seeds,
+    without_renderer,
+)
+from bbgym.physics.backend import floats
+
+
+class InitialNoise(NamedTuple):
+    """The draws :meth:`initial` turns into a fresh state: sequences of ``uniform[k]`` in
+    [0, 1) and ``normal[k]`` standard normal, each of the batch's shape (or floats for one
+    env; step noise too is a sequence of such arrays), drawn
+    in that order from the env's generator; then ``stream[k]``, standard normals from the
+    env's pair stream (2 per pair, see ``initial_stream_pairs``)."""
+
+    uniform: Any
+    normal: Any
+    stream: Any = ()
+
+
+class TaskCore:
+    """The protocol of a task core (see the module docstring); :class:`SailTask` and the
+    ball tasks implement it. Class attributes say what randomness the core needs:"""
+
+    initial_noise_counts: tuple[int, int] = (0, 0)
+    """Uniform and normal draws per env for :meth:`initial`."""
+    initial_stream_pairs: int = 0
+    """Pairs of normals from the env's pair stream for :meth:`initial` (after the draws)."""
+    step_noise_pairs: int = 0
+    """Pairs of normals a transition may use per env: 1 is drawn only for the envs of
+    :meth:`step_noise_mask`; more are a window of which the transition uses the first
+    ``events.noise_used[i]`` (the rest stay in the stream)."""
+    stops_early: bool = False
+    """Whether the chunks of a transition may all be idle before the last (then
+    :meth:`all_done` is checked between chunks)."""
+
+    def step_noise_mask(self, state: Any, xp: Any) -> Any:
+        """Which envs may draw step noise (an env's stream must not depend on the others)."""
+        raise NotImplementedError
+
+    def transition(self, state: Any, action: Any, noise: Any, xp: Any,
+                   record: bool = False) -> tuple[Any, Any]:  # fmt: skip
+        """:meth:`begin`, ``chunks`` times :meth:`chunk` (stopping early once
+        :meth:`all_done` where ``stops_early``), then :meth:`end`. ``noise`` is a sequence
+        of ``2 * step_noise_pairs`` arrays (or floats); ``record`` asks for the samples a
+        renderer draws (in ``events``)."""
+        carry = self.begin(state, action, noise, xp, record)
+        for _ in range(self.chunks):
+            if self.stops_early and bool(xp.all(self.all_done(carry, xp))):
+                break
+            carry = self.chunk(carry, xp)
+        return self.end(state, carry, xp)
+
+    chunks: int = 1
+
+    def begin(self, state: Any, action: Any, noise: Any, xp: Any, record: bool) -> Any:
+        raise NotImplementedError
+
+    def chunk(self, carry: Any, xp: Any) -> Any:
+        raise NotImplementedError
+
+    def all_done(self, carry: Any, xp: Any) -> Any:
+        raise NotImplementedError
+
+    def end(self, state: Any, carry: Any, xp: Any) -> tuple[Any, Any]:
+        raise NotImplementedError
+
+
+def tree_select(mask: Any, new: Any, old: Any, xp: Any) -> Any:
+    """``new`` where ``mask`` (per env) and ``old`` elsewhere, leaf by leaf through nested
+    NamedTuples and dicts; a leaf with more axes than the mask broadcasts it."""
+    if isinstance(old, (tuple, list)):
+        items = [tree_select(mask, a, b, xp) for a, b in zip(new, old, strict=True)]
+        return type(old)(*items) if hasattr(old, "_fields") else type(old)(items)
+    if isinstance(old, dict):
+        return {k: tree_select(mask, new[k], old[k], xp) for k in old}
+    if xp is floats:
+        return new if mask else old
+    if new is old:
+        return old
+    m = mask
+    for _ in range(len(old.shape) - len(mask.shape)):
+        m = m[..., None]
+    return xp.where(m, new, old)
+
+
+def tree_map(fn: Any, tree: Any) -> Any:
+    """``fn`` applied to every leaf of nested NamedTuples and dicts."""
+    if isinstance(tree, (tuple, list)):
+        items = [tree_map(fn, t) for t in tree]
+        return type(tree)(*items) if hasattr(tree, "_fields") else type(tree)(items)
+    if isinstance(tree, dict):
+        return {k: tree_map(fn, v) for k, v in tree.items()}
+    return fn(tree)
+
+
+def element(tree: Any, i: int) -> Any:
+    """Env ``i`` of a batched state as Python scalars (for drawing and for tests)."""
+
+    def pick(leaf: Any) -> Any:
+        value = np.asarray(backends.to_numpy(leaf))[i]
+        return value.item() if value.ndim == 0 else value
+
+    return tree_map(pick, tree)
+
+
+def columns_to_observation(columns: tuple, xp: Any) -> Any:
+    """Stack observation columns into ``(batch, size)`` float32, clipped to [-1, 1]."""
+    obs = xp.clip(xp.stack(columns, axis=1), -1.0, 1.0)
+    return xp.astype(obs, xp.float32)
+
+
+class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
+    """A single env over a task core, on Python floats, seeded from ``np_random``.
+
+    A subclass sets ``metadata`` and ``task_class`` and implements ``_make_renderer`` and
+    ``render``; ``_on_reset`` / ``_on_step`` hooks follow a reset and a step.
+    """
+
+    metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"]}
+    task_class: type
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        check_render_mode(render_mode, self.metadata["render_modes"])
+        self.task = self.task_class(**kwargs)
+        self.render_mode = render_mode
+        self.action_space = self.task.action_space
+        self.observation_space = self.task.observation_space
+        self.state: Any = None
+        self.events: Any = None
+        self.streams = NormalStreams(1)
+        self._measures: Any = None
+        self._renderer: Any = None
+        self._animate = False
+
+    @property
+    def started(self) -> bool:
+        return self.state is not None
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        options = self.task.check_options(options)
+        self.streams.set(0, self.np_random)
+        n_uniform, n_normal = self.task.initial_noise_counts
+        uniform = self.np_random.random(n_uniform).tolist()
+        normal = self.np_random.standard_normal(n_normal).tolist()
+        self.streams.discard(np.ones(1, dtype=bool))
+        stream = []
+        for _ in range(self.task.initial_stream_pairs):
+            stream += self.streams.one(True)
+        self.state = self.task.initial(InitialNoise(uniform, normal, stream), options, floats)
+        self._measures = self.task.measure(self.state, floats)
+        self._on_reset()
+        if self.render_mode == "human":
+            self.render()
+        return self._observation(), self._info()
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if not self.started:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        a = self.task.check_action(action, 0)
+        mask = self.task.step_noise_mask(self.state, floats)
+        pairs = self.task.step_noise_pairs
+        if pairs == 1:
+            noise: Any = self.streams.one(mask)
+        elif pairs:
+            noise = self.streams.peek(np.array([mask]), pairs)[..., 0].reshape(-1).tolist()
+        else:
+            noise = ()
+        self.state, self.events = self.task.transition(
+            self.state, a, noise, floats, record=self.records
+        )
+        if pairs > 1:
+            self.streams.advance(np.array([self.events.noise_used]))
+        self._measures = self.task.measure(self.state, floats)
+        self._on_step(a)
+        if self.render_mode == "human":
+            self._animate = True
+            self.render()
+        reward = self.task.reward(self.state, floats)
+        terminated = self.task.terminal(self.state, floats)
+        return self._observation(), float(reward), bool(terminated), False, self._info()
+
+    def _observation(self) -> np.ndarray:
+        columns = self.task.observation(self.state, self._measures, floats)
+        # clip the floats first: one small array, no temporaries
+        return np.array([min(max(c, -1.0), 1.0) for c in columns], dtype=np.float32)
+
+    records = True
+    """Whether transitions keep the samples a renderer or ``info`` needs (``events``)."""
+
+    def _info(self) -> dict[str, Any]:
+        info = self.task.info(self.state, self._measures, floats)
+        info.update(self._step_info())
+        return info
+
+    def _step_info(self) -> dict[str, Any]:
+        """Hook: info entries from the last transition's ``events`` ({} after a reset)."""
+        return {}
+
+    def _on_reset(self) -> None:
+        """Hook: the env has just been reset."""
+
+    def _on_step(self, action: Any) -> None:
+        """Hook: a step with ``action`` has just been taken."""
+
+    def _make_renderer(self) -> Any:
+        raise NotImplementedError
+
+    def __getstate__(self) -> dict[str, Any]:
+        return without_renderer(self.__dict__)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+class CoreVectorEnv(VectorEnv):
+    """A native vector env over a task core: ``num_envs`` envs in one batch.
+
+    ``backend="numpy"`` (float64): the core runs op by op on NumPy, with each env's own
+    random stream, so sub-env ``i`` reset with ``seed=s`` follows a single env reset with
+    ``seed=s + i`` under the same actions. ``backend="torch"``: the whole step (transition,
+    autoreset, observation, reward, termination, truncation, info and the random numbers)
+    is one function compiled by ``torch.compile`` for ``device`` in ``dtype``; observations,
+    rewards and infos come back as NumPy arrays (zero-copy on the CPU) or, with
+    ``output="torch"``, as tensors on the device. ``compile=False`` runs torch eagerly.
+
+    Finished sub-envs reset on the next ``step`` (``AutoresetMode.NEXT_STEP``), which
+    returns the new episode's first observation with reward 0 for them. The time limit
+    (``max_episode_steps``) is applied here, since ``gym.make_vec`` adds no ``TimeLimit``
+    wrapper to a native vector env. Infos are arrays with Gymnasium's ``_key`` masks.
+    """
+
+    metadata: dict[str, Any] = {
+        "render_modes": ["rgb_array", "human"],
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+    task_class: type
+    default_max_episode_steps: int = 1000
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        render_mode: str | None = None,
+        max_episode_steps: int | None = None,
+        backend: str = "numpy",
+        device: str | None = None,
+        dtype: str = "float64",
+        output: str = "numpy",
+        compile: bool = True,
+        **kwargs: Any,
+    ) -> None:
+        if max_episode_steps is None:
+            max_episode_steps = self.default_max_episode_steps
+        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
+        if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
+            raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
+        check_render_mode(render_mode, self.metadata["render_modes"])
+        self.backend = backends.resolve_backend(backend, device, dtype, output, compile)
+        self.task = self.task_class(**kwargs)
+        self.num_envs = int(num_envs)
+        self.max_episode_steps = int(max_episode_steps)
+        self.render_mode = render_mode
+        self.single_action_space = self.task.action_space
+        self.single_observation_space = self.task.observation_space
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.state: Any = None
+        self.events: Any = None
+        self.streams = NormalStreams(self.num_envs)
+        self._steps: Any = None
+        self._autoreset: Any = None
+        self._keys: Any = None
+        self._counter: Any = None
+        self._fused: Any = None
+        self._any_restarting: bool | None = None
+        self._renderer: Any = None
+
+    @property
+    def started(self) -> bool:
+        return self.state is not None
+
+    @property
+    def xp(self) -> Any:
+        return self.backend.xp
+
+    # -- the NumPy reference path -------------------------------------------------------------
+    def _initial_noise(self, mask: np.ndarray) -> InitialNoise:
+        """Each env in ``mask`` draws from its own generator (zeros elsewhere)."""
+        n_uniform, n_normal = self.task.initial_noise_counts
+        uniform = np.zeros((n_uniform, self.num_envs))
+        normal = np.zeros((n_normal, self.num_envs))
+        for i in np.flatnonzero(mask):
+            rng = self.streams.rngs[i]
+            uniform[:, i] = rng.random(n_uniform)
+            normal[:, i] = rng.standard_normal(n_normal)
+        self.streams.discard(mask)
+        stream = [self.streams.pairs(mask) for _ in range(self.task.initial_stream_pairs)]
+        # sequences of per-env rows: what a core indexes (noise.uniform[k])
+        return InitialNoise(list(uniform), list(normal), [row for pair in stream for row in pair])
+
+    def _reset_numpy(self, mask: np.ndarray, options: dict[str, Any]) -> None:
+        fresh = self.task.initial(self._initial_noise(mask), options, np)
+        self.state = fresh if self.state is None else tree_select(mask, fresh, self.state, np)
+
+    # -- the torch path -----------------------------------------------------------------------
+    def _tensor(self, x: Any, dtype: Any = None) -> Any:
+        import torch
+
+        return torch.as_tensor(x, dtype=dtype, device=self.backend.device)
+
+    def _reset_torch(self, mask: np.ndarray, options: dict[str, Any]) -> None:
+        xp, dtype = self.xp, self.backend.float_dtype
+        m = self._tensor(mask)
+        n_uniform, n_normal = self.task.initial_noise_counts
+        noise = InitialNoise(
+            backends.uniforms(self._keys, self._counter, 1, n_uniform, dtype, xp),
+            backends.normals(self._keys, self._counter, 2, n_normal, dtype, xp),
+            backends.normals(
+                self._keys, self._counter, 3, 2 * self.task.initial_stream_pairs, dtype, xp
+            ),  # fmt: skip
+        )
+        fresh = self.task.initial(noise, options, xp)
+        state = fresh if self.state is None else tree_select(m, fresh, self.state, xp)
+        # Distinct tensors per leaf: the compiled step's guards would otherwise see the
+        # fields a fresh state shares (zeros) as aliases, and recompile once they part.
+        self.state = tree_map(lambda t: t.clone(), state)
+        self._counter = self._counter + xp.astype(m, xp.int64)
+
+    def _make_fused(self) -> Any:
+        """The step's three parts, compiled (see :class:`FusedStep`)."""
+        fused = FusedStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype)
+        parts = tuple(
+            backends.compiled(f, self.backend)
+            for f in (fused.begin, fused.chunk, fused.end, fused.restart, fused.observe)
+        )
+
+        def run(*args: Any, any_restarting: bool | None = None) -> tuple:
+            return fused(*args, parts=parts, any_restarting=any_restarting)
+
+        return run
+
+    # -- Gymnasium's API ----------------------------------------------------------------------
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[Any, dict[str, Any]]:
+        options = self.task.check_options(options)
+        everyone = np.ones(self.num_envs, dtype=bool)
+        if seed is not None or not self.started:
+            seeds = vector_seeds(seed, self.num_envs)
+            self.streams.seed(seeds)
+            if seed is not None:
+                self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
+            if self.backend.name == "torch":
+                self._seed_torch(seeds)
+        self.state = None if self.backend.name == "torch" and seed is not None else self.state
+        if self.backend.name == "numpy":
+            self._reset_numpy(everyone, options)
+            self._steps = np.zeros(self.num_envs, dtype=np.int64)
+            self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        else:
+            self._reset_torch(everyone, options)
+            self._steps = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
+            self._autoreset = self._tensor(np.zeros(self.num_envs, dtype=bool))
+            self._any_restarting = False
+        self._on_reset(everyone)
+        m = self.task.measure(self.state, self.xp)
+        obs = columns_to_observation(self.task.observation(self.state, m, self.xp), self.xp)
+        info = self.task.info(self.state, m, self.xp)
+        if self.backend.name == "numpy":  # the host keeps the samples a renderer draws
+            info = {**info, **self._step_info()}
+        return self._out(obs), self._vector_info(info)
+
+    def _seed_torch(self, seeds: list[int | None]) -> None:
+        base = seeds[0]
+        if base is None:
+            base = int(np.random.SeedSequence().generate_state(1)[0])
+        keys = np.array([backends.env_keys(s if s is not None else base + i, 1, np)[0]
+                         for i, s in enumerate(seeds)])  # fmt: skip
+        self._keys = self._tensor(keys)
+        self._counter = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
+
+    def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        if not self.started:
+            raise gym.error.ResetNeeded("Call reset() before step()")
+        if self.backend.name == "torch":
+            return self._step_torch(actions)
+        a = self.task.check_action(actions, self.num_envs)
+        restarting = self._autoreset
+        active = ~restarting
+        mask = self.task.step_noise_mask(self.state, np) & active
+        pairs = self.task.step_noise_pairs
+        if pairs == 1:
+            noise: Any = tuple(self.streams.pairs(mask))
+        elif pairs:
+            noise = tuple(self.streams.peek(mask, pairs).reshape(2 * pairs, self.num_envs))
+        else:
+            noise = ()
+        state, self.events = self.task.transition(self.state, a, noise, np, record=self.records)
+        if pairs > 1:
+            self.streams.advance(np.where(active, self.events.noise_used, 0))
+        reward = self.task.reward(state, np)
+        terminated = self.task.terminal(state, np)
+        self._steps = self._steps + 1
+        if restarting.any():
+            # Next-step autoreset: the finished envs start anew and ignore this action.
+            self.state = state
+            self._reset_numpy(restarting, {})
+            state = self.state
+            self._steps = np.where(restarting, 0, self._steps)
+            reward = np.where(restarting, 0.0, reward)
+            terminated = terminated & active
+            self._on_reset(restarting)
+        self.state = state
+        truncated = (self._steps >= self.max_episode_steps) & ~terminated
+        self._autoreset = terminated | truncated
+        self._on_step(a)
+        m = self.task.measure(self.state, np)
+        obs = columns_to_observation(self.task.observation(self.state, m, np), np)
+        info = self._vector_info({**self.task.info(self.state, m, np), **self._step_info()})
+        return obs, reward.astype(np.float64), terminated, truncated, info
+
+    records = True
+    """Whether NumPy transitions keep the samples a renderer or ``info`` needs (the torch
+    backend never does: its step stays on the device)."""
+
+    def _step_info(self) -> dict[str, Any]:
+        """Hook: info entries from the last NumPy transition's ``self.events`` (arrays of
+        the batch, or object arrays), {} after a reset."""
+        return {}
+
+    def _step_torch(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        if hasattr(actions, "detach"):  # a tensor from a GPU-resident learner
+            a = actions.to(device=self.backend.device, dtype=self.backend.float_dtype)
+            if tuple(a.shape) != (self.num_envs, *self.single_action_space.shape):
+                raise ValueError(f"actions must have shape {self.action_space.shape}")
+            a = a.clamp(-1.0, 1.0)  # NaN check costs a sync: done in the numpy check only
+        else:
+            a = self._tensor(self.task.check_action(actions, self.num_envs),
+                             self.backend.float_dtype)  # fmt: skip
+        if self._fused is None:
+            self._fused = self._make_fused()
+        restarting = self._autoreset
+        out = self._fused(self.state, a, self._keys, self._counter, self._steps, restarting,
+                          any_restarting=self._any_restarting)  # fmt: skip
+        self.state, obs, reward, terminated, truncated, info, self._counter, self._steps = out
+        self._autoreset = terminated | truncated
+        self._any_restarting = None
+        if self.backend.output == "numpy":  # the host has the ends: no sync next step
+            terminated, truncated = backends.to_numpy(terminated), backends.to_numpy(truncated)
+            self._any_restarting = bool(terminated.any() or truncated.any())
+        if self._wants_reset_hook:
+            self._on_reset(backends.to_numpy(restarting))
+        self._on_step(a)
+        return (self._out(obs), self._out(reward), self._out(terminated),
+                self._out(truncated), self._vector_info(info))  # fmt: skip
+
+    _wants_reset_hook = False
+    """Subclasses that keep per-env host state (render wakes) set this."""
+
+    def reset_envs(self, mask: np.ndarray) -> Any:
+        """Restart the envs in ``mask`` now, without seeds (each continues its own random
+        stream), and return every env's observation. Adapters whose API resets on the step
+        that ends an episode (stable-baselines3) use this instead of waiting for the next
+        ``step``."""
+        mask = np.asarray(mask, dtype=bool)
+        if mask.any():
+            if self.backend.name == "numpy":
+                self._reset_numpy(mask, {})
+                self._steps = np.where(mask, 0, self._steps)
+                self._autoreset = self._autoreset & ~mask
+            else:
+                self._reset_torch(mask, {})
+                m = self._tensor(mask)
+                self._steps = self.xp.where(m, 0, self._steps)
+                self._autoreset = self._autoreset & ~m
+                self._any_restarting = None
+            self._on_reset(mask)
+        m = self.task.measure(self.state, self.xp)
+        return self._out(columns_to_observation(self.task.observation(self.state, m, self.xp),
+                                                self.xp))  # fmt: skip
+
+    def _out(self, x: Any) -> Any:
+        return x if self.backend.output == "torch" else backends.to_numpy(x)
+
+    def _vector_info(self, info: dict[str, Any]) -> dict[str, Any]:
+        return vector_info(tree_map(self._out, info), self.num_envs)
+
+    def _on_reset(self, mask: np.ndarray) -> None:
+        """Hook: envs in ``mask`` have just been reset."""
+
+    def _on_step(self, actions: Any) -> None:
+        """Hook: a step with ``actions`` has just been taken."""
+
+    def element_state(self, i: int) -> Any:
+        """Sub-env ``i``'s state as Python floats."""
+        return element(self.state, i)
+
+    def render(self) -> tuple[np.ndarray, ...] | None:
+        """Frames of the first (up to 4) sub-envs; ``human`` shows the first in a window."""
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return None
+        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
+        frames = tuple(self._render_env(renderer, i) for i in range(count))
+        return None if self.render_mode == "human" else frames
+
+    def _make_renderer(self) -> Any:
+        raise NotImplementedError
+
+    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+        raise NotImplementedError
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = without_renderer(self.__dict__)
+        state["_fused"] = None  # a compiled function does not pickle: made again on use
+        return state
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+class FusedStep:
+    """One vector step with next-step autoreset as pure functions of arrays: what the torch
+    backend compiles. A task's transition is :meth:`begin`, ``chunks`` times
+    :meth:`chunk` (a fixed number of physics substeps) and :meth:`end`; then
+    :meth:`restart` (where some env restarts) and :meth:`observe`. The parts are compiled
+    separately: a graph holds one chunk rather than the unrolled loop, and no graph is
+    large (inductor's code generation grows faster than the graph: an unrolled sailing
+    step with its autoreset took over 200 s to compile, these parts take well under 60).
+    A task whose chunks may all be idle early (``stops_early``: every ball landed) is
+    checked between chunks (one device sync each). The random numbers come from the
+    counter-based generator (stream 0: the step's noise, 1 and 2: a fresh episode's
+    draws), so the same functions run, with the same results, on NumPy or any array-API
+    namespace.
+    """
+
+    def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any) -> None:
+        self.task, self.max_episode_steps, self.xp, self.dtype = task, max_episode_steps, xp, dtype
+
+    def begin(self, state: Any, action: Any, keys: Any, counter: Any) -> Any:
+        task, xp, dtype = self.task, self.xp, self.dtype
+        n = 2 * task.step_noise_pairs
+        noise = backends.normals(keys, counter, 0, n, dtype, xp) if n else ()
+        return task.begin(state, action, noise, xp, False)
+
+    def chunk(self, carry: Any) -> Any:
+        return self.task.chunk(carry, self.xp)
+
+    def end(self, state: Any, carry: Any, counter: Any, steps: Any, restarting: Any) -> tuple:
+        """The transition's end, its reward and the episode ends (restarting envs report
+        reward 0 and no end: they start anew this step)."""
+        task, xp = self.task, self.xp
+        moved, _ = task.end(state, carry, xp)
+        reward = xp.where(restarting, 0.0, task.reward(moved, xp))
+        terminated = task.terminal(moved, xp) & xp.logical_not(restarting)
+        steps = xp.where(restarting, 0, steps + 1)
+        truncated = (steps >= self.max_episode_steps) & xp.logical_not(terminated)
+        return moved, reward, terminated, truncated, counter + 1, steps
+
+    def restart(self, moved: Any, restarting: Any, keys: Any, counter: Any) -> Any:
+        """Fresh episodes where ``restarting`` (run only on steps where some env restarts,
+        so the common step's graph holds no :meth:`initial`)."""
+        task, xp, dtype = self.task, self.xp, self.dtype
+        n_uniform, n_normal = task.initial_noise_counts
+        noise = InitialNoise(
+            backends.uniforms(keys, counter, 1, n_uniform, dtype, xp),
+            backends.normals(keys, counter, 2, n_normal, dtype, xp),
+            backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, dtype, xp),
+        )
+        return tree_select(restarting, task.initial(noise, {}, xp), moved, xp)
+
+    def observe(self, state: Any) -> tuple:
+        """Observation and info of the new state."""
+        task, xp = self.task, self.xp
+        m = task.measure(state, xp)
+        return columns_to_observation(task.observation(state, m, xp), xp), task.info(state, m, xp)
+
+    def __call__(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
+                 restarting: Any, parts: tuple | None = None,
+                 any_restarting: bool | None = None) -> tuple:  # fmt: skip
+        """Returns ``(state, obs, reward, terminated, truncated, info, counter, steps)``.
+        ``any_restarting``, if the caller knows it, saves a device sync."""
+        begin, chunk, end, restart, observe = parts or (
+            self.begin,
+            self.chunk,
+            self.end,
+            self.restart,
+            self.observe,
+        )
+        carry = begin(state, action, keys, counter)
+        task = self.task
+        for _ in range(task.chunks):
+            if task.stops_early and bool(self.xp.all(task.all_done(carry, self.xp))):
+                break
+            carry = chunk(carry)
+        moved, reward, terminated, truncated, new_counter, steps = end(
+            state, carry, counter, steps, restarting
+        )
+        if any_restarting is None:
+            any_restarting = bool(self.xp.any(restarting))  # a device sync
+        if any_restarting:
+            moved = restart(moved, restarting, keys, counter)
+        obs, info = observe(moved)
+        return moved, obs, reward, terminated, truncated, info, new_counter, steps

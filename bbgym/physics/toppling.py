@@ -1,0 +1,310 @@
+"""Topple's interval as pure physics: a ball flies, the wind gusts, hits and wind rock the wall.
+
+One step of BeachballTopple is a throw (or a wait) followed by ``n_substeps`` substeps of
+``sim_dt``. Substep ``i`` does, for every env still running:
+
+1. if ``i`` is a positive multiple of ``gust_every``, the gust process takes its next pair
+   of standard normals, pair ``i // gust_every - 1`` of the env's pre-drawn window (an env
+   draws only while it runs with gusts: :attr:`IntervalCarry.noise_used` counts its pairs,
+   so the caller consumes exactly those from the env's stream);
+2. if ``i`` is a multiple of ``record_every``, a sample (ball pose, wall angle, loose
+   panel) is kept, if recording, and counted for the envs running;
+3. a moving ball flies, bounces, and may strike the wall (an impulse on both);
+4. the wall rocks, topples, breaks loose or flies;
+5. an env stops once its wall is down (a loose panel: landed) and its ball has stopped,
+   or once its wall is down and no ball flies.
+
+Every update is masked (``xp.where``) instead of skipped: a stopped env, or a ball at rest,
+keeps exactly its values, so the result does not depend on how the envs are batched nor on
+how many substeps run past the last env's stop. :func:`interval_chunk` runs
+:attr:`IntervalParams.chunk_substeps` substeps, always the same function: the substep
+index is an int64 array in the carry (a Python int on floats), the gust update, the
+choice of its noise pair and the samples' count are masks on it, and substeps past the
+interval's end are masked off, so ``torch.compile`` traces one chunk once, and the
+results do not depend on the chunk's length. :func:`run_interval` runs the chunks and
+stops early when no env runs (``bool(xp.any(...))``, a device sync on a GPU, once per
+chunk). Recording (NumPy or floats, never compiled) keeps every substep's sample (the
+arrays as they are: no copies); the caller keeps every ``record_every``-th, the first
+``samples[i]`` of them for env ``i``. One env on Python floats (never compiled) skips the
+updates whose mask is false: the same values, faster. The states are immutable
+NamedTuples of arrays (:func:`select` also takes dataclasses), on any array API namespace
+(:mod:`bbgym.physics.backend`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+from bbgym.physics.backend import Array, floats
+from bbgym.physics.ball import BallParams, ground_contact
+from bbgym.physics.ball import substep as ball_substep
+from bbgym.physics.wall import LOOSE, STANDING, WallParams, ball_hits_wall, wall_step
+from bbgym.physics.wind import GustParams, gust_step, wind_vector
+
+SAMPLE_FIELDS = (
+    "x", "y", "z", "qw", "qx", "qy", "qz",
+    "wall_angle", "loose_x", "loose_z", "loose_angle", "status",
+)  # fmt: skip
+"""What one recorded sample holds, in order: the ball's position and orientation, the
+wall's lean, the loose panel's centre and angle, the wall's status code."""
+
+
+@dataclass(frozen=True)
+class IntervalParams:
+    """What an interval needs besides the states: the bodies, the gusts and the clocks."""
+
+    wall: WallParams
+    ball: BallParams
+    gust: GustParams
+    sim_dt: float
+    gust_dt: float
+    n_substeps: int
+    gust_every: int
+    record_every: int
+    chunk_substeps: int = 1
+    """Substeps per :func:`interval_chunk` (any: the results do not depend on it)."""
+
+    @property
+    def n_gust_updates(self) -> int:
+        """Gust updates in an interval (at substeps ``gust_every, 2 gust_every, ...``): the
+        pairs of the noise window."""
+        return (self.n_substeps - 1) // self.gust_every
+
+    @property
+    def n_chunks(self) -> int:
+        """Chunks per interval (the last may run past its end, masked off)."""
+        return -(-self.n_substeps // self.chunk_substeps)
+
+
+class IntervalCarry(NamedTuple):
+    """The interval's state between substeps, per env: the ball, wall and gust states, the
+    wind now, whether the ball flies and the env runs, ball hits so far (int64), height and
+    sideways position of the last hit (-1 and 0 if none), samples taken while running
+    (int64), noise pairs used (int64), the next substep's index (int64; a Python int on
+    floats) and the samples taken (when recording a tuple of one tuple of
+    :data:`SAMPLE_FIELDS` per substep run, else ``None``)."""
+
+    ball: Any
+    wall: Any
+    gust: Any
+    wind_x: Array
+    wind_y: Array
+    flying: Array
+    running: Array
+    hits: Array
+    hit_height: Array
+    hit_y: Array
+    samples: Array
+    noise_used: Array
+    substep: Array
+    taken: tuple | None
+
+
+def _values(state: Any) -> tuple:
+    if isinstance(state, tuple):
+        return tuple(state)
+    return tuple(getattr(state, f.name) for f in dataclasses.fields(state))
+
+
+def select(mask: Array, new: Any, old: Any, xp: Any) -> Any:
+    """A state with ``new``'s values where ``mask`` (per env) and ``old``'s elsewhere
+    (NamedTuple or dataclass of arrays). A field ``new`` took over from ``old`` (the same
+    object: states are never written, so sharing is safe) is kept without a ``where``."""
+    if xp is floats:
+        return xp.where(mask, new, old)  # one env: the whole state is one choice
+    values = [
+        b if a is b else xp.where(mask, a, b)
+        for a, b in zip(_values(new), _values(old), strict=True)
+    ]
+    return type(old)(*values)
+
+
+def _with(state: Any, **changes: Any) -> Any:
+    if isinstance(state, tuple):
+        return state._replace(**changes)
+    return dataclasses.replace(state, **changes)
+
+
+def _row(noise: Any, r: int) -> Any:
+    """Row ``r`` of a window: of an array (``(2 k, batch)``) or of a sequence of rows."""
+    return noise[r, ...] if hasattr(noise, "shape") else noise[r]
+
+
+def noise_rows(noise: Any, count: int) -> tuple:
+    """The ``count`` rows of a window (an array or a sequence of rows) as a tuple."""
+    return tuple(_row(noise, r) for r in range(count))
+
+
+def noise_pair(noise: Any, index: Array, count: int, xp: Any) -> tuple[Array, Array]:
+    """Pair ``index[i]`` (per env) of a window of ``count`` pairs, given as a sequence of
+    ``2 * count`` rows (pair ``j``: rows ``2j``, ``2j + 1``): a masked sum over the pairs
+    (fixed shapes, no indexing by values; exact: the other terms are zeros), zeros where
+    ``index`` is out of range. One env on floats indexes directly."""
+    if xp is floats:
+        if 0 <= index < count:
+            return noise[2 * index], noise[2 * index + 1]
+        return 0.0, 0.0
+    first = second = None
+    for j in range(count):
+        pick = index == j
+        a = xp.where(pick, _row(noise, 2 * j), 0.0)
+        b = xp.where(pick, _row(noise, 2 * j + 1), 0.0)
+        first, second = (a, b) if first is None else (first + a, second + b)
+    return first, second
+
+
+def interval_start(
+    params: IntervalParams,
+    ball: Any,
+    wall: Any,
+    gust: Any,
+    wind_speed: Array,
+    wind_from: Array,
+    flying: Array,
+    running: Array,
+    xp: Any,
+    record: bool = False,
+) -> IntervalCarry:
+    """The carry at substep 0: ``flying`` where a ball was thrown, ``running`` where the
+    env takes part (a stopped env keeps all its values); ``record`` keeps the samples."""
+    wind_x, wind_y, _, _ = wind_vector(wind_speed, wind_from, gust, xp)
+
+    def count(like: Array) -> Array:
+        return xp.zeros_like(like, dtype=xp.int64)
+
+    # Each field its own array, made from a different one (torch.compile guards on which
+    # of a compiled function's inputs are one tensor: aliases that part would recompile).
+    return IntervalCarry(
+        ball=ball, wall=wall, gust=gust, wind_x=wind_x, wind_y=wind_y, flying=flying,
+        running=running, hits=count(wall.angle), hit_height=xp.zeros_like(wall.rate) - 1.0,
+        hit_y=xp.zeros_like(wall.pivot), samples=count(wall.status),
+        noise_used=count(wall.base_x), substep=0 if xp is floats else count(wall.loose_x),
+        taken=() if record else None,
+    )  # fmt: skip
+
+
+def interval_substep(
+    params: IntervalParams,
+    c: IntervalCarry,
+    offset: int,
+    wind_speed: Array,
+    wind_from: Array,
+    gusts: Array,
+    noise: Any,
+    xp: Any,
+) -> IntervalCarry:
+    """One substep (module docstring), every update masked. ``offset``: the substep's place
+    in its chunk (a Python int; ``c.substep`` is ``offset`` modulo the chunk's length);
+    ``gusts``: per env, whether its wind gusts; ``noise``: the window, ``2 *
+    n_gust_updates`` rows (:func:`noise_pair`)."""
+    i = c.substep
+    live = c.running & (i < params.n_substeps)
+    if xp is floats and not live:  # one env, stopped or past the end: nothing changes
+        return c._replace(substep=i + 1)
+    wp, p, dt = params.wall, params.ball, params.sim_dt
+    gust, wind_x, wind_y, noise_used = c.gust, c.wind_x, c.wind_y, c.noise_used
+    ge, count = params.gust_every, params.n_gust_updates
+    # A gust update can fall here only if the offset is a multiple of gcd(chunk, gust_every).
+    if count and offset % math.gcd(params.chunk_substeps, ge) == 0:
+        tick = live & (i % ge == 0) & (i > 0)
+        if xp is not floats or tick:
+            draw = gusts & tick
+            pair = noise_pair(noise, i // ge - 1, count, xp)
+            drawn = tuple(xp.where(draw, pair[j], 0.0) for j in (0, 1))
+            stepped = gust_step(gust, params.gust, params.gust_dt, drawn, gusts, xp)
+            gust = select(tick, stepped, gust, xp)
+            # Unchanged gusts give the wind they gave: recomputed for all, the same values.
+            wind_x, wind_y, _, _ = wind_vector(wind_speed, wind_from, gust, xp)
+            noise_used = noise_used + xp.astype(draw, xp.int64)
+    ball, wall = c.ball, c.wall
+    samples, taken = c.samples, c.taken
+    if taken is not None:  # recording (never compiled): every substep, cut by the caller
+        sample = (
+            ball.x, ball.y, ball.z, ball.qw, ball.qx, ball.qy, ball.qz,
+            wall.angle, wall.loose_x, wall.loose_z, wall.loose_angle, wall.status,
+        )  # fmt: skip
+        taken = (*taken, sample)
+    re = params.record_every
+    if params.chunk_substeps % re:  # which substeps sample: known only per env
+        samples = samples + xp.astype(live & (i % re == 0), xp.int64)
+    elif offset % re == 0:  # chunks start at multiples of record_every
+        samples = samples + xp.astype(live, xp.int64)
+    # The ball: only a moving one flies and strikes (one at rest against the face must not
+    # change the wall's rate).
+    moving = c.flying & live
+    flying, hits, hit_height, hit_y = c.flying, c.hits, c.hit_height, c.hit_y
+    # One env on floats (never compiled, where a Python ``if`` costs nothing) skips an
+    # update whose mask is false, which would leave every value as it is: the same result,
+    # without the ball's substep. Arrays always take the masked update.
+    if xp is not floats or moving:
+        moved = ball_substep(p, ball, wind_x, wind_y, dt, xp)
+        moved, _ = ground_contact(p, moved, dt, xp)
+        ball = select(moving, moved, ball, xp)
+        hit_wall, vx, vz, height = ball_hits_wall(
+            wp, wall, p.mass_kg, p.radius_m, ball.x, ball.y, ball.z, ball.vx, ball.vz, xp
+        )
+        wall = select(moving, hit_wall, wall, xp)
+        struck = moving & (height >= 0.0)
+        if xp is not floats or struck:  # as above: a hit is rare
+            vx, vz = xp.where(struck, vx, ball.vx), xp.where(struck, vz, ball.vz)
+            ball = _with(ball, vx=vx, vz=vz)
+            hits = hits + xp.astype(struck, xp.int64)
+            hit_height = xp.where(struck, height, hit_height)
+            hit_y = xp.where(struck, ball.y, hit_y)
+        resting = (ball.z <= p.radius_m * 1.001) & (
+            ball.vx * ball.vx + ball.vy * ball.vy + ball.vz * ball.vz < 0.01
+        )
+        flying = flying & xp.logical_not(moving & resting)
+    # The wall.
+    wall = select(live, wall_step(wp, wall, wind_x, dt, xp), wall, xp)
+    settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)
+    done = (settled | xp.logical_not(flying)) & (wall.status != STANDING)
+    running = c.running & xp.logical_not(done & live)
+    return IntervalCarry(  # in field order (faster than keywords, every substep)
+        ball, wall, gust, wind_x, wind_y, flying, running, hits, hit_height, hit_y, samples,
+        noise_used, i + 1, taken,
+    )  # fmt: skip
+
+
+def interval_chunk(
+    params: IntervalParams,
+    carry: IntervalCarry,
+    wind_speed: Array,
+    wind_from: Array,
+    gusts: Array,
+    noise: Any,
+    xp: Any,
+) -> IntervalCarry:
+    """:attr:`IntervalParams.chunk_substeps` substeps from a carry at a chunk's start (those
+    past the interval's end change nothing), with no branch on array values: the same
+    function for every chunk."""
+    for offset in range(params.chunk_substeps):
+        carry = interval_substep(params, carry, offset, wind_speed, wind_from, gusts, noise, xp)
+    return carry
+
+
+def run_interval(
+    params: IntervalParams,
+    carry: IntervalCarry,
+    wind_speed: Array,
+    wind_from: Array,
+    gusts: Array,
+    noise: Any,
+    xp: Any,
+    *,
+    stop_early: bool = True,
+    chunk: Any = interval_chunk,
+) -> IntervalCarry:
+    """Run the interval from ``carry`` (at substep 0) chunk by chunk (``chunk``:
+    :func:`interval_chunk` or a compiled version of it), stopping before a chunk once no
+    env runs (``stop_early``). Substeps past an env's stop change nothing of it, so the
+    result does not depend on where the loop stops; the samples do not either, once env
+    ``i``'s are cut to its first ``samples[i]``."""
+    for _ in range(params.n_chunks):
+        if stop_early and not bool(xp.any(carry.running)):
+            break
+        carry = chunk(params, carry, wind_speed, wind_from, gusts, noise, xp)
+    return carry

@@ -1,0 +1,195 @@
+"""The torch backend runs the same core as NumPy: equal in float64, close in float32,
+compiled equal to eager, and the counter-based generator gives the same bits everywhere.
+Written for BeachballSail-v0; the ball envs have their own files
+(``test_backends_throw.py``, ``test_backends_topple.py``) on the same pattern."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import bbgym  # noqa: F401
+from bbgym import backends
+from bbgym.envs.core import FusedStep, InitialNoise
+
+torch = pytest.importorskip("torch")
+pytest.importorskip("array_api_compat")
+
+N = 16
+STEPS = 200
+
+
+def make_torch(env_id: str, dtype: str = "float64", compile: bool = False, **kwargs):
+    return gym.make_vec(
+        env_id, num_envs=N, vectorization_mode="vector_entry_point", backend="torch",
+        dtype=dtype, compile=compile, **kwargs,
+    )  # fmt: skip
+
+
+def replica_run(env_id: str, seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
+    """The torch backend's step, run on NumPy: the same FusedStep functions, keys and
+    counters. Returns (obs, reward, terminated, truncated) per step, reset first."""
+    venv = make_torch(env_id, **kwargs).unwrapped
+    task = venv.task
+    fused = FusedStep(task, venv.max_episode_steps, np, np.float64)
+    keys = np.array([backends.env_keys(seed + i, 1, np)[0] for i in range(N)])
+    counter = np.zeros(N, dtype=np.int64)
+    n_uniform, n_normal = task.initial_noise_counts
+    noise = InitialNoise(
+        backends.uniforms(keys, counter, 1, n_uniform, np.float64, np),
+        backends.normals(keys, counter, 2, n_normal, np.float64, np),
+        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, np.float64, np),
+    )
+    state = task.initial(noise, {}, np)
+    counter = counter + 1
+    steps, restarting = np.zeros(N, dtype=np.int64), np.zeros(N, dtype=bool)
+    out = []
+    for a in actions:
+        state, obs, reward, term, trunc, _, counter, steps = fused(
+            state, a.astype(np.float64), keys, counter, steps, restarting
+        )
+        restarting = term | trunc
+        out.append((obs, reward, term, trunc))
+    return out
+
+
+def actions_for(env_id: str, steps: int = STEPS) -> np.ndarray:
+    space = gym.make(env_id).action_space
+    return np.random.default_rng(3).uniform(-1, 1, (steps, N, *space.shape)).astype(np.float32)
+
+
+@pytest.mark.parametrize("gusts", [True, False])
+def test_torch_float64_equals_numpy_replica(gusts: bool) -> None:
+    env_id = "BeachballSail-v0"
+    actions = actions_for(env_id)
+    # short episodes, so autoresets happen inside the run
+    kwargs = {"gusts": gusts, "max_episode_steps": 60}
+    expected = replica_run(env_id, 5, actions, **kwargs)
+    venv = make_torch(env_id, **kwargs)
+    venv.reset(seed=5)
+    resets = 0
+    for a, (obs, reward, term, trunc) in zip(actions, expected, strict=True):
+        got = venv.step(a)
+        np.testing.assert_allclose(got[0], obs, rtol=0, atol=1e-6)  # float32 observations
+        np.testing.assert_allclose(got[1], reward, rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(got[2], term)
+        np.testing.assert_array_equal(got[3], trunc)
+        resets += int(np.sum(term | trunc))
+    assert resets >= N  # every env restarted at least once
+    state = venv.unwrapped.state
+    assert state.boat.x_m.dtype == torch.float64
+
+
+def test_torch_float32_tracks_float64() -> None:
+    """float32's accuracy guard: the same boats (same noise, same actions) sail tracks
+    that stay within 0.5 m of float64's over 100 steps (25 s, about 50 m sailed), with
+    rewards within 1e-3 per step."""
+    env_id = "BeachballSail-v0"
+    actions = actions_for(env_id, 100)
+    runs = {}
+    for dtype in ("float64", "float32"):
+        venv = make_torch(env_id, dtype=dtype, max_episode_steps=1000)
+        venv.reset(seed=9)
+        rewards, positions = [], []
+        for a in actions:
+            _, r, term, trunc, info = venv.step(a)
+            rewards.append(r)
+            positions.append(info["position"])
+        runs[dtype] = np.array(rewards), np.array(positions)
+    r64, p64 = runs["float64"]
+    r32, p32 = runs["float32"]
+    assert np.max(np.abs(p64 - p32)) < 0.5
+    assert np.max(np.abs(r64 - r32)) < 1e-3
+    assert np.max(np.abs(p64)) > 10.0  # the boats did sail
+
+
+def test_compiled_equals_eager() -> None:
+    env_id = "BeachballSail-v0"
+    actions = actions_for(env_id, 12)
+    results = []
+    for compile in (False, True):
+        venv = make_torch(env_id, compile=compile, max_episode_steps=5)
+        out = [venv.reset(seed=2)[0]]
+        out += [venv.step(a)[0] for a in actions]
+        results.append(np.array(out))
+    np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-6)
+
+
+def test_tensor_output_stays_on_the_device() -> None:
+    venv = make_torch("BeachballSail-v0", output="torch")
+    obs, info = venv.reset(seed=0)
+    assert isinstance(obs, torch.Tensor) and obs.dtype == torch.float32
+    obs, reward, term, trunc, info = venv.step(torch.zeros(N, 2))
+    assert isinstance(reward, torch.Tensor) and isinstance(info["boat_speed"], torch.Tensor)
+    assert obs.shape == (N, 16)
+
+
+def test_torch_runs_are_deterministic_under_a_seed() -> None:
+    actions = actions_for("BeachballSail-v0", 30)
+    runs = []
+    for _ in range(2):
+        venv = make_torch("BeachballSail-v0")
+        out = [venv.reset(seed=4)[0]] + [venv.step(a)[0] for a in actions]
+        runs.append(np.array(out))
+    np.testing.assert_array_equal(runs[0], runs[1])
+    venv = make_torch("BeachballSail-v0")
+    other = np.array([venv.reset(seed=5)[0]] + [venv.step(a)[0] for a in actions])
+    assert not np.array_equal(runs[0], other)
+
+
+def test_backend_arguments_are_checked() -> None:
+    with pytest.raises(ValueError, match="backend"):
+        gym.make_vec("BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                     backend="jax")  # fmt: skip
+    with pytest.raises(ValueError, match="dtype"):
+        make_torch("BeachballSail-v0", dtype="float16")
+    with pytest.raises(ValueError, match="device"):
+        make_torch("BeachballSail-v0", device="tpu")
+    with pytest.raises(ValueError, match="dtype"):
+        gym.make_vec("BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                     dtype="float32")  # fmt: skip
+
+
+@pytest.mark.skipif(not torch.cuda.is_available(), reason="needs CUDA")
+def test_cuda_equals_cpu() -> None:
+    actions = actions_for("BeachballSail-v0", 50)
+    out = {}
+    for device in ("cpu", "cuda"):
+        venv = make_torch("BeachballSail-v0", device=device, compile=True)
+        out[device] = np.array([venv.reset(seed=1)[0]] + [venv.step(a)[0] for a in actions])
+    np.testing.assert_allclose(out["cpu"], out["cuda"], rtol=0, atol=1e-5)
+
+
+def test_counter_rng_agrees_on_numpy_torch_and_strict() -> None:
+    strict = pytest.importorskip("array_api_strict")
+    from array_api_compat import torch as tx
+
+    keys = backends.env_keys(123, 64, np)
+    counter = np.arange(64, dtype=np.int64) * 7
+    ref = backends.normals(keys, counter, 2, 4, np.float64, np)
+    got_t = backends.normals(torch.as_tensor(keys), torch.as_tensor(counter), 2, 4,
+                             torch.float64, tx)  # fmt: skip
+    got_s = backends.normals(strict.asarray(keys), strict.asarray(counter), 2, 4,
+                             strict.float64, strict)  # fmt: skip
+    for r, t, s in zip(ref, got_t, got_s, strict=True):  # log and cos may round differently
+        np.testing.assert_allclose(t.numpy(), r, rtol=1e-15, atol=1e-15)
+        np.testing.assert_array_equal(r, np.asarray(s))  # strict wraps NumPy itself
+    ref_u = backends.uniforms(keys, counter, 2, 4, np.float64, np)
+    got_u = backends.uniforms(torch.as_tensor(keys), torch.as_tensor(counter), 2, 4,
+                              torch.float64, tx)  # fmt: skip
+    for r, t in zip(ref_u, got_u, strict=True):  # integer hashing: the same bits
+        np.testing.assert_array_equal(r, t.numpy())
+    # and they are standard normals
+    big = backends.normals(backends.env_keys(0, 100_000, np), np.zeros(100_000, dtype=np.int64),
+                           0, 2, np.float64, np)  # fmt: skip
+    for z in big:
+        assert abs(np.mean(z)) < 0.02 and abs(np.std(z) - 1.0) < 0.02
+    assert abs(np.corrcoef(big[0], big[1])[0, 1]) < 0.02
+    u = backends.uniforms(backends.env_keys(1, 100_000, np), np.zeros(100_000, dtype=np.int64),
+                          0, 1, np.float64, np)[0]  # fmt: skip
+    assert 0.0 < u.min() and u.max() < 1.0
+    hist, _ = np.histogram(u, 10, (0.0, 1.0))
+    assert np.all(np.abs(hist - 10_000) < 5 * math.sqrt(10_000))

@@ -1,0 +1,134 @@
+"""The torch backend runs the throw envs' core as NumPy does: equal in float64, close in
+float32 (landing points), compiled equal to eager. The pattern of ``test_backends.py``
+(BeachballSail-v0), for BeachballThrow-v0 and BeachballCurve-v0."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import bbgym  # noqa: F401
+from bbgym import backends
+from bbgym.envs.core import FusedStep, InitialNoise
+
+torch = pytest.importorskip("torch")
+pytest.importorskip("array_api_compat")
+
+N = 16
+STEPS = 200
+ENV_IDS = ("BeachballThrow-v0", "BeachballCurve-v0")
+# Coarse, short flights keep 200 eager torch steps quick (about 10 s); the code run is
+# the default flight's.
+QUICK = {"sim_dt": 0.05, "max_flight_time": 2.0, "max_roll_time": 0.25}
+
+
+def make_torch(env_id: str, dtype: str = "float64", compile: bool = False, **kwargs):
+    return gym.make_vec(
+        env_id, num_envs=N, vectorization_mode="vector_entry_point", backend="torch",
+        dtype=dtype, compile=compile, **kwargs,
+    )  # fmt: skip
+
+
+def replica_run(env_id: str, seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
+    """The torch backend's step, run on NumPy: the same FusedStep functions, keys and
+    counters. Returns (obs, reward, terminated, truncated, landing point) per step."""
+    venv = make_torch(env_id, **kwargs).unwrapped
+    task = venv.task
+    fused = FusedStep(task, venv.max_episode_steps, np, np.float64)
+    keys = np.array([backends.env_keys(seed + i, 1, np)[0] for i in range(N)])
+    counter = np.zeros(N, dtype=np.int64)
+    n_uniform, n_normal = task.initial_noise_counts
+    noise = InitialNoise(
+        backends.uniforms(keys, counter, 1, n_uniform, np.float64, np),
+        backends.normals(keys, counter, 2, n_normal, np.float64, np),
+        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, np.float64, np),
+    )
+    state = task.initial(noise, {}, np)
+    counter = counter + 1
+    steps, restarting = np.zeros(N, dtype=np.int64), np.zeros(N, dtype=bool)
+    out = []
+    for a in actions:
+        state, obs, reward, term, trunc, info, counter, steps = fused(
+            state, a.astype(np.float64), keys, counter, steps, restarting
+        )
+        restarting = term | trunc
+        out.append((obs, reward, term, trunc, info["landing_point"]))
+    return out
+
+
+def actions_for(steps: int = STEPS) -> np.ndarray:
+    return np.random.default_rng(3).uniform(-1, 1, (steps, N, 6)).astype(np.float32)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+@pytest.mark.parametrize("gusts", [True, False])
+def test_torch_float64_equals_numpy_replica(env_id: str, gusts: bool) -> None:
+    actions = actions_for()
+    # short episodes, so autoresets happen inside the run
+    kwargs = {"gusts": gusts, "max_episode_steps": 2, **QUICK}
+    expected = replica_run(env_id, 5, actions, **kwargs)
+    venv = make_torch(env_id, **kwargs)
+    venv.reset(seed=5)
+    resets = hits = 0
+    for a, (obs, reward, term, trunc, landing) in zip(actions, expected, strict=True):
+        got = venv.step(a)
+        np.testing.assert_allclose(got[0], obs, rtol=0, atol=1e-6)  # float32 observations
+        np.testing.assert_allclose(got[1], reward, rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(got[2], term)
+        np.testing.assert_array_equal(got[3], trunc)
+        np.testing.assert_allclose(got[4]["landing_point"], landing, rtol=0, atol=1e-9)
+        resets += int(np.sum(term | trunc))
+        hits += int(np.sum(got[4]["is_success"]))
+    assert resets >= N  # every env restarted at least once
+    assert venv.unwrapped.state.landing_x.dtype == torch.float64
+    if env_id == "BeachballCurve-v0":
+        assert venv.unwrapped.state.scenario.screen.all()
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_torch_float32_lands_where_float64_does(env_id: str) -> None:
+    """float32's accuracy guard: the same launches (same seed, same actions, calm air so
+    the float32 draws cannot move the wind) land within 2 cm of float64's, over 10 throws
+    per env of the default flight (sim_dt 0.01 s, up to 6 s)."""
+    actions = actions_for(10)
+    kwargs = {"gusts": False, "throws_per_episode": 100, "target_radius": 0.01,
+              "wind_speed_range": (0.0, 0.0)}  # fmt: skip
+    runs = {}
+    for dtype in ("float64", "float32"):
+        venv = make_torch(env_id, dtype=dtype, **kwargs)
+        venv.reset(seed=9)
+        landings, ends = [], []
+        for a in actions:
+            _, _, term, trunc, info = venv.step(a)
+            landings.append(info["landing_point"])
+            ends.append(term | trunc)
+        assert venv.unwrapped.state.landing_x.dtype == getattr(torch, dtype)
+        runs[dtype] = np.array(landings, dtype=np.float64), np.array(ends)
+    (l64, e64), (l32, e32) = runs["float64"], runs["float32"]
+    np.testing.assert_array_equal(e64, e32)
+    assert not e64.any()  # one episode: every step is a throw of the same launches
+    assert np.max(np.abs(l64 - l32)) < 0.02
+    assert np.max(np.hypot(*l64.reshape(-1, 2).T)) > 3.0  # the balls did fly
+
+
+@pytest.mark.slow  # a cold compile takes over a minute on two CPU cores
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_compiled_equals_eager(env_id: str) -> None:
+    actions = actions_for(4)
+    results = []
+    for compile in (False, True):
+        venv = make_torch(env_id, compile=compile, max_episode_steps=2)
+        out = [venv.reset(seed=2)[0]]
+        out += [venv.step(a)[0] for a in actions]
+        results.append(np.array(out))
+    np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-6)
+
+
+def test_tensor_output_and_no_records_on_torch() -> None:
+    venv = make_torch("BeachballThrow-v0", output="torch")
+    obs, info = venv.reset(seed=0)
+    assert isinstance(obs, torch.Tensor) and obs.dtype == torch.float32
+    obs, reward, term, trunc, info = venv.step(torch.zeros(N, 6))
+    assert isinstance(reward, torch.Tensor) and isinstance(info["miss_distance"], torch.Tensor)
+    assert obs.shape == (N, 19) and "trajectory" not in info

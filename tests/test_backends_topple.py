@@ -1,0 +1,189 @@
+"""BeachballTopple-v0 on the torch backend runs the same core as NumPy: equal in float64,
+close in float32 where it matters (the wall's state, the hits), compiled equal to eager,
+each part compiled once. The approach of ``tests/test_backends.py`` (BeachballSail-v0)."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import bbgym  # noqa: F401
+from bbgym import backends
+from bbgym.envs.core import FusedStep, InitialNoise
+from bbgym.envs.topple import ToppleTask
+
+torch = pytest.importorskip("torch")
+pytest.importorskip("array_api_compat")
+
+N = 8
+STEPS = 200
+# Short intervals with several gust updates keep 200 eager steps quick; near walls and
+# winds up to 12 m/s make walls fall or break loose mid-interval (early stops, restarts).
+FAST = dict(interval=0.5, gust_dt=0.1, wall_distance_range=(4.0, 5.5), wind_speed_range=(0.0, 12.0))
+
+
+def make_torch(dtype: str = "float64", compile: bool = False, num_envs: int = N, **kwargs):
+    return gym.make_vec(
+        "BeachballTopple-v0", num_envs=num_envs, vectorization_mode="vector_entry_point",
+        backend="torch", dtype=dtype, compile=compile, **kwargs,
+    )  # fmt: skip
+
+
+def throws(rng: np.random.Generator, steps: int, num_envs: int) -> np.ndarray:
+    """Throws at the wall (12-18 m/s, 3-20 deg up, aimed within its width), a quarter
+    waits and a tenth anywhere (as tests/test_topple_equivalence.py)."""
+    n = (steps, num_envs)
+    speed = rng.uniform(12.0, 18.0, n) / 18.0
+    elevation = np.radians(rng.uniform(3.0, 20.0, n))
+    azimuth = rng.uniform(-0.04, 0.04, n)
+    velocity = speed[..., None] * np.stack(
+        [np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
+         np.sin(elevation)], axis=-1,
+    )  # fmt: skip
+    actions = np.concatenate([velocity, rng.uniform(-0.3, 0.3, (*n, 3))], axis=-1)
+    kind = rng.random(n)
+    actions[kind < 0.25] = rng.uniform(-0.015, 0.015, (int((kind < 0.25).sum()), 6))
+    anywhere = kind > 0.9
+    actions[anywhere] = rng.uniform(-1.0, 1.0, (int(anywhere.sum()), 6))
+    return actions.astype(np.float32)
+
+
+def replica_run(seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
+    """The torch backend's step, run on NumPy: the same FusedStep functions, keys and
+    counters. Returns (obs, reward, terminated, truncated, wall angle) per step."""
+    venv = make_torch(**kwargs).unwrapped
+    task = venv.task
+    fused = FusedStep(task, venv.max_episode_steps, np, np.float64)
+    keys = np.array([backends.env_keys(seed + i, 1, np)[0] for i in range(N)])
+    counter = np.zeros(N, dtype=np.int64)
+    n_uniform, n_normal = task.initial_noise_counts
+    noise = InitialNoise(
+        backends.uniforms(keys, counter, 1, n_uniform, np.float64, np),
+        backends.normals(keys, counter, 2, n_normal, np.float64, np),
+        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, np.float64, np),
+    )
+    state = task.initial(noise, {}, np)
+    counter = counter + 1
+    steps, restarting = np.zeros(N, dtype=np.int64), np.zeros(N, dtype=bool)
+    out = []
+    for a in actions:
+        state, obs, reward, term, trunc, _, counter, steps = fused(
+            state, a.astype(np.float64), keys, counter, steps, restarting
+        )
+        restarting = term | trunc
+        out.append((obs, reward, term, trunc, state.wall.angle))
+    return out
+
+
+@pytest.mark.parametrize("gusts", [True, False])
+def test_torch_float64_equals_numpy_replica(gusts: bool) -> None:
+    actions = throws(np.random.default_rng(3), STEPS, N)
+    kwargs = {**FAST, "gusts": gusts}
+    expected = replica_run(5, actions, **kwargs)
+    venv = make_torch(**kwargs)
+    venv.reset(seed=5)
+    ends = 0
+    for a, (obs, reward, term, trunc, angle) in zip(actions, expected, strict=True):
+        got = venv.step(a)
+        np.testing.assert_allclose(got[0], obs, rtol=0, atol=1e-6)  # float32 observations
+        np.testing.assert_allclose(got[1], reward, rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(got[2], term)
+        np.testing.assert_array_equal(got[3], trunc)
+        np.testing.assert_allclose(got[4]["wall_angle"], angle, rtol=0, atol=1e-9)
+        ends += int(np.sum(term | trunc))
+    assert ends >= 4 * N  # every env restarted several times
+    assert venv.unwrapped.state.wall.angle.dtype == torch.float64
+
+
+def test_host_transition_equals_the_compiled_steps_chunks() -> None:
+    """The host's long chunks (``transition``) and the compiled step's short ones
+    (``begin``, ``chunk``..., ``end``) give the same states, on NumPy."""
+    task = ToppleTask(**FAST)
+    assert task.host_interval_params.chunk_substeps != task.interval_params.chunk_substeps
+    rng = np.random.default_rng(1)
+    keys = backends.env_keys(0, 16, np)
+    counter = np.zeros(16, dtype=np.int64)
+    noise = InitialNoise(
+        backends.uniforms(keys, counter, 1, 3, np.float64, np),
+        backends.normals(keys, counter, 2, 2, np.float64, np),
+        backends.normals(keys, counter, 3, 2, np.float64, np),
+    )
+    state = task.initial(noise, {}, np)
+    for a in throws(rng, 6, 16):
+        step_noise = np.stack(
+            backends.normals(keys, counter, 0, 2 * task.step_noise_pairs, np.float64, np)
+        )
+        a = a.astype(np.float64)
+        host, events = task.transition(state, a, step_noise, np)
+        carry = task.begin(state, a, step_noise, np)
+        for _ in range(task.chunks):
+            carry = task.chunk(carry, np)
+        short, short_events = task.end(state, carry, np)
+        for x, y in zip(_leaves(host), _leaves(short), strict=True):
+            np.testing.assert_array_equal(x, y)
+        np.testing.assert_array_equal(events.noise_used, short_events.noise_used)
+        np.testing.assert_array_equal(events.samples, short_events.samples)
+        state, counter = host, counter + 1
+
+
+def _leaves(tree):
+    if isinstance(tree, tuple):
+        return [leaf for t in tree for leaf in _leaves(t)]
+    return [np.asarray(tree)]
+
+
+def test_torch_float32_keeps_the_walls_and_hits_of_float64() -> None:
+    """float32's accuracy guard: a fixed set of throws (and waits) in the default 3 s
+    intervals hits the same walls the same number of times, leaves every wall in the same
+    state, and its final lean within 2e-3 rad of float64's (rewards within 5e-3)."""
+    actions = throws(np.random.default_rng(8), 4, 32)
+    runs = {}
+    for dtype in ("float64", "float32"):
+        venv = make_torch(dtype=dtype, num_envs=32, throws_per_episode=4)
+        venv.reset(seed=9)
+        out = []
+        for a in actions:
+            _, r, _, _, info = venv.step(a)
+            out.append((r, info["hits"], info["wall_state"], info["wall_angle"]))
+        runs[dtype] = out
+    hits = 0
+    for (r64, h64, s64, a64), (r32, h32, s32, a32) in zip(*runs.values(), strict=True):
+        np.testing.assert_array_equal(h64, h32)
+        np.testing.assert_array_equal(s64, s32)
+        assert np.max(np.abs(a64 - a32)) < 2e-3
+        assert np.max(np.abs(r64 - r32)) < 5e-3
+        hits = max(hits, int(h64.sum()))
+    assert hits >= 8  # many throws hit their wall
+    assert any((s != "standing").any() for _, _, s, _ in runs["float64"])  # some fell
+
+
+def test_compiled_equals_eager_and_compiles_each_part_once() -> None:
+    from torch._dynamo.utils import counters
+
+    actions = throws(np.random.default_rng(2), 5, N)
+    results = []
+    for compile in (False, True):
+        counters.clear()
+        venv = make_torch(compile=compile, throws_per_episode=2, **FAST)
+        out = [venv.reset(seed=2)[0]]
+        out += [venv.step(a)[0] for a in actions]
+        results.append(np.array(out))
+        if compile:
+            # begin, chunk, end, restart, observe: one graph each, never recompiled
+            assert counters["stats"]["unique_graphs"] <= 5, dict(counters["stats"])
+            assert not counters["recompiles"], dict(counters["recompiles"])
+    np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-6)
+
+
+def test_torch_step_infos() -> None:
+    venv = make_torch(output="torch", **FAST)
+    obs, info = venv.reset(seed=0)
+    assert isinstance(obs, torch.Tensor) and obs.shape == (N, 19)
+    obs, reward, term, trunc, info = venv.step(torch.zeros(N, 6))
+    assert isinstance(info["wall_angle"], torch.Tensor)
+    assert list(info["wall_state"]) == ["standing"] * N or info["_wall_state"].all()
+    assert "ball_trajectory" not in info  # the torch backend keeps no samples
+    assert math.isfinite(float(reward.sum()))
