@@ -563,6 +563,9 @@ class BeachballSailEnv(CoreEnv):
       created energy), so a crash jibe with the sheet fully eased capsizes the default boat
       from about 13.5 m/s of wind instead of 12; arguments and options are validated with
       accepted intervals (``TypeError``/``ValueError`` naming them). The polar is unchanged.
+    * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
+      ``tests/test_golden_v0.py``) on a functional core; the vector env takes
+      ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 4}

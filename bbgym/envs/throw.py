@@ -738,6 +738,9 @@ class BeachballThrowEnv(CoreEnv):
       implicitly (first touchdowns moved by a median 0.12 m, toward the converged answer);
       arguments and options validated with accepted intervals; target ranges must lie
       outside the ring.
+    * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
+      ``tests/test_golden_v0.py``) on a functional core; the vector env takes
+      ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}

@@ -679,6 +679,9 @@ class BeachballToppleEnv(CoreEnv):
       loose-panel drag and tumbling implicit; ball hits on the wall as an impulse; a vector
       sub-env stops its interval where the single env does (sub-env ``i`` equals the single
       env seeded ``seed + i`` again); arguments validated with accepted intervals.
+    * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
+      ``tests/test_golden_v0.py``) on a functional core; the vector env takes
+      ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
