@@ -22,10 +22,9 @@ import gymnasium as gym
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
-from bbgym.envs.common import NativeVectorEnv
 from bbgym.envs.core import CoreVectorEnv
 
-BBGYM_VECTOR_ENVS = (NativeVectorEnv, CoreVectorEnv)
+BBGYM_VECTOR_ENVS = (CoreVectorEnv,)
 
 
 class NativeVecEnvAdapter(VecEnv):

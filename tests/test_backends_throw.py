@@ -4,13 +4,11 @@ float32 (landing points), compiled equal to eager. The pattern of ``test_backend
 
 from __future__ import annotations
 
-import gymnasium as gym
+import backend_replica
 import numpy as np
 import pytest
 
 import bbgym  # noqa: F401
-from bbgym import backends
-from bbgym.envs.core import FusedStep, InitialNoise
 
 torch = pytest.importorskip("torch")
 pytest.importorskip("array_api_compat")
@@ -23,38 +21,15 @@ ENV_IDS = ("BeachballThrow-v0", "BeachballCurve-v0")
 QUICK = {"sim_dt": 0.05, "max_flight_time": 2.0, "max_roll_time": 0.25}
 
 
-def make_torch(env_id: str, dtype: str = "float64", compile: bool = False, **kwargs):
-    return gym.make_vec(
-        env_id, num_envs=N, vectorization_mode="vector_entry_point", backend="torch",
-        dtype=dtype, compile=compile, **kwargs,
-    )  # fmt: skip
+def make_torch(env_id: str, **kwargs):
+    return backend_replica.make_torch(env_id, N, **kwargs)
 
 
 def replica_run(env_id: str, seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
-    """The torch backend's step, run on NumPy: the same FusedStep functions, keys and
-    counters. Returns (obs, reward, terminated, truncated, landing point) per step."""
-    venv = make_torch(env_id, **kwargs).unwrapped
-    task = venv.task
-    fused = FusedStep(task, venv.max_episode_steps, np, np.float64)
-    keys = np.array([backends.env_keys(seed + i, 1, np)[0] for i in range(N)])
-    counter = np.zeros(N, dtype=np.int64)
-    n_uniform, n_normal = task.initial_noise_counts
-    noise = InitialNoise(
-        backends.uniforms(keys, counter, 1, n_uniform, np.float64, np),
-        backends.normals(keys, counter, 2, n_normal, np.float64, np),
-        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, np.float64, np),
+    """(obs, reward, terminated, truncated, landing point) per step."""
+    return backend_replica.replica_run(
+        env_id, N, seed, actions, extra=lambda state, info: info["landing_point"], **kwargs
     )
-    state = task.initial(noise, {}, np)
-    counter = counter + 1
-    steps, restarting = np.zeros(N, dtype=np.int64), np.zeros(N, dtype=bool)
-    out = []
-    for a in actions:
-        state, obs, reward, term, trunc, info, counter, steps = fused(
-            state, a.astype(np.float64), keys, counter, steps, restarting
-        )
-        restarting = term | trunc
-        out.append((obs, reward, term, trunc, info["landing_point"]))
-    return out
 
 
 def actions_for(steps: int = STEPS) -> np.ndarray:

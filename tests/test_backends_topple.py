@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import math
 
-import gymnasium as gym
+import backend_replica
 import numpy as np
 import pytest
 
 import bbgym  # noqa: F401
 from bbgym import backends
-from bbgym.envs.core import FusedStep, InitialNoise
+from bbgym.envs.core import InitialNoise
 from bbgym.envs.topple import ToppleTask
 
 torch = pytest.importorskip("torch")
@@ -25,11 +25,8 @@ STEPS = 200
 FAST = dict(interval=0.5, gust_dt=0.1, wall_distance_range=(4.0, 5.5), wind_speed_range=(0.0, 12.0))
 
 
-def make_torch(dtype: str = "float64", compile: bool = False, num_envs: int = N, **kwargs):
-    return gym.make_vec(
-        "BeachballTopple-v0", num_envs=num_envs, vectorization_mode="vector_entry_point",
-        backend="torch", dtype=dtype, compile=compile, **kwargs,
-    )  # fmt: skip
+def make_torch(num_envs: int = N, **kwargs):
+    return backend_replica.make_torch("BeachballTopple-v0", num_envs, **kwargs)
 
 
 def throws(rng: np.random.Generator, steps: int, num_envs: int) -> np.ndarray:
@@ -52,30 +49,15 @@ def throws(rng: np.random.Generator, steps: int, num_envs: int) -> np.ndarray:
 
 
 def replica_run(seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
-    """The torch backend's step, run on NumPy: the same FusedStep functions, keys and
-    counters. Returns (obs, reward, terminated, truncated, wall angle) per step."""
-    venv = make_torch(**kwargs).unwrapped
-    task = venv.task
-    fused = FusedStep(task, venv.max_episode_steps, np, np.float64)
-    keys = np.array([backends.env_keys(seed + i, 1, np)[0] for i in range(N)])
-    counter = np.zeros(N, dtype=np.int64)
-    n_uniform, n_normal = task.initial_noise_counts
-    noise = InitialNoise(
-        backends.uniforms(keys, counter, 1, n_uniform, np.float64, np),
-        backends.normals(keys, counter, 2, n_normal, np.float64, np),
-        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, np.float64, np),
+    """(obs, reward, terminated, truncated, wall angle) per step."""
+    return backend_replica.replica_run(
+        "BeachballTopple-v0",
+        N,
+        seed,
+        actions,
+        extra=lambda state, info: state.wall.angle,
+        **kwargs,
     )
-    state = task.initial(noise, {}, np)
-    counter = counter + 1
-    steps, restarting = np.zeros(N, dtype=np.int64), np.zeros(N, dtype=bool)
-    out = []
-    for a in actions:
-        state, obs, reward, term, trunc, _, counter, steps = fused(
-            state, a.astype(np.float64), keys, counter, steps, restarting
-        )
-        restarting = term | trunc
-        out.append((obs, reward, term, trunc, state.wall.angle))
-    return out
 
 
 @pytest.mark.parametrize("gusts", [True, False])
