@@ -17,9 +17,14 @@ from bbgym.physics.ball import (
     air_force,
     ball_at,
     collide_balls,
+    flight_chunk,
+    flight_record_every,
+    flight_start,
+    fly,
     ground_contact,
     magnus_force,
     panel_contact,
+    recorded_poses,
     simulate_throw,
     substep,
 )
@@ -225,3 +230,56 @@ def test_torch_float32_stays_float32():
     assert result.steps.dtype == torch.int64 and result.hit_screen.dtype == torch.bool
     want = _throw(np)
     np.testing.assert_allclose(result.flight_time_s.numpy(), want.flight_time_s, atol=0.05)
+
+
+def _exact(got, want) -> None:
+    """The same bits (nested tuples too)."""
+    if isinstance(want, (tuple, list)):
+        assert len(got) == len(want)
+        for g, w in zip(got, want, strict=True):
+            _exact(g, w)
+        return
+    g, w = np.asarray(got), np.asarray(want)
+    assert g.shape == w.shape and g.dtype == w.dtype
+    assert np.array_equal(g, w), (g, w)
+
+
+def test_numpy_host_flight_drops_finished_balls_with_the_masked_loops_bits():
+    """``fly`` on NumPy flies only the balls still in the air; every field of the flight
+    (the batch-wide counters included) and every recorded pose equal those of the plain
+    masked loop of ``flight_chunk`` over the whole batch."""
+    d = _launches()
+    z = np.zeros(N)
+    start = ball_at(z, z, z + 1.5, *d["v"].T, *d["w"].T)
+    screen = Screen(z + 4.0, z + 0.5, z, z + 1.0, 1.5, 2.5, d["screen"])
+    wx, wy = d["wind"].T.copy()
+    last, every = 600, flight_record_every(DT)
+    args = (BALL, flight_start(BALL, start), wx, wy, screen, DT)
+    got, got_poses = fly(*args, last, every, True, np, 1.0, FIELD_M, check_every=4)
+    want, poses, i = args[1], [], 1
+    while i <= last and not want.done.all():
+        want, chunk = flight_chunk(
+            *args[:1], want, *args[2:], 4, last, every, True, np, 1.0, FIELD_M
+        )
+        poses += recorded_poses(chunk, i, every, last)
+        i += 4
+    del poses[int(want.samples.max()) - 1 :]
+    assert len(set(want.end_time_s.tolist())) > 5  # flights of many lengths: drops happen
+    _exact(tuple(got), tuple(want))
+    _exact([tuple(q) for q in got_poses], [tuple(q) for q in poses])
+
+
+def test_host_shortcuts_give_the_masked_updates_bits():
+    """Where no ball touches the ground or a panel, NumPy skips the masked update
+    (``backend.skippable``); array_api_strict never skips: the same bits either way."""
+    s = _states()
+    s[2] = np.linspace(1.0, 4.0, N)  # every ball in the air
+    panel = (0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 0.5)
+    enabled = np.arange(N) % 3 != 0
+    for fn in (
+        lambda xp, st: ground_contact(BALL, st, DT, xp),
+        lambda xp, st: panel_contact(st, BALL.radius_m, *panel, _to(xp, enabled), xp),
+    ):
+        ref = fn(np, _state(np, s))
+        assert not np.asarray(ref[1]).any()
+        _exact([np.asarray(a) for a in fn(xs, _state(xs, s))[0]], list(ref[0]))

@@ -37,6 +37,7 @@ from bbgym.physics.ball import (
     flight_result,
     flight_start,
     flight_substeps,
+    fly,
     launch_spin_parameter,
     pose_of,
     recorded_poses,
@@ -445,12 +446,17 @@ class ThrowTask(TaskCore):
 
     def _fly(self, carry: ThrowCarry, substeps: int, xp: Any) -> ThrowCarry:
         recording = carry.poses is not None
+        first = sample_count(carry.flight.substep, xp) if recording else 0
         flight, poses = flight_chunk(
             self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
             substeps, self.flight_substeps, self.record_every, recording, xp,
             self.max_roll_time, self.field_radius,
         )  # fmt: skip
-        return carry._replace(flight=flight, poses=carry.poses + poses if recording else None)
+        if recording:  # (never on a compiled step: the substep number is read on the host)
+            poses = carry.poses + recorded_poses(
+                poses, first, self.record_every, self.flight_substeps
+            )
+        return carry._replace(flight=flight, poses=poses if recording else None)
 
     def all_done(self, carry: ThrowCarry, xp: Any) -> Any:
         """Every ball has finished its flight."""
@@ -458,27 +464,26 @@ class ThrowTask(TaskCore):
 
     def transition(self, state: ThrowState, action: Any, noise: Any, xp: Any,
                    record: bool = False) -> tuple[ThrowState, ThrowEvents]:  # fmt: skip
-        """One throw. On Python floats the flight stops at the substep it finishes (the
-        check is free there); batches check every chunk. The results are the same."""
-        if xp is not floats:
+        """One throw. On the host (Python floats, NumPy) :func:`~bbgym.physics.ball.fly`
+        flies it, on other namespaces the chunks do; the results are the same."""
+        if xp is not floats and xp is not np:
             return super().transition(state, action, noise, xp, record)
         carry = self.begin(state, action, noise, xp, record)
-        for _ in range(self.flight_substeps):
-            if carry.flight.done:
-                break
-            carry = self._fly(carry, 1, xp)
-        return self.end(state, carry, xp)
+        flight, poses = fly(
+            self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
+            self.flight_substeps, self.record_every, record, xp, self.max_roll_time,
+            self.field_radius,
+        )  # fmt: skip
+        recorded = carry.poses + poses if record else None
+        return self.end(state, carry._replace(flight=flight, poses=recorded), xp)
 
     def end(self, state: ThrowState, carry: ThrowCarry, xp: Any) -> tuple[ThrowState, ThrowEvents]:
         """Score the throw (first touchdown against the ring), move the gusts on by
         ``throw_interval`` and read the windsock anew."""
         sc, flight = state.scenario, carry.flight
         trajectory = []
-        if carry.poses is not None:
-            trajectory = carry.poses[:1] + recorded_poses(
-                carry.poses[1:], 1, self.record_every, self.flight_substeps
-            )
-            del trajectory[sample_count(flight.samples, xp) :]
+        if carry.poses is not None:  # the launch, then the record's poses
+            trajectory = carry.poses[: sample_count(flight.samples, xp)]
         result = flight_result(flight, carry.spin_parameter, trajectory, xp)
         miss, hit, terms = self.score(result, sc, xp)
         n0, n1, n2, n3 = carry.noise

@@ -18,6 +18,11 @@ number (``xp.where(mask, x, 0.0)`` instead of ``mask * x``; counts by
 the functions that allow it (``where``, ``maximum``, ``minimum``, ``clip``), and a loop
 that may stop early checks "all done" (``bool(xp.all(done))``, a device sync on a GPU) at
 most every K substeps.
+
+One exception keeps the host fast: where a mask is false for every env on the host (a
+Python ``False`` on :data:`floats`, an all-false NumPy array), the masked update it guards
+may be skipped (:func:`skippable`), with the same result as the masked update's. Every
+other namespace (torch, compiled or not; ``array_api_strict``) takes the masked update.
 """
 
 from __future__ import annotations
@@ -31,6 +36,14 @@ import numpy as np
 
 Array = Any
 """A batch of values (an array of any namespace) or one value (a Python float)."""
+
+
+def skippable(mask: Any) -> bool:
+    """Whether an update masked by ``mask`` can be left out because it changes nothing: a
+    Python ``False`` (one env on :data:`floats`) or an all-false NumPy array (a host batch,
+    where the check costs a microsecond and is never traced). Masks of any other namespace
+    are never skippable: a compiled step has no branch on array values."""
+    return mask is False or (type(mask) is np.ndarray and not mask.any())
 
 
 def _where(condition: Any, if_true: Any, if_false: Any) -> Any:

@@ -34,7 +34,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array
+from bbgym.physics.backend import Array, skippable
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, quadratic_drag_rate
 from bbgym.physics.validation import check_fields, interval, param
 
@@ -280,6 +280,8 @@ def ground_contact(
     ball touched the ground in this substep.
     """
     near = s.z <= p.radius_m
+    if skippable(near):  # every ball in the air: no impulse
+        return s, near
     touching, bounce, normal_impulse, z, vz = _normal_impulse(p, s, xp)
     # A bounce is over in an instant: rolling resistance acts in resting contact only. It
     # goes first, so that friction (if it can) leaves the ball rolling at the end.
@@ -402,6 +404,8 @@ def panel_contact(
     approach = s.vx * normal_x + s.vy * normal_y
     over_face = (xp.abs(lateral) <= half_width_m) & (s.z <= height_m)
     hit = enabled & over_face & (xp.abs(offset) < radius_m) & (approach * offset < 0.0)
+    if skippable(hit):  # no ball touching the panel
+        return s, hit
     side = xp.where(offset >= 0.0, 1.0, xp.zeros_like(offset) - 1.0)
     change = xp.where(hit, -(1.0 + restitution) * approach, 0.0)
     push = xp.where(hit, side * radius_m - offset, 0.0)
@@ -636,18 +640,24 @@ def _flight_substep(
     flown = s
     s, touching = ground_contact(p, s, dt_s, xp)
     first = touching & xp.logical_not(f.landed) & flying
-    x, y, t = _touchdown(p, before, flown, i, dt_s, xp)
-    s = BallState._make(map(xp.where, repeat(frozen, len(s)), before, s))  # frozen
-    landed = f.landed | first
-    flight_time = xp.where(first, t, f.flight_time_s)
+    landed, landing_x, landing_y, flight_time = f.landed, f.landing_x, f.landing_y, f.flight_time_s
+    if not skippable(first):  # some ball touches down for the first time
+        x, y, t = _touchdown(p, before, flown, i, dt_s, xp)
+        landed = landed | first
+        landing_x, landing_y = xp.where(first, x, landing_x), xp.where(first, y, landing_y)
+        flight_time = xp.where(first, t, flight_time)
+    if not skippable(frozen):
+        s = BallState._make(map(xp.where, repeat(frozen, len(s)), before, s))
+    steps, samples = f.steps, f.samples
     recorded = (i % record_every) == 0
-    steps = f.steps + xp.astype(flying & recorded, xp.int64)
-    samples = f.samples + xp.astype(xp.any(flying) & recorded, xp.int64)
+    if not skippable(recorded):
+        steps = steps + xp.astype(flying & recorded, xp.int64)
+        samples = samples + xp.astype(xp.any(flying) & recorded, xp.int64)
     now = i * dt_s
     finished = _finished(p, s, landed, flight_time, now, max_roll_s, field_radius_m, xp)
     new = Flight(
-        ball=s, landed=landed, landing_x=xp.where(first, x, f.landing_x),
-        landing_y=xp.where(first, y, f.landing_y), flight_time_s=flight_time,
+        ball=s, landed=landed, landing_x=landing_x, landing_y=landing_y,
+        flight_time_s=flight_time,
         # a frozen ball's height is in its apex already: no mask needed
         apex_height_m=xp.maximum(f.apex_height_m, s.z), hit_screen=hit_screen,
         done=f.done | (flying & finished), end_time_s=xp.where(frozen, f.end_time_s, now),
@@ -671,7 +681,8 @@ def flight_result(
 
 
 def sample_count(samples: Array, xp: Any = np) -> int:
-    """The number of recorded samples of a batch (:attr:`Flight.samples`) as an int."""
+    """The number of recorded samples of a batch (:attr:`Flight.samples`, or another count
+    the same for every ball) as an int."""
     return int(samples) if isinstance(samples, (int, float)) else int(xp.max(samples))
 
 
@@ -714,26 +725,109 @@ def simulate_throw(
     trajectory is empty (``steps`` still counts).
     """
     spin_parameter = launch_spin_parameter(p, launch, wind_x, wind_y, xp)
-    if check_every is None:
-        check_every = 1 if isinstance(launch.x, (int, float)) else CHECK_EVERY_ARRAYS
     record_every = flight_record_every(dt_s, record_dt_s)
     last = flight_substeps(dt_s, max_time_s)
-    flight = flight_start(p, launch, xp)
-    trajectory = [pose_of(launch)] if record else []
-    i = 1
+    flight, poses = fly(
+        p, flight_start(p, launch, xp), wind_x, wind_y, screen, dt_s, last, record_every,
+        record, xp, max_roll_s, field_radius_m, check_every,
+    )  # fmt: skip
+    trajectory = [pose_of(launch), *poses] if record else []
+    return flight_result(flight, spin_parameter, trajectory, xp)
+
+
+def fly(
+    p: BallParams, flight: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
+    dt_s: float, last: int, record_every: int, record: bool = True, xp: Any = np,
+    max_roll_s: float | None = None, field_radius_m: float = 30.0,
+    check_every: int | None = None,
+) -> tuple[Flight, list]:  # fmt: skip
+    """A flight from ``flight.substep`` to its end on the host: :func:`flight_chunk` of
+    ``check_every`` substeps (default: 1 for Python floats, where the check is free, else
+    :data:`CHECK_EVERY_ARRAYS`) until every ball is done or substep ``last`` is flown.
+    Returns the flight and the recorded poses after the launch (those of the record, up to
+    the last ball's finish).
+
+    On NumPy the loop flies only the balls still in the air: it drops the finished ones from
+    its working set between chunks and puts them back at the end, so a batch costs what its
+    flights do rather than its longest flight times its size. A dropped ball is frozen
+    either way: the results are those of the masked loop, bit for bit. (A compiled step
+    cannot change shapes; it runs :func:`flight_chunk` with every ball.)"""
+    if check_every is None:
+        check_every = 8 if isinstance(flight.ball.x, (int, float)) else CHECK_EVERY_ARRAYS
+    compacting = xp is np and np.ndim(flight.ball.x) == 1
+    screen = _without_idle_screen(screen)
+    full, working = flight, None  # working: indices of the balls flown (None: all)
+    poses: list = []
+    frozen_pose = pose_of(flight.ball)
+    i = sample_count(flight.substep, xp)  # the same for every ball
     while i <= last:
         n = min(check_every, last + 1 - i)
-        flight, poses = flight_chunk(
+        flight, chunk_poses = flight_chunk(
             p, flight, wind_x, wind_y, screen, dt_s, n, last, record_every, record, xp,
             max_roll_s, field_radius_m,
         )  # fmt: skip
-        trajectory += recorded_poses(poses, i, record_every, last)
+        kept = recorded_poses(chunk_poses, i, record_every, last)
+        poses += kept if working is None else [_expand(frozen_pose, working, q) for q in kept]
         i += n
-        if bool(xp.all(flight.done)):
+        done = flight.done
+        if bool(xp.all(done)):
             break
+        if compacting and done.any():
+            full = _scatter(full, working, flight)
+            frozen_pose = pose_of(full.ball)
+            keep = np.flatnonzero(~done)
+            working = keep if working is None else working[keep]
+            size = done.shape[0]  # the working set's, before this drop
+            flight = _take(flight, keep)
+            wind_x, wind_y = _take(wind_x, keep, size), _take(wind_y, keep, size)
+            screen = None if screen is None else _take(screen, keep, size)
+        screen = _without_idle_screen(screen)
+    if working is not None:
+        flight = _scatter(full, working, flight)
     if record:  # a chunk may run past the last ball's finish: those samples are not kept
-        del trajectory[sample_count(flight.samples, xp) :]
-    return flight_result(flight, spin_parameter, trajectory, xp)
+        del poses[sample_count(flight.samples, xp) - 1 :]
+    return flight, poses
+
+
+def _without_idle_screen(screen: Screen | None) -> Screen | None:
+    """``None`` for a screen no ball has (on the host: no panel contact to test)."""
+    return None if screen is None or skippable(screen.enabled) else screen
+
+
+def _take(tree: Any, index: np.ndarray, size: int | None = None) -> Any:
+    """The balls ``index`` of a NamedTuple of NumPy arrays (or of one array); leaves that
+    are not per ball (Python numbers, arrays not of ``size`` balls) stay as they are."""
+    if isinstance(tree, tuple):
+        return type(tree)(*(_take(leaf, index, size) for leaf in tree))
+    per_ball = isinstance(tree, np.ndarray) and tree.ndim >= 1
+    if per_ball and (size is None or tree.shape[0] == size):
+        return tree[index]
+    return tree
+
+
+def _scatter(full: Any, working: np.ndarray | None, flown: Any) -> Any:
+    """``full`` with the balls ``working`` replaced by those of ``flown`` (all, for
+    ``None``). The batch-wide counters (samples recorded, next substep) are the working
+    set's: the masked loop counts them for every ball alike."""
+    if working is None:
+        return flown
+    if isinstance(full, Flight):
+        merged = Flight(*(_scatter(a, working, b) for a, b in zip(full, flown, strict=True)))
+        return merged._replace(
+            samples=np.full_like(full.samples, flown.samples[0]),
+            substep=np.full_like(full.substep, flown.substep[0]),
+        )
+    if isinstance(full, tuple):
+        return type(full)(*(_scatter(a, working, b) for a, b in zip(full, flown, strict=True)))
+    out = full.copy()
+    out[working] = flown
+    return out
+
+
+def _expand(frozen: BallPose, working: np.ndarray, pose: BallPose) -> BallPose:
+    """A recorded pose of the working set as one of the whole batch: the dropped balls are
+    where they stopped."""
+    return BallPose(*(_scatter(a, working, b) for a, b in zip(frozen, pose, strict=True)))
 
 
 def flight_record_every(dt_s: float, record_dt_s: float = 0.05) -> int:

@@ -33,7 +33,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array, namespace_of
+from bbgym.physics.backend import Array, namespace_of, skippable
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
 from bbgym.physics.validation import check_fields, interval, param
 
@@ -214,19 +214,19 @@ def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any =
     rate = xp.where(away | toward, 0.0, rate)
 
     # Breaking loose: the panel leaves with the motion it had.
-    x_rel, z_rel = _lever(p, s.angle, pivot, xp)
-    pivot_x = s.base_x + pivot * b
-    status = xp.where(breaks, float(LOOSE), status)
-    loose = _freeze_select(
-        breaks,
-        (pivot_x + x_rel, z_rel, s.angle, s.rate * z_rel, -s.rate * x_rel, s.rate),
-        (s.loose_x, s.loose_z, s.loose_angle, s.loose_vx, s.loose_vz, s.loose_rate),
-        xp,
-    )
+    loose = (s.loose_x, s.loose_z, s.loose_angle, s.loose_vx, s.loose_vz, s.loose_rate)
+    if not skippable(breaks):
+        x_rel, z_rel = _lever(p, s.angle, pivot, xp)
+        pivot_x = s.base_x + pivot * b
+        status = xp.where(breaks, float(LOOSE), status)
+        leaving = (pivot_x + x_rel, z_rel, s.angle, s.rate * z_rel, -s.rate * x_rel, s.rate)
+        loose = _freeze_select(breaks, leaving, loose, xp)
     flying = (s.status == LOOSE) & xp.logical_not(s.landed)
-    flown = loose_step(p, *loose, wind_x, dt_s, xp)
-    loose = _freeze_select(flying, flown[:6], loose, xp)
-    landed = s.landed | (flying & flown[6])
+    landed = s.landed
+    if not skippable(flying):
+        flown = loose_step(p, *loose, wind_x, dt_s, xp)
+        loose = _freeze_select(flying, flown[:6], loose, xp)
+        landed = landed | (flying & flown[6])
 
     keep = xp.logical_not(standing)
     stress = xp.maximum(s.stress, xp.where(standing, shear / max(p.hold_n, HOLD_FLOOR_N), 0.0))
@@ -362,6 +362,8 @@ def ball_hits_wall(
     # wall's angular impulse k_n J. Written so, it never divides by k_n (a hit level with
     # the pivot edge has k_n = 0: an infinite m_w, a rigid stop) and it keeps the angular
     # momentum about the edge and, at e = 1, the energy exactly.
+    if skippable(hit):  # no ball strikes a wall
+        return s, bvx, bvz, xp.where(hit, along, -1.0)
     e = p.ball_restitution
     impulse = (
         (1.0 + e) * (ball_speed - wall_speed) / (1.0 / ball_mass_kg + k_n * k_n / p.inertia_kgm2)
