@@ -483,11 +483,15 @@ class CoreVectorEnv(VectorEnv):
         else:
             a = self._tensor(self.task.check_action(actions, self.num_envs),
                              self.backend.float_dtype)  # fmt: skip
+        any_restarting = self._any_restarting
         if self._fused is None:
             self._fused = self._make_fused()
+            # The first step runs the restart part too (where no env restarts it changes
+            # nothing), so every part compiles now rather than when the first episode ends.
+            any_restarting = True
         restarting = self._autoreset
         out = self._fused(self.state, a, self._keys, self._counter, self._steps, restarting,
-                          any_restarting=self._any_restarting)  # fmt: skip
+                          any_restarting=any_restarting)  # fmt: skip
         self.state, obs, reward, terminated, truncated, info, self._counter, self._steps = out
         self._autoreset = terminated | truncated
         self._any_restarting = None
