@@ -218,26 +218,34 @@ def uniforms(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: An
     """``count`` uniform draws in (0, 1) per env: ``[(batch,)] * count``, a pure function of
     the env's key, its step counter and the stream number: one 32-bit hash per draw
     (float64 draws carry 32 random bits, float32 draws 24, both strictly inside (0, 1))."""
+    rows = _uniform_rows(key, counter, stream, count, dtype, xp)
+    return [rows[k, ...] for k in range(count)]
+
+
+def _uniform_rows(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> Any:
+    """:func:`uniforms` as one ``(count, batch)`` array. All of a stream's draws are one
+    broadcast hash, so a compiled graph holds the hash once however many draws it takes
+    (its compile time does not grow with them)."""
     base = _stream_base(key, counter, stream)
-    out = []
-    for k in range(count):
-        bits = hash32(base ^ (((k + 1) * 0x85EBCA77) & _MASK32))
-        if dtype == xp.float32:
-            u = (xp.astype(bits >> 8, dtype) + 0.5) * (1.0 / 16777216.0)
-        else:
-            u = (xp.astype(bits, dtype) + 0.5) * (1.0 / 4294967296.0)
-        out.append(u)
-    return out
+    salt = (xp.arange(1, count + 1, dtype=xp.int64, device=base.device) * 0x85EBCA77) & _MASK32
+    bits = hash32(xp.expand_dims(base, axis=0) ^ xp.reshape(salt, (count,) + (1,) * base.ndim))
+    if dtype == xp.float32:
+        return (xp.astype(bits >> 8, dtype) + 0.5) * (1.0 / 16777216.0)
+    return (xp.astype(bits, dtype) + 0.5) * (1.0 / 4294967296.0)
 
 
 def normals(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> list:
-    """``count`` standard normal draws per env (Box-Muller on :func:`uniforms`)."""
-    u = uniforms(key, counter, stream, 2 * ((count + 1) // 2), dtype, xp)
+    """``count`` standard normal draws per env (Box-Muller on :func:`uniforms`: draws
+    ``2j, 2j + 1`` make normals ``2j, 2j + 1``)."""
+    if count == 0:
+        return []
+    u = _uniform_rows(key, counter, stream, 2 * ((count + 1) // 2), dtype, xp)
+    radius = xp.sqrt(-2.0 * xp.log(u[0::2, ...]))
+    angle = (2.0 * math.pi) * u[1::2, ...]
+    cos, sin = radius * xp.cos(angle), radius * xp.sin(angle)
     out = []
-    for k in range(0, len(u), 2):
-        radius = xp.sqrt(-2.0 * xp.log(u[k]))
-        angle = (2.0 * math.pi) * u[k + 1]
-        out += [radius * xp.cos(angle), radius * xp.sin(angle)]
+    for j in range(cos.shape[0]):
+        out += [cos[j, ...], sin[j, ...]]
     return out[:count]
 
 
