@@ -663,7 +663,8 @@ def _flight_substep(
         done=f.done | (flying & finished), end_time_s=xp.where(frozen, f.end_time_s, now),
         steps=steps, samples=samples, substep=i + 1.0,
     )  # fmt: skip
-    return new, pose_of(s)
+    # Only a recorded substep's pose is kept (recorded_poses): the host skips the others'.
+    return new, None if skippable(recorded) else pose_of(s)
 
 
 def flight_result(
