@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 pytest.importorskip("pygame")
@@ -497,6 +497,7 @@ def test_a_line_to_a_far_point_keeps_its_direction(slope: float, reach: float) -
 
 @settings(max_examples=200, deadline=None)
 @given(a=points(-3.0, 12.0), b=points(-3.0, 12.0))
+@example(a=(-1e12, 0.00012246467991473532), b=(562341325190.3491, 0.0))  # found by CI
 def test_clipped_segment_lies_on_the_segment_inside_the_box(
     a: tuple[float, float], b: tuple[float, float]
 ) -> None:

@@ -147,9 +147,15 @@ def clip_segment(a: Sequence[float], b: Sequence[float], box: Box) -> tuple[Vec2
             t1 = min(t1, t)
         if t0 > t1:
             return None
-    start = a if t0 == 0.0 else (a[0] + t0 * dx, a[1] + t0 * dy)
-    end = b if t1 == 1.0 else (a[0] + t1 * dx, a[1] + t1 * dy)
+    start = a if t0 == 0.0 else _into(box, (a[0] + t0 * dx, a[1] + t0 * dy))
+    end = b if t1 == 1.0 else _into(box, (a[0] + t1 * dx, a[1] + t1 * dy))
     return start, end
+
+
+def _into(box: Box, p: Vec2) -> Vec2:
+    """A point clipped onto an edge, held inside the box: from far endpoints (1e12 px) the
+    interpolation's rounding alone can leave it a fraction of a pixel outside."""
+    return (min(max(p[0], box[0]), box[2]), min(max(p[1], box[1]), box[3]))
 
 
 def clip_polyline(points: Iterable[Sequence[float]], box: Box) -> list[list[Vec2]]:
