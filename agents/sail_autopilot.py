@@ -32,7 +32,11 @@ from typing import Any
 
 import numpy as np
 
-from agents.sail_simple import (
+from bbgym.physics.common import wrap_angle
+from bbgym.physics.polar import compute_polar
+from bbgym.physics.sailing import DinghyParams
+
+from .sail_simple import (
     OBS_AWA_COS,
     OBS_AWA_SIN,
     OBS_HEEL,
@@ -43,9 +47,6 @@ from agents.sail_simple import (
     OBS_TWA_SIN,
     as_batch,
 )
-from bbgym.physics.common import wrap_angle
-from bbgym.physics.polar import compute_polar
-from bbgym.physics.sailing import DinghyParams
 
 # More observation indices and scales (see the BeachballSail-v0 docstring).
 OBS_TWS = 5

@@ -11,8 +11,9 @@ import math
 import gymnasium as gym
 import numpy as np
 
-from agents.throw_solver import solve_throw
 from bbgym.envs.throw import DISTANCE_SCALE_M, WIND_SCALE_MPS, ThrowTask
+
+from .throw_solver import solve_throw
 
 
 class ThrowSolverAgent:

@@ -1,11 +1,13 @@
-"""Load env presets from ``configs/*.yaml`` (needs PyYAML, in the ``dev`` extra)."""
+"""Load env presets: the YAML files of ``bbgym/configs`` (the repository's ``configs/``)."""
 
 from __future__ import annotations
 
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
-CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"
+CONFIG_DIR = Path(str(resources.files("bbgym.configs")))
+"""The presets' folder, inside the installed package (a wheel ships them)."""
 
 
 def load_preset(path: str | Path) -> tuple[str, dict[str, Any]]:

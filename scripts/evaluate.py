@@ -56,20 +56,20 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
     if name == "simple":
         if not env_id.startswith("BeachballSail"):
             raise ValueError(f"the simple helmsman sails; {env_id!r} is not a sailing env")
-        from agents import SimpleSailController
+        from bbgym.agents import SimpleSailController
 
         return SimpleSailController(dinghy=env.unwrapped.task.params)
     if name == "scripted":
         if env_id.startswith("BeachballSail"):
-            from agents import VMGAutopilot
+            from bbgym.agents import VMGAutopilot
 
             return VMGAutopilot.for_env(env)
         if env_id.startswith(("BeachballThrow", "BeachballCurve")):
-            from agents.throw_agent import ThrowSolverAgent
+            from bbgym.agents.throw_agent import ThrowSolverAgent
 
             return ThrowSolverAgent(env.unwrapped.task)
         if env_id.startswith("BeachballTopple"):
-            from agents.throw_agent import ToppleAgent
+            from bbgym.agents.throw_agent import ToppleAgent
 
             return ToppleAgent()
         raise ValueError(f"no scripted policy for {env_id!r}")

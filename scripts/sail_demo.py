@@ -23,9 +23,9 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
+from bbgym.agents.sail_simple import SimpleSailController  # noqa: E402
 
 import bbgym  # noqa: E402, F401  (registers BeachballSail-v0)
-from agents.sail_simple import SimpleSailController  # noqa: E402
 
 # Seed 16: the mark lies upwind; the controller beats to it with two tacks.
 DEFAULT_SEED = 16

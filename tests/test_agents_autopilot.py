@@ -5,10 +5,10 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
+from bbgym.agents import SimpleSailController, VMGAutopilot, sailing_tables
+from bbgym.agents.sail_autopilot import GRID_RAD, OBS_AWA_COS, OBS_AWA_SIN, OBS_HEEL, OBS_TWS
 
 import bbgym  # noqa: F401
-from agents import SimpleSailController, VMGAutopilot, sailing_tables
-from agents.sail_autopilot import GRID_RAD, OBS_AWA_COS, OBS_AWA_SIN, OBS_HEEL, OBS_TWS
 from bbgym.physics.polar import compute_polar
 from bbgym.physics.sailing import DinghyParams
 

@@ -5,9 +5,9 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
+from bbgym.agents.sail_simple import SimpleSailController
 
 import bbgym  # noqa: F401  (registers BeachballSail-v0)
-from agents.sail_simple import SimpleSailController
 
 
 def run_episode(env: gym.Env, controller: SimpleSailController, **reset_kwargs) -> dict:

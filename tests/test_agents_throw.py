@@ -10,9 +10,9 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 import pytest
+from bbgym.agents.throw_agent import ThrowSolverAgent, ToppleAgent
 
 import bbgym  # noqa: F401
-from agents.throw_agent import ThrowSolverAgent, ToppleAgent
 
 ROOT = Path(__file__).resolve().parents[1]
 

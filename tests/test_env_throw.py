@@ -9,10 +9,10 @@ import pickle
 import gymnasium as gym
 import numpy as np
 import pytest
+from bbgym.agents.throw_solver import solve_throw
 from gymnasium.utils.env_checker import check_env
 
 import bbgym  # noqa: F401  (registers the ids)
-from agents.throw_solver import solve_throw
 from bbgym.envs.throw import BeachballThrowEnv, BeachballThrowVectorEnv
 
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")

@@ -1,0 +1,1 @@
+"""The env presets (YAML), installed as ``bbgym/configs``: ``bbgym.config`` loads them."""
