@@ -251,19 +251,6 @@ class ToppleTask(TaskCore):
         self.n_substeps = check_multiple("interval", self.interval, "sim_dt", self.sim_dt)
         self.gust_every = check_multiple("gust_dt", self.gust_dt, "sim_dt", self.sim_dt)
         self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
-        # The compiled step's chunk is one substep (inductor's code for one takes about
-        # 30 s to build on 2 CPU cores; a chunk of 25 took 10 minutes and crashed gcc),
-        # the host's (floats, NumPy: no compiler) ``gust_every``: one gust update per
-        # chunk, at its start (or per sample), each masked test known when tracing.
-        self.interval_params = IntervalParams(
-            wall=self.wall, ball=self.ball, gust=self.gust_params, sim_dt=self.sim_dt,
-            gust_dt=self.gust_dt, n_substeps=self.n_substeps, gust_every=self.gust_every,
-            record_every=self.record_every, chunk_substeps=COMPILED_CHUNK_SUBSTEPS,
-        )  # fmt: skip
-        ge, re = self.gust_every, self.record_every
-        self.host_interval_params = replace(
-            self.interval_params, chunk_substeps=ge if ge % re == 0 else re
-        )
         self.success_bonus = check_number("success_bonus", success_bonus, REWARD_WEIGHT)
         self.failure_penalty = check_number("failure_penalty", failure_penalty, REWARD_WEIGHT)
         self.throw_cost = check_number("throw_cost", throw_cost, REWARD_WEIGHT)
