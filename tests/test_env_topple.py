@@ -151,17 +151,23 @@ def test_a_wall_falling_mid_interval_stops_only_its_env_in_a_batch():
     single = gym.make("BeachballTopple-v0")
     single.reset(seed=7, options=options)
     obs, reward, terminated, _, info = single.step(throw(16.0, 15.0))
-    k = len(info["wall_angle_samples"])
+    k = info["samples_length"]
     assert terminated and info["wall_state"] == "fallen_away" and k < 60
+    assert info["wall_angle_samples"].shape == (60,) and info["ball_trajectory_length"] == k
+    # The rows past the interval's stop repeat its last sample (the wall where it lies).
+    np.testing.assert_array_equal(info["wall_angle_samples"][k:], info["wall_angle_samples"][k - 1])
     vec = BeachballToppleVectorEnv(num_envs=2)
     vec.reset(seed=7, options=options)
     vec_obs, vec_reward, vec_term, _, vec_info = vec.step(np.stack([throw(16.0, 15.0), WAIT]))
-    assert [len(s) for s in vec_info["wall_angle_samples"]] == [k, 60]
+    assert vec_info["samples_length"].tolist() == [k, 60]
+    assert vec_info["wall_angle_samples"].shape == (2, 60)
     assert vec_term.tolist() == [True, False] and vec_reward[0] == pytest.approx(reward)
     for key in ("wall_angle_samples", "ball_trajectory", "loose_samples"):
         np.testing.assert_allclose(vec_info[key][0], info[key], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(vec_obs[0], obs, rtol=1e-6)
-    assert len(vec_info["ball_trajectory"][1]) == 0  # a wait throws no ball
+    # A wait throws no ball: no rows of its trajectory (all zeros, length 0).
+    assert vec_info["ball_trajectory_length"][1] == 0
+    assert not np.any(vec_info["ball_trajectory"][1])
 
 
 def _names(state):

@@ -160,7 +160,7 @@ def test_topple_vector_matches_single_envs_when_walls_fall_mid_interval(seed):
     loose = np.zeros((steps, num_envs), dtype=bool)
 
     def on_step(t: int, i: int, info: dict[str, Any]) -> None:
-        lengths[t, i] = len(info["wall_angle_samples"])
+        lengths[t, i] = info["samples_length"]
         loose[t, i] = info["wall_state"] == "loose"
 
     _, ends = assert_vector_matches_single(

@@ -2,10 +2,12 @@
 
 from bbgym.envs.sail import BeachballSailEnv, BeachballSailVectorEnv
 from bbgym.envs.throw import BeachballThrowEnv, BeachballThrowVectorEnv
+from bbgym.envs.video import RecordFlightVideo
 
 __all__ = [
     "BeachballSailEnv",
     "BeachballSailVectorEnv",
     "BeachballThrowEnv",
     "BeachballThrowVectorEnv",
+    "RecordFlightVideo",
 ]

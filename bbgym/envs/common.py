@@ -96,6 +96,39 @@ def vector_info(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
     return out
 
 
+LIST_MODE = "rgb_array_list"
+"""Gymnasium's render mode in which ``render()`` returns the frames collected since the last
+``render()`` or ``reset()`` (what :class:`gymnasium.wrappers.RenderCollection` makes of
+``rgb_array``)."""
+RENDER_MODES = ["human", "rgb_array", LIST_MODE]
+"""The render modes of every env (single and native vector)."""
+
+
+def renderer_mode(render_mode: str) -> str:
+    """The renderer's mode for an env's ``render_mode``: a list of frames is drawn off-screen
+    frame by frame, as ``rgb_array`` draws one."""
+    return "rgb_array" if render_mode == LIST_MODE else render_mode
+
+
+def pad_rows(rows: np.ndarray, lengths: np.ndarray, capacity: int, fill: Any = 0.0) -> np.ndarray:
+    """Fixed-shape records: ``rows`` ``(n, K, ...)`` of which env ``i`` recorded the first
+    ``lengths[i]``, as ``(n, capacity, ...)``. Rows from ``lengths[i]`` on repeat the last
+    recorded one (a ball at rest stays where it stopped, so maxima, minima and the last row
+    keep their meaning); an env that recorded nothing is ``fill`` (zeros, ``False`` for
+    masks) throughout."""
+    n, k = rows.shape[:2]
+    lengths = np.asarray(lengths, dtype=np.int64).reshape(n)
+    if int(lengths.max(initial=0)) > min(k, capacity):
+        raise ValueError(f"records of {lengths.max()} rows exceed {min(k, capacity)}")
+    tail = rows.shape[2:]
+    if k == 0:
+        return np.full((n, capacity, *tail), fill, dtype=rows.dtype)
+    index = np.clip(np.minimum(np.arange(capacity), lengths[:, None] - 1), 0, k - 1)
+    padded = np.take_along_axis(rows, index.reshape(n, capacity, *(1,) * len(tail)), axis=1)
+    recorded = (lengths > 0).reshape(n, 1, *(1,) * len(tail))
+    return np.where(recorded, padded, np.asarray(fill, dtype=rows.dtype))
+
+
 def check_render_mode(render_mode: str | None, modes: list[str]) -> None:
     """``None`` or one of ``modes``, else ``ValueError`` naming ``render_mode``."""
     if render_mode is not None and render_mode not in modes:
@@ -107,7 +140,8 @@ def ensure_renderer(env: Any) -> Any:
     imported only then); ``None``, with a warning, for an env without a ``render_mode``."""
     if env.render_mode is None:
         gym.logger.warn(
-            "render() called without a render_mode; pass render_mode='rgb_array' or 'human'."
+            "render() called without a render_mode; pass render_mode='rgb_array', "
+            "'rgb_array_list' or 'human'."
         )
         return None
     started = env.started if hasattr(env, "started") else env._sim.started

@@ -36,6 +36,8 @@ from gymnasium.vector.utils import batch_space
 
 from bbgym import backends
 from bbgym.envs.common import (
+    LIST_MODE,
+    RENDER_MODES,
     NormalStreams,
     check_render_mode,
     ensure_renderer,
@@ -154,10 +156,18 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
     """A single env over a task core, on Python floats, seeded from ``np_random``.
 
     A subclass sets ``metadata`` and ``task_class`` and implements ``_make_renderer`` and
-    ``render``; ``_on_reset`` / ``_on_step`` hooks follow a reset and a step.
+    ``_scene`` (and ``_flight_scenes`` where a step is a flight); ``_on_reset`` /
+    ``_on_step`` hooks follow a reset and a step.
+
+    Rendering: ``rgb_array`` draws the state now; ``human`` shows it in a window after every
+    reset and step, a step's flight first; ``rgb_array_list`` (Gymnasium's convention, as
+    :class:`gymnasium.wrappers.RenderCollection` makes it) collects the frames of the reset
+    and of every step since, each step's flight (``_flight_scenes``) then its end, and
+    ``render()`` returns them as a list and clears it. The frames are collected as drawing
+    descriptions and drawn by ``render()``: a step costs no drawing until then.
     """
 
-    metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"]}
+    metadata: dict[str, Any] = {"render_modes": list(RENDER_MODES)}
     task_class: type
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
@@ -172,6 +182,7 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         self._measures: Any = None
         self._renderer: Any = None
         self._animate = False
+        self._collected: list[Any] = []  # rgb_array_list: scenes not yet rendered
 
     @property
     def started(self) -> bool:
@@ -195,6 +206,8 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         self._on_reset()
         if self.render_mode == "human":
             self.render()
+        elif self.render_mode == LIST_MODE:
+            self._collected = [self._scene()]
         return self._observation(), self._info()
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
@@ -219,6 +232,9 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         if self.render_mode == "human":
             self._animate = True
             self.render()
+        elif self.render_mode == LIST_MODE:
+            scene = self._scene()
+            self._collected += [*self._flight_scenes(scene), scene]
         reward = self.task.reward(self.state, floats)
         terminated = self.task.terminal(self.state, floats)
         return self._observation(), float(reward), bool(terminated), False, self._info()
@@ -245,6 +261,33 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
 
     def _on_step(self, action: Any) -> None:
         """Hook: a step with ``action`` has just been taken."""
+
+    def render(self) -> np.ndarray | list[np.ndarray] | None:
+        """``rgb_array``: the frame of the state now, ``(H, W, 3)`` uint8. ``rgb_array_list``:
+        the frames collected since the last ``render()`` or ``reset()`` (the reset's, then
+        per step its flight and its end), a list, cleared. ``human``: ``None`` (the window
+        shows every reset and step by itself)."""
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return None
+        if self.render_mode == LIST_MODE:
+            scenes, self._collected = self._collected, []
+            return [renderer.render(s) for s in scenes]
+        scene = self._scene()
+        if self._animate:
+            # Human mode plays a new step's flight in real time, then shows where it ended.
+            self._animate = False
+            for flight_scene in self._flight_scenes(scene):
+                renderer.render(flight_scene)
+        return renderer.render(scene)
+
+    def _scene(self) -> Any:
+        """The drawing description of the state now (the renderer does no physics)."""
+        raise NotImplementedError
+
+    def _flight_scenes(self, scene: Any) -> list[Any]:
+        """The frames a step plays before ``scene``, its end (a flight); none by default."""
+        return []
 
     def _make_renderer(self) -> Any:
         raise NotImplementedError
@@ -273,10 +316,17 @@ class CoreVectorEnv(VectorEnv):
     returns the new episode's first observation with reward 0 for them. The time limit
     (``max_episode_steps``) is applied here, since ``gym.make_vec`` adds no ``TimeLimit``
     wrapper to a native vector env. Infos are arrays with Gymnasium's ``_key`` masks.
+
+    ``render()`` draws the first (up to 4) sub-envs: ``rgb_array`` a tuple of their frames,
+    ``rgb_array_list`` a tuple of their lists of frames since the last ``render()`` or
+    ``reset()`` (as ``SyncVectorEnv`` of such envs returns; a sub-env restarted by a step
+    adds its new episode's first frame), ``human`` the first in a window. In
+    ``rgb_array_list`` mode the frames wait (as drawing descriptions) for ``render()``:
+    call it regularly, since autoreset never clears them.
     """
 
     metadata: dict[str, Any] = {
-        "render_modes": ["rgb_array", "human"],
+        "render_modes": list(RENDER_MODES),
         "autoreset_mode": AutoresetMode.NEXT_STEP,
     }
     task_class: type
@@ -320,6 +370,7 @@ class CoreVectorEnv(VectorEnv):
         self._fused: Any = None
         self._any_restarting: bool | None = None
         self._renderer: Any = None
+        self._collected: list[list[Any]] = []  # rgb_array_list: per drawn sub-env
 
     @property
     def started(self) -> bool:
@@ -409,6 +460,9 @@ class CoreVectorEnv(VectorEnv):
             self._autoreset = self._tensor(np.zeros(self.num_envs, dtype=bool))
             self._any_restarting = False
         self._on_reset(everyone)
+        if self.render_mode == LIST_MODE:
+            self._collected = [[] for _ in range(self._drawn_envs)]
+            self._collect(everyone)
         m = self.task.measure(self.state, self.xp)
         obs = columns_to_observation(self.task.observation(self.state, m, self.xp), self.xp)
         info = self.task.info(self.state, m, self.xp)
@@ -460,6 +514,8 @@ class CoreVectorEnv(VectorEnv):
         truncated = (self._steps >= self.max_episode_steps) & ~terminated
         self._autoreset = terminated | truncated
         self._on_step(a)
+        if self.render_mode == LIST_MODE:
+            self._collect(restarting)
         m = self.task.measure(self.state, np)
         obs = columns_to_observation(self.task.observation(self.state, m, np), np)
         info = self._vector_info({**self.task.info(self.state, m, np), **self._step_info()})
@@ -501,6 +557,8 @@ class CoreVectorEnv(VectorEnv):
         if self._wants_reset_hook:
             self._on_reset(backends.to_numpy(restarting))
         self._on_step(a)
+        if self.render_mode == LIST_MODE:
+            self._collect(np.asarray(backends.to_numpy(restarting), dtype=bool))
         return (self._out(obs), self._out(reward), self._out(terminated),
                 self._out(truncated), self._vector_info(info))  # fmt: skip
 
@@ -525,6 +583,9 @@ class CoreVectorEnv(VectorEnv):
                 self._autoreset = self._autoreset & ~m
                 self._any_restarting = None
             self._on_reset(mask)
+            if self.render_mode == LIST_MODE and self._collected:
+                for i in np.flatnonzero(mask[: self._drawn_envs]):
+                    self._collected[i].append(self._scene_env(int(i)))
         m = self.task.measure(self.state, self.xp)
         return self._out(columns_to_observation(self.task.observation(self.state, m, self.xp),
                                                 self.xp))  # fmt: skip
@@ -545,20 +606,44 @@ class CoreVectorEnv(VectorEnv):
         """Sub-env ``i``'s state as Python floats."""
         return element(self.state, i)
 
-    def render(self) -> tuple[np.ndarray, ...] | None:
-        """Frames of the first (up to 4) sub-envs; ``human`` shows the first in a window."""
+    @property
+    def _drawn_envs(self) -> int:
+        """How many sub-envs ``render()`` draws (the first)."""
+        return 1 if self.render_mode == "human" else min(self.num_envs, 4)
+
+    def render(self) -> tuple[np.ndarray, ...] | tuple[list[np.ndarray], ...] | None:
+        """Frames of the first (up to 4) sub-envs: a tuple of frames (``rgb_array``) or of
+        lists of frames since the last ``render()`` or ``reset()`` (``rgb_array_list``);
+        ``human`` shows the first in a window and returns ``None``."""
         renderer = ensure_renderer(self)
         if renderer is None:
             return None
-        count = 1 if self.render_mode == "human" else min(self.num_envs, 4)
-        frames = tuple(self._render_env(renderer, i) for i in range(count))
+        if self.render_mode == LIST_MODE:
+            collected = self._collected
+            self._collected = [[] for _ in range(self._drawn_envs)]
+            return tuple([renderer.render(s) for s in scenes] for scenes in collected)
+        frames = tuple(renderer.render(self._scene_env(i)) for i in range(self._drawn_envs))
         return None if self.render_mode == "human" else frames
+
+    def _collect(self, restarted: np.ndarray) -> None:
+        """``rgb_array_list``: each drawn sub-env's frames of the reset or step just made: a
+        restarted env's first frame, else the step's flight and its end."""
+        for i in range(self._drawn_envs):
+            scene = self._scene_env(i)
+            if not restarted[i]:
+                self._collected[i] += self._flight_scenes(scene)
+            self._collected[i].append(scene)
 
     def _make_renderer(self) -> Any:
         raise NotImplementedError
 
-    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+    def _scene_env(self, i: int) -> Any:
+        """The drawing description of sub-env ``i`` now."""
         raise NotImplementedError
+
+    def _flight_scenes(self, scene: Any) -> list[Any]:
+        """The frames a step plays before ``scene``, its end (a flight); none by default."""
+        return []
 
     def __getstate__(self) -> dict[str, Any]:
         state = without_renderer(self.__dict__)
@@ -566,7 +651,8 @@ class CoreVectorEnv(VectorEnv):
         return state
 
     def close_extras(self, **kwargs: Any) -> None:
-        if self._renderer is not None:
+        # (getattr: a constructor that raised, on bad arguments, made no renderer)
+        if getattr(self, "_renderer", None) is not None:
             self._renderer.close()
             self._renderer = None
 

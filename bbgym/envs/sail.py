@@ -19,8 +19,8 @@ from bbgym import backends
 from bbgym.envs.common import (
     check_multiple,
     check_option_keys,
-    ensure_renderer,
     option_path,
+    renderer_mode,
 )
 from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
 from bbgym.physics.backend import Array, floats
@@ -446,7 +446,7 @@ _DOC_ARGS = """
 
     | argument | default | meaning |
     |---|---|---|
-    | `render_mode` | `None` | `"rgb_array"` (headless frames) or `"human"` (window) |
+    | `render_mode` | `None` | `"rgb_array"`, `"rgb_array_list"` or `"human"` (see Rendering) |
     | `sail_model` | `"lift"` | sail coefficient model, `"lift"` or `"seed"` (§9 drag formula) |
     | `dinghy` | `None` | mapping of `DinghyParams` fields (mass, sail area, drags, ...) |
     | `wind_speed_range` | `(3.0, 7.0)` | true wind speed drawn per episode, m/s |
@@ -554,6 +554,14 @@ class BeachballSailEnv(CoreEnv):
     this step, rad/s), `max_jibe_severity`, `capsized`, `elapsed_time`, `is_success`,
     `reward_terms`.
 
+    ## Rendering
+
+    `render_mode="rgb_array"`: `render()` returns the frame of the state now, `(480, 640, 3)`
+    uint8, headless. `"rgb_array_list"` (Gymnasium's convention): the frames since the last
+    `render()` or `reset()`, a list (the reset's and one per step), cleared by `render()`;
+    `gymnasium.wrappers.RecordVideo` accepts it. `"human"`: a window shows every reset and
+    step at `render_fps` (4, real time).
+
     ## Version History
 
     * v0: Initial version.
@@ -566,9 +574,10 @@ class BeachballSailEnv(CoreEnv):
     * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
       ``tests/test_golden_v0.py``) on a functional core; the vector env takes
       ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
+    * v0, after bbgym 0.3.1 (the same dynamics): `render_mode="rgb_array_list"`.
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
+    metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 4}
     task_class = SailTask
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
@@ -592,18 +601,15 @@ class BeachballSailEnv(CoreEnv):
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
-    def render(self) -> np.ndarray | None:
-        renderer = ensure_renderer(self)
-        if renderer is None:
-            return None
-        return renderer.render(_scene(self.task, self.state, tuple(self._wake), self._last_action))
+    def _scene(self) -> Any:
+        return _scene(self.task, self.state, tuple(self._wake), self._last_action)
 
 
 def _make_renderer(env: Any) -> Any:
     from bbgym.render.sail_view import SailRenderer
 
     return SailRenderer(
-        env.render_mode,
+        renderer_mode(env.render_mode),
         pixels_per_meter=RENDER_PIXELS_PER_M,
         render_fps=env.metadata["render_fps"],  # real time: one frame per env step
     )
@@ -687,11 +693,9 @@ class BeachballSailVectorEnv(CoreVectorEnv):
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
-    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+    def _scene_env(self, i: int) -> Any:
         state = self.element_state(i)
-        return renderer.render(
-            _scene(self.task, state, tuple(self._wakes[i]), self._last_action[i])
-        )
+        return _scene(self.task, state, tuple(self._wakes[i]), self._last_action[i].copy())
 
 
 BeachballSailEnv.__doc__ = BeachballSailEnv.__doc__.replace("{args}", _DOC_ARGS)

@@ -23,6 +23,8 @@ from bbgym.envs.common import (
     ensure_renderer,
     mean_wind,
     option_path,
+    pad_rows,
+    renderer_mode,
 )
 from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
 from bbgym.physics.backend import Array, floats
@@ -318,6 +320,10 @@ class ThrowTask(TaskCore):
         self.flight_substeps = flight_substeps(self.sim_dt, self.max_flight_time)
         assert self.flight_substeps < FLIGHT_SUBSTEPS_MAX  # 600 s / 1e-4 s = 6e6
         self.record_every = flight_record_every(self.sim_dt, RECORD_DT_S)
+        self.record_capacity = 1 + self.flight_substeps // self.record_every
+        """The most poses a throw records: the launch's, then one every ``record_every``
+        substeps up to the flight's last (121 by default: 6 s every 0.05 s); the rows of
+        the ``trajectory`` and ``orientations`` infos."""
         # Fill the ball's derived constants now, not while torch.compile traces a chunk (a
         # cache filled during tracing changes the guards and forces a recompile).
         _ = self.ball.mass_kg, self.ball.inertia_kgm2, self.ball.area_m2
@@ -598,28 +604,53 @@ class ThrowTask(TaskCore):
         }
 
 
-def flight_records(events: ThrowEvents | None, thrown: Any) -> tuple[Any, Any]:
-    """The last throw's ``(trajectory, orientations)``: ``(K, 3)`` positions and ``(K, 4)``
-    quaternions for one env (``thrown`` a bool), or object arrays of them for a batch;
-    empty where nothing was thrown since the reset."""
+class FlightRecords(NamedTuple):
+    """The last throw's recorded poses, fixed-shape: ``trajectory`` ``(C, 3)`` positions and
+    ``orientations`` ``(C, 4)`` quaternions (w, x, y, z), ``C`` the task's
+    ``record_capacity``, of which the first ``length`` (``K``) were recorded (every
+    ``RECORD_DT_S``, the launch's first); rows from ``K`` on repeat the last recorded pose,
+    and all are zeros where nothing was recorded (``K == 0``: no throw since the reset;
+    zeros rather than NaN, so every info float stays finite). For
+    a batch each has a leading axis of the envs (``length`` ``(n,)`` int64)."""
+
+    trajectory: np.ndarray
+    orientations: np.ndarray
+    length: Any
+
+    def recorded(self) -> tuple[np.ndarray, np.ndarray]:
+        """One env's recorded rows, ``(K, 3)`` and ``(K, 4)`` (what the renderer draws)."""
+        k = int(self.length)
+        return self.trajectory[:k], self.orientations[:k]
+
+    def env(self, i: int) -> FlightRecords:
+        """Env ``i``'s records of a batch's."""
+        return FlightRecords(self.trajectory[i], self.orientations[i], int(self.length[i]))
+
+    def info(self) -> dict[str, Any]:
+        return {
+            "trajectory": self.trajectory,
+            "orientations": self.orientations,
+            "trajectory_length": self.length,
+        }
+
+
+def flight_records(events: ThrowEvents | None, thrown: Any, capacity: int) -> FlightRecords:
+    """The last throw's :class:`FlightRecords` (``capacity`` rows) for one env (``thrown`` a
+    bool) or a batch (``thrown`` an array); nothing recorded where nothing was thrown since
+    the reset, or without ``events`` (the torch backend)."""
     batch = not isinstance(thrown, (bool, np.bool_))
-    if batch:
-        thrown = np.asarray(thrown)
-    poses = events.trajectory if events is not None else []
-    positions = np.array([(s.x, s.y, s.z) for s in poses], dtype=np.float64)
-    quats = np.array([(s.qw, s.qx, s.qy, s.qz) for s in poses], dtype=np.float64)
-    if not batch:
-        k = int(events.steps) if thrown and poses else 0
-        return positions.reshape(-1, 3)[:k], quats.reshape(-1, 4)[:k]
+    thrown = np.atleast_1d(np.asarray(thrown, dtype=bool))
     n = thrown.shape[0]
-    trajectory = np.empty(n, dtype=object)
-    orientations = np.empty(n, dtype=object)
-    steps = np.asarray(events.steps) if poses else np.zeros(n, dtype=np.int64)
-    for i in range(n):
-        k = int(steps[i]) if thrown[i] else 0
-        trajectory[i] = positions[:k, :, i] if k else np.zeros((0, 3))
-        orientations[i] = quats[:k, :, i] if k else np.zeros((0, 4))
-    return trajectory, orientations
+    poses = events.trajectory if events is not None else []
+    # (K, 7, n): a pose's fields (Python floats for one env, arrays for a batch) by sample
+    rows = np.array(poses, dtype=np.float64).reshape(len(poses), 7, n).transpose(2, 0, 1)
+    steps = np.atleast_1d(np.asarray(events.steps)) if poses else np.zeros(n, dtype=np.int64)
+    lengths = np.where(thrown, steps, 0).astype(np.int64)
+    trajectory = pad_rows(rows[:, :, :3], lengths, capacity)
+    orientations = pad_rows(rows[:, :, 3:], lengths, capacity)
+    if not batch:
+        return FlightRecords(trajectory[0], orientations[0], int(lengths[0]))
+    return FlightRecords(trajectory, orientations, lengths)
 
 
 _DOC_ARGS = """
@@ -631,7 +662,7 @@ _DOC_ARGS = """
 
     | argument | default | meaning |
     |---|---|---|
-    | `render_mode` | `None` | `"rgb_array"` or `"human"` |
+    | `render_mode` | `None` | `"rgb_array"`, `"rgb_array_list"` or `"human"` (see Rendering) |
     | `ball` | `None` | mapping of `BallParams` fields (radius, shell density, C_d, ...) |
     | `throws_per_episode` | `3` | throws at the same target in the same wind |
     | `target_distance_range` | `(3.0, 10.0)` | m from the thrower |
@@ -729,11 +760,28 @@ class BeachballThrowEnv(CoreEnv):
     {args}
     ## Info
 
-    `landing_point` (first touchdown x, y), `miss_distance`, `flight_time` (to the first
-    touchdown), `apex_height`, `spin_parameter` (`S = r omega / v` at launch),
-    `trajectory` (`(K, 3)` positions every 0.05 s), `orientations` (`(K, 4)` quaternions),
-    `hit_screen`, `wind` (the wind during the throw), `windsock`, `target`, `throws_left`,
-    `is_success`, `reward_terms`.
+    `thrown` (a throw has been made this episode), `landing_point` (first touchdown x, y),
+    `miss_distance`, `flight_time` (to the first touchdown), `apex_height`,
+    `spin_parameter` (`S = r omega / v` at launch), `hit_screen`, `wind` (the wind during
+    the throw), `windsock`, `target`, `throws_left`, `is_success`, `reward_terms`, and the
+    last throw's recorded poses, every 0.05 s from the launch: `trajectory` (`(C, 3)`
+    positions, m), `orientations` (`(C, 4)` quaternions w, x, y, z) and
+    `trajectory_length` (`K`, an int: the rows recorded). Their shape is fixed, so
+    vector envs stack them: `C` is the task's `record_capacity`, the most poses a flight
+    records (`1 + max_flight_time / 0.05`: 121 by default); rows `K:` repeat the last
+    recorded pose (the ball where it stopped), and after a reset (`K = 0`) all rows are zeros.
+    `info["trajectory"][:info["trajectory_length"]]` is the flight. The same keys and
+    types follow a reset and a step.
+
+    ## Rendering
+
+    `render_mode="rgb_array"`: `render()` returns the frame of the state now (the last
+    throw's landing), `(480, 640, 3)` uint8, headless; `render_flight()` the frames of the
+    last throw's flight. `"rgb_array_list"` (Gymnasium's convention): `render()` returns
+    the frames since the last `render()` or `reset()`, a list: the reset's, then per throw
+    its flight (one frame per recorded pose but the last, at `render_fps` = 20 real time)
+    and its landing; `render()` clears it. `"human"`: a window plays each throw's flight
+    in real time, then shows its landing.
 
     ## Version History
 
@@ -746,54 +794,52 @@ class BeachballThrowEnv(CoreEnv):
     * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
       ``tests/test_golden_v0.py``) on a functional core; the vector env takes
       ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
+    * v0, after bbgym 0.3.1 (the same dynamics): `trajectory` and `orientations` are
+      fixed-shape, padded, with `trajectory_length` (Gymnasium's vector envs stack them);
+      `render_mode="rgb_array_list"`.
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
+    metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}
     task_class = ThrowTask
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
         super().__init__(render_mode, **kwargs)
         self._landings: list[tuple[float, float]] = []
-        self._records: tuple[Any, Any] = flight_records(None, False)
+        self._records = flight_records(None, False, self.task.record_capacity)
 
     def _on_reset(self) -> None:
         self._landings = []
-        self._records = flight_records(None, False)
+        self._records = flight_records(None, False, self.task.record_capacity)
 
     def _on_step(self, action: Any) -> None:
         self._landings.append((self.state.landing_x, self.state.landing_y))
-        self._records = flight_records(self.events, self.state.thrown)
+        self._records = flight_records(self.events, self.state.thrown, self.task.record_capacity)
 
     def _step_info(self) -> dict[str, Any]:
-        return {"trajectory": self._records[0], "orientations": self._records[1]}
+        return self._records.info()
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
-    def render(self) -> np.ndarray | None:
-        renderer = ensure_renderer(self)
-        if renderer is None:
-            return None
-        scene = _scene(self.task, self.state, self._records, tuple(self._landings[:-1]))
-        if self._animate:
-            # Human mode plays a new throw's flight in real time (one recorded point per
-            # frame at render_fps = 1 / 0.05 s), then shows where it landed.
-            self._animate = False
-            for flight_scene in _flight_scenes(scene):
-                renderer.render(flight_scene)
-        return renderer.render(scene)
+    def _scene(self) -> Any:
+        return _scene(self.task, self.state, self._records, tuple(self._landings[:-1]))
+
+    def _flight_scenes(self, scene: Any) -> list[Any]:
+        # One recorded point per frame at render_fps = 1 / 0.05 s: real time.
+        return _flight_scenes(scene)
 
     def render_flight(self) -> list[np.ndarray]:
         """The frames of the last throw's flight, one per recorded point (every 0.05 s, so
         ``render_fps`` plays it in real time), without the landing frame that ``render()``
         returns; ``[]`` before the first throw. These are the frames human mode shows
-        after a step. In ``rgb_array`` mode: a list of ``(H, W, 3)`` uint8 arrays; in
-        ``human`` mode the flight is shown again and the list is empty."""
+        after a step, and those ``rgb_array_list`` collects before a landing's. In
+        ``rgb_array`` and ``rgb_array_list`` mode: a list of ``(H, W, 3)`` uint8 arrays
+        (``rgb_array_list``'s collected frames stay as they are); in ``human`` mode the
+        flight is shown again and the list is empty."""
         renderer = ensure_renderer(self)
         if renderer is None:
             return []
-        scene = _scene(self.task, self.state, self._records, tuple(self._landings[:-1]))
-        frames = [renderer.render(s) for s in _flight_scenes(scene)]
+        frames = [renderer.render(s) for s in _flight_scenes(self._scene())]
         return [f for f in frames if f is not None]
 
 
@@ -807,12 +853,12 @@ def _flight_scenes(scene: Any) -> list[Any]:
 def _make_renderer(env: Any) -> Any:
     from bbgym.render.throw_view import ThrowRenderer
 
-    return ThrowRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
+    return ThrowRenderer(renderer_mode(env.render_mode), render_fps=env.metadata["render_fps"])
 
 
-def _scene(task: ThrowTask, state: ThrowState, records: tuple, previous: tuple) -> Any:
+def _scene(task: ThrowTask, state: ThrowState, records: FlightRecords, previous: tuple) -> Any:
     """Drawing description of one env's latest throw, from its state as floats and its
-    ``(trajectory, orientations)`` (no physics in the renderer)."""
+    records (no physics in the renderer)."""
     from bbgym.render.throw_view import ThrowScene, ThrowScreen
 
     xp = floats
@@ -828,9 +874,10 @@ def _scene(task: ThrowTask, state: ThrowState, records: tuple, previous: tuple) 
             height_m=task.screen_height,
         )
     thrown = bool(state.thrown)
+    trajectory, orientations = records.recorded()
     return ThrowScene(
-        trajectory_m=records[0],
-        orientations=records[1],
+        trajectory_m=trajectory,
+        orientations=orientations,
         ball_radius_m=task.ball.radius_m,
         target_m=(scenario.target_x, scenario.target_y),
         target_radius_m=task.target_radius,
@@ -852,12 +899,13 @@ def _scene(task: ThrowTask, state: ThrowState, records: tuple, previous: tuple) 
 class BeachballThrowVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballThrowEnv`: all throws fly in one batch.
 
-    Same task, spaces, arguments and info keys as the single env, plus the backend
-    keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``; see
-    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset and infos. On
-    NumPy, `trajectory` and `orientations` are object arrays of per-env ``(K, 3)`` /
-    ``(K, 4)`` arrays; the torch backend does not record them (its step stays on the
-    device).
+    Same task, spaces, arguments, render modes and info keys as the single env, plus the
+    backend keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``; see
+    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset, rendering and
+    infos. On NumPy, `trajectory` ``(n, C, 3)``, `orientations` ``(n, C, 4)`` and
+    `trajectory_length` ``(n,)`` stack the single env's (sub-env ``i``'s equal its): the
+    same padding, zeros for a sub-env reset since its last throw. The torch backend does not
+    record them (its step stays on the device).
     """
 
     metadata = {**CoreVectorEnv.metadata, "render_fps": 20}
@@ -872,7 +920,7 @@ class BeachballThrowVectorEnv(CoreVectorEnv):
         **kwargs: Any,
     ) -> None:
         super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
-        self._records: tuple[Any, Any] | None = None
+        self._records: FlightRecords | None = None
 
     def _on_reset(self, mask: np.ndarray) -> None:
         self._records = None
@@ -880,26 +928,27 @@ class BeachballThrowVectorEnv(CoreVectorEnv):
     def _on_step(self, actions: Any) -> None:
         self._records = None
 
-    def _flight_records(self) -> tuple[Any, Any]:
+    def _flight_records(self) -> FlightRecords:
         """The last throw's records per env (none where reset since, nor on torch), made
         when first asked for after a step."""
         if self._records is None:
             events = self.events if self.backend.name == "numpy" else None
-            self._records = flight_records(events, backends.to_numpy(self.state.thrown))
+            thrown = np.asarray(backends.to_numpy(self.state.thrown), dtype=bool)
+            self._records = flight_records(events, thrown, self.task.record_capacity)
         return self._records
 
     def _step_info(self) -> dict[str, Any]:
-        trajectory, orientations = self._flight_records()
-        return {"trajectory": trajectory, "orientations": orientations}
+        return self._flight_records().info()
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
-    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+    def _scene_env(self, i: int) -> Any:
         state = self.element_state(i)
-        trajectory, orientations = self._flight_records()
-        records = (trajectory[i], orientations[i])
-        return renderer.render(_scene(self.task, state, records, ()))
+        return _scene(self.task, state, self._flight_records().env(i), ())
+
+    def _flight_scenes(self, scene: Any) -> list[Any]:
+        return _flight_scenes(scene)
 
 
 BeachballThrowEnv.__doc__ = BeachballThrowEnv.__doc__.replace("{args}", _DOC_ARGS)

@@ -26,6 +26,8 @@ from bbgym.envs.common import (
     ensure_renderer,
     mean_wind,
     option_path,
+    pad_rows,
+    renderer_mode,
 )
 from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
 from bbgym.envs.throw import (
@@ -251,6 +253,9 @@ class ToppleTask(TaskCore):
         self.n_substeps = check_multiple("interval", self.interval, "sim_dt", self.sim_dt)
         self.gust_every = check_multiple("gust_dt", self.gust_dt, "sim_dt", self.sim_dt)
         self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
+        self.record_capacity = -(-self.n_substeps // self.record_every)
+        """The most samples a step records (at substeps 0, ``record_every``, ... of the
+        interval: 60 by default, 3 s every 0.05 s); the rows of the sample infos."""
         self.success_bonus = check_number("success_bonus", success_bonus, REWARD_WEIGHT)
         self.failure_penalty = check_number("failure_penalty", failure_penalty, REWARD_WEIGHT)
         self.throw_cost = check_number("throw_cost", throw_cost, REWARD_WEIGHT)
@@ -511,47 +516,61 @@ class ToppleTask(TaskCore):
         }
 
 
-def _empty_record() -> dict[str, np.ndarray]:
-    return {
-        "ball_trajectory": np.zeros((0, 3)),
-        "ball_orientations": np.zeros((0, 4)),
-        "wall_angle_samples": np.zeros(0),
-        "loose_samples": np.zeros((0, 3)),
-        "loose_mask": np.zeros(0, dtype=bool),
-    }
+SAMPLE_KEYS = ("ball_trajectory", "ball_orientations", "wall_angle_samples", "loose_samples",
+               "loose_mask")  # fmt: skip
+"""The info entries of a step's samples, ``(C, ...)`` each (see :func:`_records`)."""
+LENGTH_KEYS = ("samples_length", "ball_trajectory_length")
 
 
 def _records(
-    events: ToppleEvents | None, every: int, fresh: np.ndarray, only: int | None = None
-) -> list:
-    """Each env's samples of the last transition (for info and rendering; env ``only``
-    alone if given): of the substeps' samples every ``every``-th, the first ``samples[i]``
-    of them (those taken while env ``i`` ran); empty for the envs reset since (``fresh``)
-    or without ``events``."""
-    envs = range(len(fresh)) if only is None else [only]
+    events: ToppleEvents | None, every: int, fresh: np.ndarray, capacity: int,
+    only: int | None = None,
+) -> dict[str, np.ndarray]:  # fmt: skip
+    """The envs' samples of the last transition (for info and rendering; env ``only`` alone
+    if given), fixed-shape: of the substeps' samples every ``every``-th, the first
+    ``samples[i]`` of them (those taken while env ``i`` ran; none for the envs reset since,
+    ``fresh``, or without ``events``). Each of :data:`SAMPLE_KEYS` is ``(n, capacity, ...)``
+    (``n`` envs, or 1 with ``only``), padded by :func:`~bbgym.envs.common.pad_rows` (rows
+    past an env's last repeat it; zeros, ``False`` for ``loose_mask``, where it has none);
+    ``samples_length`` ``(n,)`` counts the rows of the wall's and loose panel's samples,
+    ``ball_trajectory_length`` the ball's (the same, or 0 where no ball was thrown)."""
+    n = len(fresh) if only is None else 1
+    envs = slice(None) if only is None else slice(only, only + 1)
     if events is None or events.taken is None:
-        return [_empty_record() for _ in envs]
-    taken = events.taken[::every]
-    rows = np.array(taken, dtype=np.float64)  # (K, 12) or (K, 12, n): SAMPLE_FIELDS
-    rows = rows.reshape(len(taken), 12, -1)
-    samples, thrown = np.atleast_1d(events.samples), np.atleast_1d(events.thrown)
-    out = []
-    for i in envs:
-        if fresh[i]:
-            out.append(_empty_record())
-            continue
-        k = int(samples[i])
-        balls, walls, loose = rows[:k, :7, i], rows[:k, 7, i], rows[:k, 8:, i]
-        out.append(
-            {
-                "ball_trajectory": balls[:, :3] if thrown[i] else np.zeros((0, 3)),
-                "ball_orientations": balls[:, 3:] if thrown[i] else np.zeros((0, 4)),
-                "wall_angle_samples": walls,
-                "loose_samples": loose[:, :3],
-                "loose_mask": loose[:, 3] == LOOSE,
-            }
-        )
-    return out
+        rows = np.zeros((n, 0, 12))
+        samples = thrown = np.zeros(n, dtype=np.int64)
+    else:
+        taken = events.taken[::every]
+        # (K, 12) or (K, 12, n): SAMPLE_FIELDS by sample, as (n, K, 12)
+        rows = np.array(taken, dtype=np.float64).reshape(len(taken), 12, -1)[:, :, envs]
+        rows = rows.transpose(2, 0, 1)
+        samples = np.atleast_1d(events.samples)[envs]
+        thrown = np.atleast_1d(events.thrown)[envs]
+        samples = np.where(np.asarray(fresh)[envs], 0, samples).astype(np.int64)
+    ball = np.where(thrown, samples, 0).astype(np.int64)
+    return {
+        "ball_trajectory": pad_rows(rows[:, :, :3], ball, capacity),
+        "ball_orientations": pad_rows(rows[:, :, 3:7], ball, capacity),
+        "wall_angle_samples": pad_rows(rows[:, :, 7], samples, capacity),
+        "loose_samples": pad_rows(rows[:, :, 8:11], samples, capacity),
+        "loose_mask": pad_rows(rows[:, :, 11] == LOOSE, samples, capacity, fill=False),
+        "samples_length": samples,
+        "ball_trajectory_length": ball,
+    }
+
+
+def _env_record(records: dict[str, np.ndarray], i: int = 0) -> dict[str, Any]:
+    """Env ``i``'s entries of :func:`_records` (lengths as ints)."""
+    return {k: int(v[i]) if k in LENGTH_KEYS else v[i] for k, v in records.items()}
+
+
+def _recorded(record: dict[str, Any]) -> dict[str, np.ndarray]:
+    """One env's samples cut to the rows recorded (what the renderer draws)."""
+    k, ball = record["samples_length"], record["ball_trajectory_length"]
+    cut = {key: record[key][:k] for key in SAMPLE_KEYS}
+    cut["ball_trajectory"] = record["ball_trajectory"][:ball]
+    cut["ball_orientations"] = record["ball_orientations"][:ball]
+    return cut
 
 
 _DOC_ARGS = """
@@ -562,7 +581,7 @@ _DOC_ARGS = """
 
     | argument | default | meaning |
     |---|---|---|
-    | `render_mode` | `None` | `"rgb_array"` or `"human"` |
+    | `render_mode` | `None` | `"rgb_array"`, `"rgb_array_list"` or `"human"` (see Rendering) |
     | `wall` | `None` | mapping of `WallParams` fields (height, width, foot, mass, hold, ...) |
     | `ball` | `None` | mapping of `BallParams` fields |
     | `throws_per_episode` | `8` | steps (throws or waits) per episode |
@@ -655,9 +674,28 @@ class BeachballToppleEnv(CoreEnv):
     `wall_angle` (rad, + away from the thrower), `wall_angular_velocity`, `wall_state`
     (`"standing"`, `"fallen_away"`, `"fallen_toward"`, `"loose"`), `wall_stress`, `hits`,
     `throws` (balls thrown, not waits), `throws_left`, `is_success`, `reward_terms`,
-    `windsock`, and the last step's samples every 0.05 s: `ball_trajectory`,
-    `ball_orientations`, `wall_angle_samples`, `loose_samples` (loose panel x, z, angle)
-    with `loose_mask` (true once loose).
+    `windsock`, and the last step's samples every 0.05 s of its interval: `ball_trajectory`
+    (`(C, 3)`, m), `ball_orientations` (`(C, 4)` quaternions w, x, y, z),
+    `wall_angle_samples` (`(C,)`, rad), `loose_samples` (`(C, 3)`: loose panel x, z,
+    angle) with `loose_mask` (`(C,)`, true once loose), and their lengths:
+    `samples_length` (`K`, an int: the rows recorded of the wall's and panel's samples;
+    fewer than `C` where the interval stopped early, the wall down and the ball at rest)
+    and `ball_trajectory_length` (the ball's rows: `K`, or 0 for a wait). Their shape is
+    fixed, so vector envs stack them: `C` is the task's `record_capacity`
+    (`interval / 0.05`: 60 by default); rows past a length repeat the last recorded
+    sample, and where none was recorded (after a reset; the ball's after a wait) they are
+    zeros (`loose_mask` false): the length says so, and every info float stays finite.
+    `info["wall_angle_samples"][:info["samples_length"]]` is
+    the interval. The same keys and types follow a reset and a step.
+
+    ## Rendering
+
+    `render_mode="rgb_array"`: `render()` returns the frame of the state now (the end of
+    the last step's interval), `(480, 640, 3)` uint8, headless; `render_flight()` the
+    frames of the last interval. `"rgb_array_list"` (Gymnasium's convention): `render()`
+    returns the frames since the last `render()` or `reset()`, a list: the reset's, then
+    per step its interval (one frame per sample, at `render_fps` = 20 real time) and its
+    end; `render()` clears it. `"human"`: a window plays each step's interval in real time.
 
     ## Version History
 
@@ -669,10 +707,17 @@ class BeachballToppleEnv(CoreEnv):
     * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
       ``tests/test_golden_v0.py``) on a functional core; the vector env takes
       ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
+    * v0, after bbgym 0.3.1 (the same dynamics): the samples are fixed-shape, padded, with
+      `samples_length` and `ball_trajectory_length` (Gymnasium's vector envs stack them);
+      `render_mode="rgb_array_list"`.
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
+    metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}
     task_class = ToppleTask
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        super().__init__(render_mode, **kwargs)
+        self._record_cache: tuple[Any, dict[str, Any]] | None = None
 
     def _on_reset(self) -> None:
         self.events = None  # a new episode has no samples yet
@@ -683,35 +728,37 @@ class BeachballToppleEnv(CoreEnv):
         info.update(self._record())
         return info
 
-    def _record(self) -> dict[str, np.ndarray]:
-        return _records(self.events, self.task.record_every, np.zeros(1, dtype=bool))[0]
+    def _record(self) -> dict[str, Any]:
+        """The last step's samples (made once per step)."""
+        if self._record_cache is None or self._record_cache[0] is not self.events:
+            task = self.task
+            fresh = np.zeros(1, dtype=bool)
+            records = _records(self.events, task.record_every, fresh, task.record_capacity)
+            self._record_cache = (self.events, _env_record(records))
+        return self._record_cache[1]
 
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
-    def render(self) -> np.ndarray | None:
-        renderer = ensure_renderer(self)
-        if renderer is None:
-            return None
-        scene = _scene(self.task, self.state, self._record())
-        if self._animate:
-            # Human mode plays the step's interval in real time, then shows its end.
-            self._animate = False
-            for flight_scene in _flight_scenes(scene):
-                renderer.render(flight_scene)
-        return renderer.render(scene)
+    def _scene(self) -> Any:
+        return _scene(self.task, self.state, self._record())
+
+    def _flight_scenes(self, scene: Any) -> list[Any]:
+        # One sample per frame at render_fps = 1 / 0.05 s: real time.
+        return _flight_scenes(scene)
 
     def render_flight(self) -> list[np.ndarray]:
         """The frames of the last step's interval (the ball's flight, the rocking wall), one
         per sample (every 0.05 s, so ``render_fps`` plays it in real time), without the end
         frame that ``render()`` returns; ``[]`` before the first step. These are the frames
-        human mode shows after a step. In ``rgb_array`` mode: a list of ``(H, W, 3)`` uint8
-        arrays; in ``human`` mode the interval is shown again and the list is empty."""
+        human mode shows after a step, and those ``rgb_array_list`` collects before a
+        step's end. In ``rgb_array`` and ``rgb_array_list`` mode: a list of ``(H, W, 3)``
+        uint8 arrays (``rgb_array_list``'s collected frames stay as they are); in
+        ``human`` mode the interval is shown again and the list is empty."""
         renderer = ensure_renderer(self)
         if renderer is None:
             return []
-        scene = _scene(self.task, self.state, self._record())
-        frames = [renderer.render(s) for s in _flight_scenes(scene)]
+        frames = [renderer.render(s) for s in _flight_scenes(self._scene())]
         return [f for f in frames if f is not None]
 
 
@@ -723,14 +770,15 @@ def _flight_scenes(scene: Any) -> list[Any]:
 def _make_renderer(env: Any) -> Any:
     from bbgym.render.topple_view import ToppleRenderer
 
-    return ToppleRenderer(env.render_mode, render_fps=env.metadata["render_fps"])
+    return ToppleRenderer(renderer_mode(env.render_mode), render_fps=env.metadata["render_fps"])
 
 
-def _scene(task: ToppleTask, state: ToppleState, record: dict[str, np.ndarray]) -> Any:
-    """Drawing description of one env's state, as floats, and its last step's samples (no
-    physics in the renderer)."""
+def _scene(task: ToppleTask, state: ToppleState, record: dict[str, Any]) -> Any:
+    """Drawing description of one env's state, as floats, and its last step's samples (one
+    env's :func:`_records`; no physics in the renderer)."""
     from bbgym.render.topple_view import ToppleScene
 
+    record = _recorded(record)
     sc, wall = state.scenario, state.wall
     m = task.measure(state, floats)
     status = int(wall.status)
@@ -767,10 +815,12 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballToppleEnv`: all walls and balls in one
     batch.
 
-    Same task, spaces, arguments and info keys as the single env (the per-step samples are
-    object arrays, on the NumPy backend only), plus the backend keywords ``backend``,
-    ``device``, ``dtype``, ``output``, ``compile``; see
-    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset and infos.
+    Same task, spaces, arguments, render modes and info keys as the single env (the
+    per-step samples, on the NumPy backend only, stack the single env's: ``(n, C, ...)``
+    with lengths ``(n,)``, sub-env ``i``'s equal to its), plus the backend keywords
+    ``backend``, ``device``, ``dtype``, ``output``, ``compile``; see
+    :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset, rendering and
+    infos.
     """
 
     metadata = {**CoreVectorEnv.metadata, "render_fps": 20}
@@ -805,12 +855,9 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
         status = np.asarray(backends.to_numpy(self.state.wall.status)).astype(int)
         info: dict[str, Any] = {"wall_state": np.asarray(STATE_NAMES, dtype=object)[status]}
         if self.backend.name == "numpy":
-            records = _records(self.events, self.task.record_every, self._fresh_mask())
-            for key in _empty_record():
-                column = np.empty(self.num_envs, dtype=object)
-                for i, record in enumerate(records):
-                    column[i] = record[key]
-                info[key] = column
+            task = self.task
+            info.update(_records(self.events, task.record_every, self._fresh_mask(),
+                                 task.record_capacity))  # fmt: skip
         return info
 
     def _vector_info(self, info: dict[str, Any]) -> dict[str, Any]:
@@ -822,10 +869,14 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
     def _make_renderer(self) -> Any:
         return _make_renderer(self)
 
-    def _render_env(self, renderer: Any, i: int) -> np.ndarray | None:
+    def _scene_env(self, i: int) -> Any:
         fresh = self._fresh_mask() if self.backend.name == "numpy" else np.ones(self.num_envs, bool)
-        record = _records(self.events, self.task.record_every, fresh, only=i)[0]
-        return renderer.render(_scene(self.task, self.element_state(i), record))
+        task = self.task
+        records = _records(self.events, task.record_every, fresh, task.record_capacity, only=i)
+        return _scene(task, self.element_state(i), _env_record(records))
+
+    def _flight_scenes(self, scene: Any) -> list[Any]:
+        return _flight_scenes(scene)
 
 
 BeachballToppleEnv.__doc__ = BeachballToppleEnv.__doc__.replace("{args}", _DOC_ARGS)
