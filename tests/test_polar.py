@@ -47,3 +47,45 @@ def test_seed_sail_model_sails_off_the_wind_but_points_worse():
     lift = compute_polar(DinghyParams(sail_model="lift"), 5.0, angles)
     assert (seed.boat_speed_mps[1:] > 1.5).all()
     assert lift.vmg_mps[0] > 2.0 * seed.vmg_mps[0]
+
+
+# -- the plot ----------------------------------------------------------------------------------
+
+
+def test_polar_plot_has_speed_units_and_readable_tick_labels(polar):
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from bbgym.cli.polar import RADIAL_LABEL_CLEARANCE_PX, label_layout, polar_figure
+
+    fig = polar_figure(polar, "lift")
+    try:
+        ax = fig.axes[0]
+        radial = [t.get_text() for t in ax.get_yticklabels() if t.get_text()]
+        assert len(radial) >= 3 and all(t.endswith(" m/s") for t in radial)
+        values = [float(t.removesuffix(" m/s")) for t in radial]
+        assert values == sorted(values) and values[-1] <= ax.get_rmax()
+        # Angular labels: true wind angles in degrees, 0 at the top, mirrored on both tacks.
+        angular = [t.get_text() for t in ax.get_xticklabels()]
+        assert angular[:7] == [f"{a}\N{DEGREE SIGN}" for a in range(0, 181, 30)]
+        assert angular[7:] == [f"{a}\N{DEGREE SIGN}" for a in range(150, 0, -30)]
+        assert "true wind angle" in ax.get_xlabel()
+        layout = label_layout(fig, ax)
+        # No label overlaps another, and the speed labels clear every plotted curve.
+        assert not layout["overlap"]
+        assert layout["clearance_px"] >= RADIAL_LABEL_CLEARANCE_PX
+        assert len(layout["points"]) > 100
+    finally:
+        plt.close(fig)
+
+
+def test_polar_plot_writes_a_png(polar, tmp_path):
+    pytest.importorskip("matplotlib")
+    from PIL import Image
+
+    from bbgym.cli.polar import plot_polar
+
+    out = tmp_path / "polar.png"
+    plot_polar(out, polar, "lift")
+    with Image.open(out) as png:
+        assert min(png.size) > 500

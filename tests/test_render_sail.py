@@ -201,3 +201,62 @@ def test_frames_and_geometry_helpers() -> None:
     assert wy == pytest.approx(5.0)
     assert sail_view.leeward_sign(0.5, 1.0) == 1.0
     assert sail_view.leeward_sign(0.0, 1.0) == -1.0
+
+
+# -- scale bar ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("ppm", [0.01, 0.37, 1.0, 3.0, 7.5, 12.0, 16.0, 45.0, 1000.0, 2.5e5])
+def test_scale_bar_is_a_round_number_of_metres_as_long_as_it_should_be(ppm: float) -> None:
+    from bbgym.render.base import SCALE_BAR_MAX_PX, scale_bar
+
+    bar = scale_bar(ppm)
+    assert bar is not None
+    assert bar.length_px == pytest.approx(bar.metres * ppm, rel=1e-12)
+    assert SCALE_BAR_MAX_PX / 2.5 - 1e-9 <= bar.length_px <= SCALE_BAR_MAX_PX + 1e-9
+    mantissa = bar.metres / 10.0 ** math.floor(math.log10(bar.metres) + 1e-12)
+    assert min(abs(mantissa - m) for m in (1.0, 2.0, 5.0)) < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("ppm", "metres", "label"),
+    [(12.0, 10.0, "10 m"), (16.0, 5.0, "5 m"), (3.0, 20.0, "20 m"), (0.1, 1000.0, "1 km"),
+     (0.01, 10000.0, "10 km"), (400.0, 0.2, "20 cm"), (1e5, 0.001, "1 mm")],
+)  # fmt: skip
+def test_scale_bar_choice_and_label(ppm: float, metres: float, label: str) -> None:
+    from bbgym.render.base import scale_bar
+
+    bar = scale_bar(ppm)
+    assert bar is not None and bar.metres == pytest.approx(metres) and bar.label == label
+
+
+@pytest.mark.parametrize("ppm", [0.0, -3.0, math.nan, math.inf])
+def test_no_scale_bar_without_a_scale(ppm: float) -> None:
+    from bbgym.render.base import scale_bar
+
+    assert scale_bar(ppm) is None
+
+
+def bar_run_px(img: np.ndarray, origin: tuple[int, int], length_px: float) -> int:
+    """Pixels of the scale bar's colour on its row, from just before to just after it."""
+    from bbgym.render.base import SCALE_BAR_COLOR
+
+    x0, y0 = origin
+    row = img[y0, max(x0 - 3, 0) : x0 + round(length_px) + 3]
+    return int(np.count_nonzero(np.all(row == np.array(SCALE_BAR_COLOR), axis=-1)))
+
+
+@pytest.mark.parametrize("ppm", [12.0, 3.0, 40.0])
+def test_sail_scale_bar_is_metres_times_pixels_per_metre(ppm: float) -> None:
+    from bbgym.render.base import CAPTION_BAND_PX, scale_bar, scale_bar_origin
+
+    r = SailRenderer("rgb_array", width=WIDTH, height=HEIGHT, pixels_per_meter=ppm)
+    try:
+        img = r.render(make_scene())
+    finally:
+        r.close()
+    bar = scale_bar(ppm)
+    assert bar is not None
+    origin = scale_bar_origin((0, 0, WIDTH, HEIGHT), HEIGHT)
+    assert origin[1] < HEIGHT - CAPTION_BAND_PX  # above the strip a recording's caption covers
+    assert bar_run_px(img, origin, bar.length_px) == round(bar.metres * ppm)

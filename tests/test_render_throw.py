@@ -249,3 +249,80 @@ def test_quaternion_helpers() -> None:
     np.testing.assert_allclose(quat_rotate(q, v), quat_rotate(-q, v))
     np.testing.assert_allclose(quat_rotate((0, 0, 0, 0), v), v)
     np.testing.assert_allclose(quat_to_matrix(q) @ quat_to_matrix(q).T, np.eye(3), atol=1e-12)
+
+
+# -- the readout during a flight, the scale bar ------------------------------------------------
+
+
+def test_flying_ball_readout_shows_elapsed_time_not_the_final_results() -> None:
+    from bbgym.render.throw_view import in_flight, readout_text
+
+    scene = make_scene(flight_time_s=1.37, apex_height_m=3.81, miss_distance_m=0.42, hit=True)
+    k = 10  # of 60 points, 0.05 s apart
+    flying = dataclasses.replace(scene, frame_index=k)
+    assert in_flight(flying)
+    text = readout_text(flying)
+    shown = " | ".join([text.header, text.result, *text.lines])
+    for final in ("1.37", "3.81", "0.42", "HIT"):
+        assert final not in shown, (final, shown)
+    assert "miss dist --" in text.lines
+    assert f"time {k * 0.05:.2f} s" in text.lines
+    height = scene.trajectory_m[k, 2]
+    assert f"height {height:.2f} m" in text.lines
+    assert text.result == "in flight"
+    # Elapsed time follows the frame, at the scene's sampling interval.
+    later = readout_text(dataclasses.replace(scene, frame_index=40, sample_dt_s=0.1))
+    assert "time 4.00 s" in later.lines
+
+
+@pytest.mark.parametrize("frame_index", [None, 59, 500])
+def test_landing_frame_readout_shows_the_final_results(frame_index: int | None) -> None:
+    from bbgym.render.throw_view import in_flight, readout_text
+
+    scene = make_scene(flight_time_s=1.37, apex_height_m=3.81, frame_index=frame_index)
+    assert not in_flight(scene)
+    text = readout_text(scene)
+    assert "flight 1.37 s" in text.lines and "apex 3.81 m" in text.lines
+    assert "miss dist 0.40 m" in text.lines and text.result == "miss"
+    assert readout_text(dataclasses.replace(scene, hit=True)).result == "HIT!"
+
+
+def test_flight_frame_hides_the_landing_the_env_left_in(renderer: ThrowRenderer) -> None:
+    # A flight frame of a scene that still carries its landing and result draws like one
+    # without them: nothing of the outcome shows before the landing frame.
+    scene = make_scene(hit=True, frame_index=20)
+    bare = dataclasses.replace(scene, landing_m=None, hit=False, miss_distance_m=None)
+    np.testing.assert_array_equal(renderer.render(scene), renderer.render(bare))
+    assert changed_pixels(renderer.render(make_scene(hit=True)), renderer.render(scene)) > 0
+
+
+def test_readout_text_is_what_the_panel_draws(renderer: ThrowRenderer) -> None:
+    # Frames differ only where the panel text differs: the final flight time is not drawn
+    # in a flight frame (same frame drawn with a different final time: same pixels).
+    a = renderer.render(make_scene(frame_index=10, flight_time_s=1.3, apex_height_m=3.7))
+    b = renderer.render(make_scene(frame_index=10, flight_time_s=2.9, apex_height_m=1.1))
+    np.testing.assert_array_equal(a, b)
+    c = renderer.render(make_scene(flight_time_s=1.3, apex_height_m=3.7))
+    d = renderer.render(make_scene(flight_time_s=2.9, apex_height_m=1.1))
+    _, readout, _ = panel_rects(WIDTH, HEIGHT)
+    x, y, w, h = readout
+    changed = np.argwhere(np.any(c != d, axis=-1))
+    assert len(changed) and np.all((changed[:, 1] >= x) & (changed[:, 0] < y + h))
+
+
+@pytest.mark.parametrize("target", [(8.0, 1.0), (30.0, -12.0), (3.0, 0.5)])
+def test_top_view_scale_bar_is_metres_times_pixels_per_metre(
+    renderer: ThrowRenderer, target: tuple[float, float]
+) -> None:
+    from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
+    from bbgym.render.throw_view import TOP_SCALE_BAR_MAX_PX
+
+    scene = make_scene(target_m=target, landing_m=None, previous_landings_m=())
+    img = renderer.render(scene)
+    view = top_view_map(scene, WIDTH, HEIGHT)
+    bar = scale_bar(view.pixels_per_meter, TOP_SCALE_BAR_MAX_PX)
+    assert bar is not None
+    x0, y0 = scale_bar_origin(view.rect, HEIGHT)
+    row = img[y0, x0 - 3 : x0 + round(bar.length_px) + 3]
+    run = int(np.count_nonzero(np.all(row == np.array(SCALE_BAR_COLOR), axis=-1)))
+    assert run == round(bar.metres * view.pixels_per_meter)

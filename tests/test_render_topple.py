@@ -286,3 +286,96 @@ def test_module_import_does_not_import_pygame() -> None:
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
     result = subprocess.run([sys.executable, "-c", code], cwd=REPO_ROOT, env=env)
     assert result.returncode == 0
+
+
+# -- the end-of-episode banner, the scale bar --------------------------------------------------
+
+
+def banner_band(img: np.ndarray) -> np.ndarray:
+    """Where the banners go: the top of the side view."""
+    from bbgym.render.topple_view import BANNER_TOP_PX
+
+    side, _, _ = panel_rects(WIDTH, HEIGHT)
+    x, y, w, _ = side
+    return crop(img, (x, y + BANNER_TOP_PX, w, 90))
+
+
+def failed_scene(**overrides: object) -> ToppleScene:
+    """The last throw's end: the wall still stands, no throws left."""
+    return make_scene(throws_left=0, **overrides)
+
+
+def fallen_away_scene(**overrides: object) -> ToppleScene:
+    fields: dict[str, object] = {"wall_angle_rad": math.pi / 2, "pivot_side": 1,
+                                 "wall_state": "fallen_away", "throws_left": 3}  # fmt: skip
+    return make_scene(**{**fields, **overrides})
+
+
+def test_banner_says_the_wall_still_stands_when_out_of_throws() -> None:
+    from bbgym.render.topple_view import banner
+
+    shown = banner(failed_scene())
+    assert shown is not None and not shown.success
+    assert shown.text == "FAILED: out of throws"
+    assert shown.detail == "wall still standing after 8 throws"
+    # Also on the step's last sample, not while the ball of the last throw still flies.
+    assert banner(failed_scene(frame_index=K2 - 1)) == shown
+    assert banner(failed_scene(frame_index=10)) is None
+    # Throws left: the episode goes on, no banner.
+    assert banner(make_scene(throws_left=1)) is None
+
+
+def test_banner_for_each_way_the_episode_ends() -> None:
+    from bbgym.render.topple_view import banner
+
+    away = banner(fallen_away_scene())
+    assert away is not None and away.success and away.text == "WALL DOWN!"
+    assert away.detail == "it fell away after 5 throws"
+    toward = banner(make_scene(wall_angle_rad=-math.pi / 2, pivot_side=-1,
+                               wall_state="fallen_toward", throws_left=7))  # fmt: skip
+    assert toward is not None and not toward.success
+    assert toward.text.startswith("FAILED") and toward.detail == "after 1 throw"
+    loose = banner(loose_scene())
+    assert loose is not None and loose.success and loose.text == "BROKE LOOSE!"
+    # Falling away on the very last throw is a success, not "out of throws".
+    assert banner(fallen_away_scene(throws_left=0)).success  # type: ignore[union-attr]
+
+
+def test_failed_final_frame_has_a_red_banner_where_a_success_has_a_green_one(
+    renderer: ToppleRenderer,
+) -> None:
+    from bbgym.render.topple_view import FAILURE_BANNER_COLOR, SUCCESS_BANNER_COLOR
+
+    failed = renderer.render(failed_scene())
+    going_on = renderer.render(make_scene(throws_left=1))
+    success = renderer.render(fallen_away_scene())
+    red = [np.count_nonzero(color_mask(banner_band(f), FAILURE_BANNER_COLOR))
+           for f in (failed, going_on, success)]  # fmt: skip
+    green = [np.count_nonzero(color_mask(banner_band(f), SUCCESS_BANNER_COLOR))
+             for f in (failed, going_on, success)]  # fmt: skip
+    assert red[0] > 3000 and red[1] == 0 and red[2] == 0
+    assert green[2] > 3000 and green[0] == 0 and green[1] == 0
+    # The failed frame differs from the one that goes on where the banner is.
+    assert changed_pixels(banner_band(failed), banner_band(going_on)) > 3000
+    assert changed_pixels(banner_band(failed), banner_band(success)) > 3000
+    # A flight frame of the last throw has no banner yet.
+    flying = renderer.render(failed_scene(frame_index=10))
+    assert np.count_nonzero(color_mask(banner_band(flying), FAILURE_BANNER_COLOR)) == 0
+
+
+@pytest.mark.parametrize("distance", [D, 2.5, 30.0])
+def test_inset_scale_bar_is_metres_times_pixels_per_metre(
+    renderer: ToppleRenderer, distance: float
+) -> None:
+    from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
+    from bbgym.render.topple_view import INSET_SCALE_BAR_MAX_PX, top_view_map
+
+    scene = make_scene(wall_distance_m=distance, hit_point_m=None)
+    img = renderer.render(scene)
+    view = top_view_map(scene, WIDTH, HEIGHT)
+    bar = scale_bar(view.pixels_per_meter, min(INSET_SCALE_BAR_MAX_PX, 0.4 * view.rect[2]))
+    assert bar is not None
+    x0, y0 = scale_bar_origin(view.rect, HEIGHT)
+    row = img[y0, x0 - 3 : x0 + round(bar.length_px) + 3]
+    run = int(np.count_nonzero(np.all(row == np.array(SCALE_BAR_COLOR), axis=-1)))
+    assert run == round(bar.metres * view.pixels_per_meter)

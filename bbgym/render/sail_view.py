@@ -289,6 +289,8 @@ class SailRenderer(PygameRenderer[SailScene]):
             self._draw_capsized_boat(scene)
         else:
             self._draw_upright_boat(scene)
+        # The scale bar (bottom left) goes under the mark's edge arrow, which may point there.
+        self._draw_scale_bar(self.pixels_per_meter, (0, 0, self.width, self.height), TEXT_COLOR)
         self._draw_mark_edge_arrow(scene)
         self._draw_wind_arrow(scene)
         self._draw_readout(scene)

@@ -11,7 +11,11 @@ Conventions (shared with the physics):
 
 Layout: the top-left panel is a SIDE VIEW along the thrower->target bearing (horizontal axis:
 distance along that bearing, vertical: height), the top-right column is the text readout, and
-the bottom panel is a TOP VIEW (x east to the right, y north up) fitted to the scene.
+the bottom panel is a TOP VIEW (x east to the right, y north up) fitted to the scene, with a
+scale bar at its bottom left. During a flight (a frame before the trajectory's last point)
+nothing of the throw's outcome shows: the readout gives the time since the launch and the
+ball's height, the results (hit or miss, miss distance, flight time, apex) and the landing
+only on the landing frame (:func:`readout_text`).
 
 pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
 :class:`ThrowRenderer` is created, so importing this module never needs it.
@@ -21,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -120,6 +124,8 @@ BIG_FONT_PX = 40
 CROSS_PX = 7
 WIND_ARROW_MAX_PX = 30.0
 WIND_ARROW_PX_PER_MPS = 5.0
+TOP_SCALE_BAR_MAX_PX = 120.0
+RECORD_DT_S = 0.05  # the envs record the ball's pose every 0.05 s (ThrowScene.sample_dt_s)
 
 
 @dataclass(frozen=True)
@@ -154,6 +160,70 @@ class ThrowScene:
     flight_time_s: float | None = None
     apex_height_m: float | None = None
     frame_index: int | None = None  # draw the ball at trajectory[frame_index]; None = last point
+    sample_dt_s: float = RECORD_DT_S  # time between trajectory points (the readout's clock)
+
+
+@dataclass(frozen=True)
+class ReadoutText:
+    """What the readout column says (see :func:`readout_text`)."""
+
+    header: str  # throws left
+    result: str  # "HIT!", "miss", "ready" or "in flight"
+    result_color: Color
+    result_size_px: int
+    lines: tuple[str, ...]  # miss distance, spin, time, height
+
+
+def current_index(scene: ThrowScene) -> int | None:
+    """Index of the ball's trajectory point in this frame; None without a throw."""
+    k = len(scene.trajectory_m)
+    if k == 0:
+        return None
+    if scene.frame_index is None:
+        return k - 1
+    return min(max(int(scene.frame_index), 0), k - 1)
+
+
+def in_flight(scene: ThrowScene) -> bool:
+    """The frame shows the ball before the trajectory's last point: the throw is still
+    going on, so none of its results (landing, hit, miss distance, flight time, apex) are
+    known yet in this frame."""
+    index = current_index(scene)
+    return index is not None and index < len(scene.trajectory_m) - 1
+
+
+def readout_text(scene: ThrowScene) -> ReadoutText:
+    """The readout's text. After a throw (its landing frame, ``frame_index`` None or the
+    last point) the throw's results: HIT!/miss, miss distance, spin, flight time (to the
+    first touchdown) and apex. During a flight only what is known at that frame: the time
+    since the launch (``frame_index * sample_dt_s``), the ball's height now and the launch
+    spin; the final values never show before the landing frame."""
+    header = f"throws left {scene.throws_left}/{scene.throws_total}"
+    spin = f"spin S {scene.spin_parameter:.2f}"
+    index = current_index(scene)
+    if index is not None and in_flight(scene):
+        traj = np.asarray(scene.trajectory_m, dtype=float).reshape(-1, 3)
+        height = float(traj[index, 2])
+        lines = (
+            "miss dist --",
+            spin,
+            f"time {index * scene.sample_dt_s:.2f} s",
+            f"height {_fmt(height if math.isfinite(height) else None, 'm')}",
+        )
+        return ReadoutText(header, "in flight", DIM_TEXT_COLOR, BIG_FONT_PX - 12, lines)
+    if scene.hit:
+        result, color, size = "HIT!", HIT_COLOR, BIG_FONT_PX
+    elif scene.landing_m is not None:
+        result, color, size = "miss", MISS_COLOR, BIG_FONT_PX - 8
+    else:
+        result, color, size = "ready", DIM_TEXT_COLOR, BIG_FONT_PX - 8
+    lines = (
+        f"miss dist {_fmt(scene.miss_distance_m, 'm')}",
+        spin,
+        f"flight {_fmt(scene.flight_time_s, 's')}",
+        f"apex {_fmt(scene.apex_height_m, 'm')}",
+    )
+    return ReadoutText(header, result, color, size, lines)
 
 
 # --- quaternions -----------------------------------------------------------------------------
@@ -642,12 +712,7 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
     @staticmethod
     def _current_index(scene: ThrowScene) -> int | None:
         """Index of the ball's trajectory point in this frame; None without a throw."""
-        k = len(scene.trajectory_m)
-        if k == 0:
-            return None
-        if scene.frame_index is None:
-            return k - 1
-        return min(max(int(scene.frame_index), 0), k - 1)
+        return current_index(scene)
 
     def _ball_radius_px(self, scene: ThrowScene, view: ViewMap) -> float:
         return max(scene.ball_radius_m * view.pixels_per_meter, BALL_MIN_RADIUS_PX)
@@ -658,6 +723,9 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
         self._surface.fill(READOUT_COLOR)
         side = side_view_map(scene, self.width, self.height)
         top = top_view_map(scene, self.width, self.height)
+        if in_flight(scene):
+            # The views keep their fit; the landing and the result are not known yet.
+            scene = replace(scene, landing_m=None, hit=False, miss_distance_m=None)
         self._with_clip(side.rect, lambda: self._draw_side_view(scene, side))
         self._with_clip(top.rect, lambda: self._draw_top_view(scene, top))
         _, readout, _ = panel_rects(self.width, self.height)
@@ -749,6 +817,8 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
         x, y, w, h = view.rect
         pg.draw.rect(self._surface, SAND_COLOR, view.rect)
         self._draw_top_grid(view)
+        # Bottom left, under everything else (a ball or marker there stays in sight).
+        self._draw_scale_bar(view.pixels_per_meter, view.rect, LABEL_COLOR, TOP_SCALE_BAR_MAX_PX)
         self._draw_top_target(scene, view)
         if scene.screen is not None:
             self._draw_top_screen(scene.screen, view)
@@ -872,34 +942,22 @@ class ThrowRenderer(PygameRenderer[ThrowScene]):
     # -- readout -------------------------------------------------------------------------------
 
     def _draw_readout(self, scene: ThrowScene, rect: Rect) -> None:
-        """Throws left, the result (a big HIT! / MISS), the throw's numbers and the wind."""
+        """Throws left, the result (a big HIT! / miss), the throw's numbers and the wind: see
+        :func:`readout_text` (no result before the landing frame)."""
         x, y, w, h = rect
         self._pg.draw.rect(self._surface, READOUT_COLOR, rect)
         left = x + 10
         line_y = y + 8
+        readout = readout_text(scene)
+        _, th = self._draw_text(readout.header, (left, line_y), TEXT_COLOR, READOUT_FONT_PX)
+        line_y += th + 2
         _, th = self._draw_text(
-            f"throws left {scene.throws_left}/{scene.throws_total}",
-            (left, line_y),
-            TEXT_COLOR,
-            READOUT_FONT_PX,
+            readout.result, (left, line_y), readout.result_color, readout.result_size_px
         )
-        line_y += th + 2
-        if scene.hit:
-            result, color, size = "HIT!", HIT_COLOR, BIG_FONT_PX
-        elif scene.landing_m is not None:
-            result, color, size = "miss", MISS_COLOR, BIG_FONT_PX - 8
-        else:
-            result, color, size = "ready", DIM_TEXT_COLOR, BIG_FONT_PX - 8
-        _, th = self._draw_text(result, (left, line_y), color, size)
-        line_y += th + 2
-        lines = [
-            f"miss dist {_fmt(scene.miss_distance_m, 'm')}",
-            f"spin S {scene.spin_parameter:.2f}",
-            f"flight {_fmt(scene.flight_time_s, 's')}",
-            f"apex {_fmt(scene.apex_height_m, 'm')}",
-        ]
-        for text in lines:
-            _, th = self._draw_text(text, (left, line_y), TEXT_COLOR, READOUT_FONT_PX)
+        # At least a "miss"'s height: the lines below do not jump during a flight.
+        line_y += max(th, self._get_font(BIG_FONT_PX - 8).get_height()) + 2
+        for line in readout.lines:
+            _, th = self._draw_text(line, (left, line_y), TEXT_COLOR, READOUT_FONT_PX)
             line_y += th + 1
         self._draw_wind_arrow(scene, (x + 10, line_y + 4, w - 20, y + h - line_y - 8))
 

@@ -18,8 +18,11 @@ Conventions (shared with the physics):
 
 Layout: the upper part is a SIDE VIEW looking north (+x to the right, z up) at a fixed scale
 that depends only on the wall distance; below it, the readout (left) and a TOP-VIEW inset
-(right, x east to the right, y north up). The beach ball, thrower, windsock and wind compass
-come from :mod:`bbgym.render.throw_view`.
+(right, x east to the right, y north up, with a scale bar). The beach ball, thrower, windsock
+and wind compass come from :mod:`bbgym.render.throw_view`. How an episode ends goes on a big
+banner across the side view (:func:`banner`): "WALL DOWN!" or "BROKE LOOSE!" (success), or
+"FAILED: wall fell toward you" / "FAILED: out of throws" (the wall still stands after the
+last throw).
 
 pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
 :class:`ToppleRenderer` is created, so importing this module never needs it.
@@ -32,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbgym.render.base import Color, PygameRenderer, Vec2, blend
+from bbgym.render.base import CAPTION_BAND_PX, Color, PygameRenderer, Vec2, blend
 from bbgym.render.throw_view import (
     BALL_MIN_RADIUS_PX,
     DIM_TEXT_COLOR,
@@ -82,6 +85,10 @@ STATE_LABELS: dict[str, str] = {
 }
 BANNER_TEXT_COLOR: Color = (255, 255, 255)
 BANNER_EDGE_COLOR: Color = (150, 70, 0)
+SUCCESS_BANNER_COLOR: Color = (34, 160, 70)
+SUCCESS_BANNER_EDGE_COLOR: Color = (14, 84, 34)
+FAILURE_BANNER_COLOR: Color = (200, 36, 36)
+FAILURE_BANNER_EDGE_COLOR: Color = (110, 14, 14)
 
 # --- geometry (metres unless noted) ----------------------------------------------------------
 SIDE_X_MIN_M = -1.0  # the side view shows x from just behind the thrower...
@@ -112,6 +119,10 @@ SMALL_FONT_PX = 15
 READOUT_FONT_PX = 21
 STATE_FONT_PX = 40
 BANNER_FONT_PX = 48
+BANNER_DETAIL_FONT_PX = 24
+BANNER_TOP_PX = 74  # below the side view's title and its wind arrow and label
+INSET_SCALE_BAR_MAX_PX = 80.0
+COMPASS_WIDTH_PX = 130
 WIND_ARROW_PX_PER_MPS = 8.0
 WIND_ARROW_MAX_PX = 90.0
 HIT_STAR_RADIUS_PX = 9.0
@@ -142,6 +153,17 @@ class ToppleScene:
     throws_total: int = 8
     hits: int = 0
     frame_index: int | None = None  # draw the state at sample k; None = the final state
+
+
+@dataclass(frozen=True)
+class Banner:
+    """A big banner across the side view: ``text``, a smaller ``detail`` line under it."""
+
+    text: str
+    detail: str
+    color: Color
+    edge_color: Color
+    success: bool
 
 
 @dataclass(frozen=True)
@@ -261,6 +283,45 @@ def frame_state(scene: ToppleScene) -> FrameState:
     hint = scene.pivot_side if last else 0
     pose = attached_pose(scene, angle, hint)
     return FrameState(ball_index, pose, False, state, pivot_side_for(angle, hint), (), s)
+
+
+def is_final_frame(scene: ToppleScene, frame: FrameState | None = None) -> bool:
+    """The frame shows the end of the step (``frame_index`` None, or its last sample)."""
+    if scene.frame_index is None:
+        return True
+    frame = frame if frame is not None else frame_state(scene)
+    if frame.sample is None:
+        return True
+    angles = np.asarray(scene.wall_angle_samples).reshape(-1)
+    loose = np.asarray(scene.loose_samples).reshape(-1, 3)
+    n_samples = min(len(angles), len(loose)) if len(loose) else len(angles)
+    return frame.sample >= n_samples - 1
+
+
+def banner(scene: ToppleScene, frame: FrameState | None = None) -> Banner | None:
+    """The banner a frame gets: how the episode ends, as soon as the frame shows it.
+
+    The wall fell away (success), broke loose (success: its banner shows while it tumbles)
+    or fell toward the thrower (failure); or, on the final frame of the last throw, it still
+    stands (failure: out of throws). None while the episode goes on.
+    """
+    frame = frame if frame is not None else frame_state(scene)
+    used = scene.throws_total - scene.throws_left
+    throws = f"{used} throw" + ("" if used == 1 else "s")
+    if frame.state == "loose":
+        color = STATE_COLORS["loose"]
+        return Banner(STATE_LABELS["loose"], f"wall down after {throws}", color,
+                      BANNER_EDGE_COLOR, True)  # fmt: skip
+    if frame.state == "fallen_away":
+        return Banner("WALL DOWN!", f"it fell away after {throws}", SUCCESS_BANNER_COLOR,
+                      SUCCESS_BANNER_EDGE_COLOR, True)  # fmt: skip
+    if frame.state == "fallen_toward":
+        return Banner("FAILED: wall fell toward you", f"after {throws}", FAILURE_BANNER_COLOR,
+                      FAILURE_BANNER_EDGE_COLOR, False)  # fmt: skip
+    if scene.throws_left <= 0 and is_final_frame(scene, frame):
+        return Banner("FAILED: out of throws", f"wall still standing after {throws}",
+                      FAILURE_BANNER_COLOR, FAILURE_BANNER_EDGE_COLOR, False)  # fmt: skip
+    return None
 
 
 def hit_body_v(scene: ToppleScene) -> tuple[float, int] | None:
@@ -425,8 +486,9 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
             )
         self._draw_side_wind(scene, view)
         self._draw_text("side view (looking north)", (x + 8, y + 6), LABEL_COLOR, SMALL_FONT_PX)
-        if frame.state == "loose":
-            self._draw_banner(STATE_LABELS["loose"], view.rect)
+        shown = banner(scene, frame)
+        if shown is not None:
+            self._draw_banner(shown, view.rect)
 
     def _draw_side_grid(self, view: ViewMap) -> None:
         """Faint height lines every metre and distance ticks with labels along the ground."""
@@ -595,16 +657,31 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
             SMALL_FONT_PX + 2,
         )
 
-    def _draw_banner(self, text: str, rect: Rect) -> None:
-        """A big orange banner across the top of ``rect``."""
+    def _draw_banner(self, shown: Banner, rect: Rect) -> None:
+        """A big banner (its colour says success or failure) across the top of ``rect``,
+        its text made smaller where it would not fit."""
         pg = self._pg
         x, y, w, _ = rect
-        img = self._get_font(BANNER_FONT_PX).render(text, True, BANNER_TEXT_COLOR)
-        bw, bh = img.get_width() + 36, img.get_height() + 14
-        bx, by = x + (w - bw) / 2, y + 34
-        pg.draw.rect(self._surface, STATE_COLORS["loose"], (bx, by, bw, bh), border_radius=8)
-        pg.draw.rect(self._surface, BANNER_EDGE_COLOR, (bx, by, bw, bh), 3, border_radius=8)
-        self._surface.blit(img, (bx + 18, by + 8))
+        size = BANNER_FONT_PX
+        img = self._get_font(size).render(shown.text, True, BANNER_TEXT_COLOR)
+        while img.get_width() + 36 > w - 8 and size > 20:
+            size -= 4
+            img = self._get_font(size).render(shown.text, True, BANNER_TEXT_COLOR)
+        detail = None
+        if shown.detail:
+            font = self._get_font(BANNER_DETAIL_FONT_PX)
+            detail = font.render(shown.detail, True, BANNER_TEXT_COLOR)
+        detail_w = detail.get_width() if detail is not None else 0
+        detail_h = detail.get_height() + 2 if detail is not None else 0
+        bw = max(img.get_width(), detail_w) + 36
+        bh = img.get_height() + detail_h + 14
+        bx, by = x + (w - bw) / 2, y + BANNER_TOP_PX
+        pg.draw.rect(self._surface, shown.color, (bx, by, bw, bh), border_radius=8)
+        pg.draw.rect(self._surface, shown.edge_color, (bx, by, bw, bh), 3, border_radius=8)
+        self._surface.blit(img, (bx + (bw - img.get_width()) / 2, by + 8))
+        if detail is not None:
+            dy = by + 8 + img.get_height() + 2
+            self._surface.blit(detail, (bx + (bw - detail_w) / 2, dy))
 
     # -- top-view inset ------------------------------------------------------------------------
 
@@ -625,6 +702,9 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         for j in range(-int(h / ppm) - 1, int(h / ppm) + 2):
             py = view.to_px(0.0, float(j))[1]
             pg.draw.line(surf, SAND_GRID_COLOR, (x, py), (x + w, py), 1)
+        # Bottom left, under everything else (a ball or marker there stays in sight).
+        bar_max = min(INSET_SCALE_BAR_MAX_PX, 0.4 * w)
+        self._draw_scale_bar(view.pixels_per_meter, view.rect, LABEL_COLOR, bar_max)
         self._draw_top_wall(scene, frame, view)
         draw_top_windsock(
             pg,
@@ -716,12 +796,13 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
         else:
             last, color = "last: missed", STATE_COLORS["fallen_toward"]
         self._draw_text(last, (left, line_y), color, READOUT_FONT_PX)
-        compass_w = 130
+        # Bottom right, above the strip a recording's caption covers.
+        bottom = y + h - (CAPTION_BAND_PX if y + h >= self.height else 0)
         draw_wind_compass(
             self._pg,
             self._surface,
             self._get_font(SMALL_FONT_PX + 2),
-            (x + w - compass_w, y + h - 44, compass_w - 4, 40),
+            (x + w - COMPASS_WIDTH_PX, bottom - 44, COMPASS_WIDTH_PX - 4, 40),
             scene.wind_mps,
         )
 
@@ -738,12 +819,15 @@ def _star_points(c: Vec2, r_out: float, r_in: float, spikes: int, phase: float) 
 
 __all__ = [
     "WALL_STATES",
+    "Banner",
     "FrameState",
     "ToppleRenderer",
     "ToppleScene",
     "WallPose",
     "attached_pose",
+    "banner",
     "frame_state",
+    "is_final_frame",
     "loose_pose",
     "panel_rects",
     "pivot_side_for",
