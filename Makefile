@@ -18,16 +18,16 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet "$(TORCH)"
-	$(PY) -m pip install --quiet -e ".[dev,train,torch]"
+	$(PY) -m pip install --quiet -e ".[dev,train,torch,rllib,zoo]"
 	touch $(STAMP)
 
 setup: $(STAMP)
 
 run: $(STAMP)
-	SDL_VIDEODRIVER=dummy $(PY) scripts/baseline.py --env BeachballSail-v0 --out runs/main
+	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v0 --out runs/main
 
 demo: $(STAMP)
-	SDL_VIDEODRIVER=dummy $(PY) scripts/sail_demo.py --out runs/demo
+	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym demo --out runs/demo
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check .
@@ -35,10 +35,10 @@ test: $(STAMP)
 	SDL_VIDEODRIVER=dummy $(VENV)/bin/pytest -q
 
 polar: $(STAMP)
-	$(PY) scripts/polar.py --out runs/polar
+	$(VENV)/bin/bbgym polar --out runs/polar
 
 bench: $(STAMP)
-	$(PY) scripts/bench.py
+	$(VENV)/bin/bbgym bench
 
 clean:
 	rm -rf $(VENV) runs

@@ -17,7 +17,7 @@ astern, e.g. stuck in irons after a slow tack, where the rudder acts the other w
 
 Sheet: boom about ``|AWA| - 12 deg`` off the centreline (clipped to [4, 85] deg), eased
 further by ``3 x (heel - 25 deg)`` when the boat heels past 25 deg. The offset comes from
-the polar (``scripts/polar.py``): the best trim sits 10-14 deg inside the apparent wind,
+the polar (``bbgym polar``): the best trim sits 10-14 deg inside the apparent wind,
 just under the lift model's 16 deg stall; a 20 deg offset stalls the sail close-hauled,
 and the 50 seeded episodes then take about 60 % longer.
 """

@@ -9,18 +9,88 @@ from typing import Any
 CONFIG_DIR = Path(str(resources.files("bbgym.configs")))
 """The presets' folder, inside the installed package (a wheel ships them)."""
 
+PRESET_FILES = {
+    "BeachballSail-v0": "beachball_sail.yaml",
+    "BeachballThrow-v0": "beachball_throw.yaml",
+    "BeachballCurve-v0": "beachball_throw.yaml",
+    "BeachballTopple-v0": "beachball_topple.yaml",
+}
+"""The shipped preset of each env id. BeachballCurve-v0 shares the throw preset and applies
+its registered kwargs (the screen and the far targets) on top."""
 
-def load_preset(path: str | Path) -> tuple[str, dict[str, Any]]:
-    """Return ``(env_id, kwargs)`` of a preset file, ready for ``gym.make(env_id, **kwargs)``.
 
-    Lists become tuples (ranges), so the kwargs compare equal to the code's defaults.
+def preset_path(preset: str | Path) -> Path:
+    """The preset file named by ``preset``: an env id (``"BeachballSail-v0"``), a shipped
+    preset's name (``"beachball_sail"`` or ``"beachball_sail.yaml"``) or a path to a file."""
+    text = str(preset)
+    if text in PRESET_FILES:
+        return CONFIG_DIR / PRESET_FILES[text]
+    shipped = CONFIG_DIR / (text if text.endswith((".yaml", ".yml")) else f"{text}.yaml")
+    if "/" not in text and shipped.is_file():
+        return shipped
+    path = Path(preset)
+    if path.is_file():
+        return path
+    names = sorted({Path(name).stem for name in PRESET_FILES.values()})
+    raise ValueError(
+        f"preset {text!r} is neither an env id ({', '.join(PRESET_FILES)}), a shipped preset "
+        f"({', '.join(names)}) nor a file"
+    )
+
+
+def load_preset(preset: str | Path) -> tuple[str, dict[str, Any]]:
+    """Return ``(env_id, kwargs)`` of a preset, ready for ``gym.make(env_id, **kwargs)``.
+
+    ``preset`` is an env id, a shipped preset's name or a file (see :func:`preset_path`).
+    Given an env id, the kwargs are that id's: BeachballCurve-v0 gets the throw preset with
+    the Curve registration's kwargs on top. Lists become tuples (ranges), so the kwargs
+    compare equal to the code's defaults.
     """
     import yaml
 
+    path = preset_path(preset)
     with open(path, encoding="utf-8") as f:
-        preset = yaml.safe_load(f)
-    if not isinstance(preset, dict) or "env_id" not in preset or "env" not in preset:
+        preset_data = yaml.safe_load(f)
+    if not isinstance(preset_data, dict) or "env_id" not in preset_data or "env" not in preset_data:
         raise ValueError(f"{path}: a preset needs 'env_id' and 'env' keys")
+    env_id, kwargs = _env_kwargs(preset_data)
+    if str(preset) in PRESET_FILES and str(preset) != env_id:
+        import gymnasium as gym
+
+        import bbgym  # noqa: F401  (registers the ids)
+
+        env_id = str(preset)
+        kwargs.update(gym.spec(env_id).kwargs)
+    return env_id, kwargs
+
+
+def env_preset(env_id: str, preset: str | Path | None = None) -> tuple[Path, dict[str, Any]]:
+    """``(preset file, env kwargs)`` that ``env_id`` trains with: ``preset`` (an env id, a
+    shipped preset's name or a file; default ``env_id``'s shipped preset), its kwargs without
+    ``max_episode_steps`` (the registered limit applies). A preset of the base task (the
+    throw preset for BeachballCurve-v0) gets the id's registered kwargs on top, since its
+    own values (``screen: false``) would otherwise override them; a preset of another env
+    raises ``ValueError``."""
+    import gymnasium as gym
+
+    import bbgym  # noqa: F401  (registers the ids)
+
+    name = env_id if preset is None else preset
+    if preset is None and env_id not in PRESET_FILES:
+        raise ValueError(f"{env_id} has no shipped preset; known: {', '.join(PRESET_FILES)}")
+    path = preset_path(name)
+    preset_id, kwargs = load_preset(name)
+    kwargs.pop("max_episode_steps", None)
+    if preset_id != env_id:
+        base, wanted = gym.spec(preset_id), gym.spec(env_id)
+        if base.entry_point != wanted.entry_point or base.kwargs:
+            raise ValueError(f"preset {preset} is a preset of {preset_id}, not {env_id}")
+        kwargs.update(wanted.kwargs)
+    return path, kwargs
+
+
+def _env_kwargs(preset: dict[str, Any]) -> tuple[str, dict[str, Any]]:
+    """``(env_id, kwargs)`` of a parsed preset file."""
 
     def tuples(value: Any) -> Any:
         if isinstance(value, list):
@@ -78,12 +148,13 @@ def linear_schedule(text: str, name: str = "schedule") -> LinearSchedule:
     return LinearSchedule(initial)
 
 
-def load_training(path: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``(ppo_kwargs, train_settings)`` of a preset file: the keyword arguments of
-    stable-baselines3's ``PPO`` (``policy`` included) and the run settings, with defaults
-    for what the file leaves out."""
+def load_training(preset: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``(ppo_kwargs, train_settings)`` of a preset (an env id, a shipped preset's name or a
+    file): the keyword arguments of stable-baselines3's ``PPO`` (``policy`` included) and
+    the run settings, with defaults for what the file leaves out."""
     import yaml
 
+    path = preset_path(preset)
     with open(path, encoding="utf-8") as f:
         preset = yaml.safe_load(f)
     ppo = dict(preset.get("ppo") or {})

@@ -4,7 +4,7 @@ Every accepted input must run finite, stay inside the observation space and rais
 every rejected one must raise ``TypeError`` or ``ValueError`` naming the argument. One
 sampler serves both the property-based tests (``tests/test_fuzz.py``, where hypothesis
 draws each number, so a failure shrinks to a small example) and the long run of
-``scripts/fuzz.py`` (a NumPy generator draws them):
+``bbgym fuzz`` (a NumPy generator draws them):
 
 * :func:`sample_kwargs` draws constructor arguments: every field of the physics parameter
   dataclasses over its whole accepted interval (log-uniform where the interval is
@@ -511,29 +511,3 @@ def format_report(report: Mapping[str, Any]) -> str:
             f"\n  options={failure['options']}"
         )
     return "\n".join(lines)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``python scripts/fuzz.py [--steps 1000000] [--seed 0] [--num-envs 32] [--minutes M]
-    [--out runs/fuzz]``: exit status 1 if anything failed."""
-    import argparse
-    import json
-    import warnings
-    from pathlib import Path
-
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--steps", type=int, default=1_000_000, help="env steps in all")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the configurations")
-    parser.add_argument("--num-envs", type=int, default=32, help="size of the vector envs")
-    parser.add_argument("--minutes", type=float, default=math.inf, help="stop after this")
-    parser.add_argument("--out", type=Path, default=Path("runs/fuzz"), help="report folder")
-    args = parser.parse_args(argv)
-    # Gymnasium's env checker warns about float precision and the like on every make.
-    warnings.filterwarnings("ignore", module="gymnasium")
-    report = run(args.steps, args.seed, args.num_envs, args.minutes)
-    text = format_report(report)
-    print(text)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "fuzz.md").write_text(text + "\n", encoding="utf-8")
-    (args.out / "fuzz.json").write_text(json.dumps(report, indent=2), encoding="utf-8")
-    return 1 if report["failures"] else 0

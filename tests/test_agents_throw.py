@@ -64,7 +64,7 @@ def test_topple_agent_waits_for_a_tailwind_and_then_brings_the_wall_down():
 @pytest.mark.parametrize("env_id", ["BeachballSail-v0", "BeachballThrow-v0", "BeachballTopple-v0"])
 def test_evaluate_script_writes_the_table(tmp_path, env_id):
     done = subprocess.run(
-        [sys.executable, str(ROOT / "scripts" / "evaluate.py"), "--env", env_id,
+        [sys.executable, "-m", "bbgym", "evaluate", "--env", env_id,
          "--episodes", "3", "--out", str(tmp_path)],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
@@ -80,8 +80,7 @@ def test_evaluate_script_writes_the_table(tmp_path, env_id):
 
 
 def test_wilson_interval():
-    sys.path.insert(0, str(ROOT / "scripts"))
-    from evaluate import wilson_interval
+    from bbgym.cli.evaluate import wilson_interval
 
     low, high = wilson_interval(98, 100)
     assert 0.929 < low < 0.931 and 0.994 < high < 0.996

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import pytest
@@ -13,12 +12,12 @@ pytest.importorskip("matplotlib")
 yaml = pytest.importorskip("yaml")
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "scripts"))
 
 
 def test_main_job_writes_the_run_folder(tmp_path):
-    import baseline
     from PIL import Image
+
+    from bbgym import cli
 
     preset = yaml.safe_load((ROOT / "configs" / "beachball_sail.yaml").read_text())
     preset["ppo"].update(n_steps=64, batch_size=256)
@@ -27,9 +26,9 @@ def test_main_job_writes_the_run_folder(tmp_path):
     config = tmp_path / "sail.yaml"
     config.write_text(yaml.safe_dump(preset))
     out = tmp_path / "run"
-    argv = ["--env", "BeachballSail-v0", "--config", str(config), "--timesteps", "2048",
+    argv = ["--env", "BeachballSail-v0", "--preset", str(config), "--timesteps", "2048",
             "--episodes", "3", "--out", str(out), "--no-progress"]  # fmt: skip
-    assert baseline.main(argv) == 0
+    assert cli.main(["baseline", *argv]) == 0
 
     for name in ("model.zip", "best_model.zip", "results.md", "results.json",
                  "learning_curve.png", "episode.gif", "summary.json", "train.json"):  # fmt: skip
@@ -52,10 +51,10 @@ def test_main_job_writes_the_run_folder(tmp_path):
 
 
 def test_main_job_rejects_bad_arguments(capsys):
-    import baseline
+    from bbgym import cli
 
     with pytest.raises(SystemExit):
-        baseline.main(["--env", "BeachballSail-v0", "--episodes", "0"])
-    assert "--episodes must be >= 1" in capsys.readouterr().err
+        cli.main(["baseline", "--env", "BeachballSail-v0", "--episodes", "0"])
+    assert "--episodes: must be >= 1" in capsys.readouterr().err
     with pytest.raises(SystemExit):
-        baseline.main(["--env", "NoSuchEnv-v0"])
+        cli.main(["baseline", "--env", "NoSuchEnv-v0"])

@@ -5,14 +5,11 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-from pathlib import Path
-
-SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "bench.py"
 
 
 def test_bench_quick_writes_the_table(tmp_path):
     done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--quick", "--out", str(tmp_path)],
+        [sys.executable, "-m", "bbgym", "bench", "--quick", "--out", str(tmp_path)],
         capture_output=True,
         text=True,
         timeout=300,
@@ -36,8 +33,8 @@ def test_bench_quick_backend_rows(tmp_path):
 
     pytest.importorskip("torch")
     done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--quick", "--backends", "--envs", "BeachballSail-v0",
-         "--out", str(tmp_path)],
+        [sys.executable, "-m", "bbgym", "bench", "--quick", "--backends", "--envs",
+         "BeachballSail-v0", "--out", str(tmp_path)],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr

@@ -1,12 +1,11 @@
-"""scripts/record.py (animations of an episode), the envs' render_flight(), and
-scripts/play.py (keyboard wrappers, gymnasium.utils.play driven headless)."""
+"""``bbgym record`` (animations of an episode), the envs' render_flight(), and ``bbgym play``
+(bbgym.keyboard's wrappers, gymnasium.utils.play driven headless)."""
 
 from __future__ import annotations
 
 import importlib.util
 import math
 import os
-import sys
 from pathlib import Path
 
 import gymnasium as gym
@@ -21,10 +20,9 @@ Image = pytest.importorskip("PIL.Image")
 
 ROOT = Path(__file__).resolve().parents[1]
 
-
-sys.path.insert(0, str(ROOT / "scripts"))
-import play  # noqa: E402  (scripts/play.py)
-import record  # noqa: E402  (scripts/record.py)
+from bbgym import cli  # noqa: E402
+from bbgym import keyboard as play  # noqa: E402
+from bbgym.cli import record  # noqa: E402
 
 # The simple helmsman (the autopilot takes seconds to build).
 SAIL_POLICY = "simple"
@@ -49,14 +47,7 @@ def gif_frames(path: Path) -> tuple[int, tuple[int, int], list[int]]:
         return im.n_frames, im.size, durations
 
 
-class ListSink:
-    def __init__(self) -> None:
-        self.frames: list[np.ndarray] = []
-        self.periods: list[int] = []
-
-    def __call__(self, frame: np.ndarray, periods: int = 1) -> None:
-        self.frames.append(frame)
-        self.periods.append(periods)
+ListSink = record.FrameList
 
 
 # -- render_flight ---------------------------------------------------------------------------
@@ -71,7 +62,7 @@ def test_render_flight_throw(env_id):
     _, _, _, _, info = env.step(np.array([0.45, 0.0, 0.35, 0.0, 0.0, 0.0], np.float32))
     end = env.render()
     flight = env.unwrapped.render_flight()
-    k = len(info["trajectory"])
+    k = info["trajectory_length"]
     assert k > 10 and len(flight) == k - 1  # one frame per recorded point but the last
     assert all(f.shape == end.shape and f.dtype == np.uint8 for f in flight)
     # The ball moves from frame to frame; the landing frame (render()) is not among them.
@@ -88,7 +79,7 @@ def test_render_flight_topple():
     assert env.unwrapped.render_flight() == []
     _, _, _, _, info = env.step(np.array([0.5, 0.0, 0.3, 0.0, 0.0, 0.0], np.float32))
     flight = env.unwrapped.render_flight()
-    assert len(flight) == len(info["wall_angle_samples"]) > 10
+    assert len(flight) == info["samples_length"] > 10
     assert not np.array_equal(flight[0], flight[5])  # the ball flies
     np.testing.assert_array_equal(flight[-1], env.render())  # the interval ends at its end
     env.close()
@@ -102,13 +93,13 @@ def test_render_flight_without_render_mode_is_empty():
         assert env.unwrapped.render_flight() == []
 
 
-# -- record.py ---------------------------------------------------------------------------------
+# -- bbgym record ------------------------------------------------------------------------------
 
 
 def test_record_sail_gif(tmp_path, capsys):
     out = tmp_path / "sail.gif"
     argv = ["--env", "BeachballSail-v0", "--policy", SAIL_POLICY, "--max-steps", "30"]
-    assert record.main([*argv, "--seed", "3", "--out", str(out), "--fps", "20"]) == 0
+    assert cli.main(["record", *argv, "--seed", "3", "--out", str(out), "--fps", "20"]) == 0
     n, size, durations = gif_frames(out)
     assert n == 31  # the start and one frame per step
     assert size == render_size("BeachballSail-v0")
@@ -139,7 +130,7 @@ def test_record_throw_shows_the_flights(tmp_path, capsys):
 
     def counting_step(action):
         result = step(action)
-        flights.append(len(result[4]["trajectory"]) - 1)
+        flights.append(result[4]["trajectory_length"] - 1)
         return result
 
     env.step = counting_step
@@ -152,7 +143,7 @@ def test_record_throw_shows_the_flights(tmp_path, capsys):
 
     out = tmp_path / "throw.gif"
     argv = ["--env", "BeachballThrow-v0", "--policy", "random", "--max-steps", "2"]
-    assert record.main([*argv, "--seed", "5", "--out", str(out), "--frame-skip", "2"]) == 0
+    assert cli.main(["record", *argv, "--seed", "5", "--out", str(out), "--frame-skip", "2"]) == 0
     n, size, durations = gif_frames(out)
     assert size == render_size("BeachballThrow-v0")
     assert n > 2 * 5  # many more frames than throws: the flights are in it
@@ -166,7 +157,7 @@ def test_record_mp4(tmp_path):
 
     out = tmp_path / "sail.mp4"
     argv = ["--env", "BeachballSail-v0", "--policy", "random", "--max-steps", "5"]
-    assert record.main([*argv, "--out", str(out), "--fps", "10", "--hold", "0.5"]) == 0
+    assert cli.main(["record", *argv, "--out", str(out), "--fps", "10", "--hold", "0.5"]) == 0
     data = out.read_bytes()
     assert len(data) > 1000 and data[4:8] == b"ftyp"
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(out))
@@ -190,19 +181,19 @@ def test_mp4_without_imageio_ffmpeg_is_a_clear_error(monkeypatch):
     [
         (["--policy", "random", "--out", "episode.avi"], "must end in .gif or .mp4"),
         (["--policy", "ppo"], "needs --model"),
-        (["--policy", "nonsense"], "unknown policy"),
-        (["--policy", "random", "--frame-skip", "0"], "--frame-skip must be >= 1"),
+        (["--policy", "nonsense"], "invalid choice"),
+        (["--policy", "random", "--frame-skip", "0"], "--frame-skip: must be >= 1"),
     ],
 )
 def test_record_argument_errors(tmp_path, capsys, extra, message):
     with pytest.raises(SystemExit) as exit_info:
-        record.main(["--env", "BeachballThrow-v0", *extra])
+        cli.main(["record", "--env", "BeachballThrow-v0", *extra])
     assert exit_info.value.code == 2
     assert message in capsys.readouterr().err
     assert not list(tmp_path.iterdir()) and not Path("episode.avi").exists()
 
 
-# -- play.py: key tables and wrappers ---------------------------------------------------------
+# -- bbgym play: key tables and wrappers ---------------------------------------------------------
 
 
 class Recorder(gym.Wrapper):
@@ -322,7 +313,7 @@ def test_throw_wrapper_aims_and_throws_only_on_space(capsys):
     env.step(space)  # still held: no second throw
     assert len(inner.actions) == 1
     # render() plays the flight back, one frame a call, then shows the landing.
-    k = len(info["trajectory"])
+    k = info["trajectory_length"]
     played = [env.render() for _ in range(k - 1)]
     assert not np.array_equal(played[0], start) and not np.array_equal(played[0], played[-1])
     end = env.render()
@@ -359,7 +350,7 @@ def test_throw_wrapper_no_throw_while_the_flight_plays():
     assert len(env.env.actions) == 2
 
 
-# -- play.py: gymnasium.utils.play driven headless ---------------------------------------------
+# -- bbgym play: gymnasium.utils.play driven headless ---------------------------------------------
 
 
 def drive(env, script: dict[int, list], limit: int = 40) -> int:
@@ -417,7 +408,7 @@ def test_gymnasium_play_drives_the_throw_wrapper():
 
 def test_play_help_lists_the_keys(capsys):
     with pytest.raises(SystemExit) as exit_info:
-        play.main(["--help"])
+        cli.main(["play", "--help"])
     assert exit_info.value.code == 0
     out = capsys.readouterr().out
     assert "SPACE" in out and "sheet in / ease out" in out and "--zoom" in out

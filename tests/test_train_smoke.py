@@ -23,8 +23,8 @@ def test_train_save_load_evaluate(tmp_path):
     config = tmp_path / "sail.yaml"
     config.write_text(yaml.safe_dump(preset))
     out = tmp_path / "run"
-    train = [sys.executable, str(ROOT / "scripts" / "train.py"), "--env", "BeachballSail-v0",
-             "--config", str(config), "--out", str(out), "--no-progress"]  # fmt: skip
+    train = [sys.executable, "-m", "bbgym", "train", "--env", "BeachballSail-v0",
+             "--preset", str(config), "--out", str(out), "--no-progress"]  # fmt: skip
     done = subprocess.run([*train, "--timesteps", "2048"], capture_output=True, text=True,
                           timeout=600)  # fmt: skip
     assert done.returncode == 0, done.stderr[-2000:]
@@ -38,7 +38,7 @@ def test_train_save_load_evaluate(tmp_path):
                           text=True, timeout=600)  # fmt: skip
     assert done.returncode == 0, done.stderr[-2000:]
     assert json.loads((out / "train.json").read_text())["timesteps"] >= 2048 + 512
-    evaluate = [sys.executable, str(ROOT / "scripts" / "evaluate.py"), "--env",
+    evaluate = [sys.executable, "-m", "bbgym", "evaluate", "--env",
                 "BeachballSail-v0", "--policies", "ppo", "--model", str(out / "model.zip"),
                 "--episodes", "2", "--out", str(tmp_path / "eval")]  # fmt: skip
     done = subprocess.run(evaluate, capture_output=True, text=True, timeout=600)

@@ -95,7 +95,7 @@ class DinghyParams:
     """Physical constants of a Laser-like single-handed dinghy, SI units.
 
     The defaults are the default preset (``configs/beachball_sail.yaml``), calibrated so the
-    polar matches a real dinghy's (see ``scripts/polar.py`` and ``tests/test_polar.py``).
+    polar matches a real dinghy's (see ``bbgym polar`` and ``tests/test_polar.py``).
 
     Accepted intervals (checked on construction by :func:`check_fields`; errors name
     ``DinghyParams.<field>``). They span a 20 kg sailboard-like hull to a few-tonne 15 m

@@ -1,7 +1,8 @@
 """Evaluate policies on a bbgym env over the same seeded episodes; write a results table.
 
-    python scripts/evaluate.py --env BeachballSail-v0 [--policies random,scripted]
-        [--model runs/ppo/model.zip] [--episodes 100] [--seed 0] [--out runs/eval]
+    bbgym evaluate --env BeachballSail-v0 [--policies random,scripted]
+        [--model runs/ppo/BeachballSail-v0-seed0/best_model.zip] [--episodes 100] [--seed 0]
+        [--out runs/eval]
 
 Every policy meets the same scenarios (episode ``k`` is reset with ``seed + k``). Reports
 the success rate with a 95% Wilson interval, the mean return, the mean episode length
@@ -9,7 +10,7 @@ the success rate with a 95% Wilson interval, the mean return, the mean episode l
 successful episodes. Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
 
 Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent from
-``agents/``: the VMG autopilot for sailing, the throw solver, the topple agent), ``simple``
+``bbgym.agents``: the VMG autopilot for sailing, the throw solver, the topple agent), ``simple``
 (sailing only: the simple helmsman), ``ppo`` (a stable-baselines3 model saved at
 ``--model``). For sailing, each policy's time to the mark is also compared with the
 autopilot's on the episodes both finished ("time / oracle time"; the autopilot is run for
@@ -21,7 +22,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -31,6 +31,7 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym.cli import UsageError, env_id, positive_int, require
 
 Policy = Callable[[np.ndarray], np.ndarray]
 POLICIES = ("random", "scripted", "simple", "ppo")
@@ -76,6 +77,9 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
     if name == "ppo":
         if model_path is None:
             raise ValueError("--policies ppo needs --model")
+        if not Path(model_path).is_file():
+            raise ValueError(f"--model {model_path}: no such file (a saved SB3 model .zip)")
+        require("stable_baselines3", "train")
         from stable_baselines3 import PPO
 
         model = PPO.load(model_path, device="cpu")
@@ -151,25 +155,37 @@ def format_table(results: list[dict]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--env", required=True, help="env id, e.g. BeachballSail-v0")
-    parser.add_argument("--policies", default="random,scripted", help="comma-separated")
-    parser.add_argument("--model", type=Path, default=None, help="saved PPO model (.zip)")
-    parser.add_argument("--episodes", type=int, default=100)
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--out", type=Path, default=Path("runs/eval"))
-    args = parser.parse_args(argv)
-    if args.episodes < 1:
-        parser.error("--episodes must be >= 1")
-    gym.spec(args.env)  # unknown ids fail here, with Gymnasium's message
-    names = [name.strip() for name in args.policies.split(",") if name.strip()]
+def parse_policies(text: str) -> list[str]:
+    """An argparse ``type``: comma-separated policy names, each one of :data:`POLICIES`."""
+    names = [name.strip() for name in text.split(",") if name.strip()]
     unknown = sorted(set(names) - set(POLICIES))
-    if unknown:
-        parser.error(f"unknown policies {unknown}; known: {', '.join(POLICIES)}")
+    if unknown or not names:
+        raise argparse.ArgumentTypeError(
+            f"unknown policies {unknown or [text]}; known: {', '.join(POLICIES)}"
+        )
+    return names
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument(
+        "--policies", type=parse_policies, default="random,scripted",
+        help=f"comma-separated, of: {', '.join(POLICIES)}",
+    )  # fmt: skip
+    parser.add_argument("--model", type=Path, default=None, help="saved PPO model (.zip)")
+    parser.add_argument("--episodes", type=positive_int, default=100, help="episodes per policy")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
+    parser.add_argument("--out", type=Path, default=Path("runs/eval"), help="output folder")
+
+
+def run(args: argparse.Namespace) -> int:
+    names = args.policies
     if "ppo" in names and args.model is None:
-        parser.error("--policies ppo needs --model")
-    results = [evaluate(args.env, name, args.episodes, args.seed, args.model) for name in names]
+        raise UsageError("--policies ppo needs --model (a saved stable-baselines3 model .zip)")
+    try:
+        results = [evaluate(args.env, name, args.episodes, args.seed, args.model) for name in names]
+    except ValueError as err:
+        raise UsageError(str(err)) from None
     if args.env.startswith("BeachballSail"):
         by_name = dict(zip(names, results, strict=True))
         oracle = by_name.get("scripted") or evaluate(
@@ -184,7 +200,3 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / f"{args.env}.md").write_text(table + "\n")
     print(f"wrote {args.out / (args.env + '.json')} and {args.out / (args.env + '.md')}")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

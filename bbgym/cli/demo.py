@@ -1,6 +1,6 @@
 """Sail one episode of BeachballSail-v0 with the scripted controller; save a GIF and stats.
 
-    python scripts/sail_demo.py [--seed 16] [--out runs/demo] [--format gif]
+    bbgym demo [--seed 16] [--out runs/demo] [--format gif]
 
 Prints a statistics table, writes ``<out>/sail_episode.gif`` (every ``--frame-skip``-th
 frame) and ``<out>/episode.json``. Runs headless (SDL's dummy video driver).
@@ -16,16 +16,16 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import argparse
 import json
 import math
-import sys
 import time
 from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from bbgym.agents.sail_simple import SimpleSailController  # noqa: E402
 
-import bbgym  # noqa: E402, F401  (registers BeachballSail-v0)
+import bbgym  # noqa: F401  (registers BeachballSail-v0)
+from bbgym.agents.sail_simple import SimpleSailController
+from bbgym.cli import positive_float, positive_int, require
 
 # Seed 16: the mark lies upwind; the controller beats to it with two tacks.
 DEFAULT_SEED = 16
@@ -82,22 +82,6 @@ def sail_episode(seed: int, frame_skip: int = 2) -> tuple[dict[str, Any], list[n
     return stats, frames
 
 
-def write_gif(path: Path, frames: list[np.ndarray], fps: float) -> None:
-    """Write frames (H, W, 3) uint8 as a looping GIF."""
-    from PIL import Image
-
-    images = [Image.fromarray(np.asarray(f, dtype=np.uint8)) for f in frames]
-    duration_ms = int(round(1000.0 / fps))
-    images[0].save(
-        path,
-        save_all=True,
-        append_images=images[1:],
-        duration=duration_ms,
-        loop=0,
-        optimize=False,
-    )
-
-
 def format_table(stats: dict[str, Any]) -> str:
     rows = [
         ("success", str(stats["success"])),
@@ -119,32 +103,31 @@ def format_table(stats: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED, help="episode seed")
     parser.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder")
-    parser.add_argument("--format", choices=["gif"], default="gif", help="animation format")
-    parser.add_argument("--frame-skip", type=int, default=2, help="keep every n-th frame")
-    parser.add_argument("--fps", type=float, default=10.0, help="animation playback rate")
-    args = parser.parse_args(argv)
-    if args.frame_skip < 1:
-        parser.error("--frame-skip must be >= 1")
-    if args.fps <= 0:
-        parser.error("--fps must be > 0")
+    parser.add_argument("--format", choices=["gif", "mp4"], default="gif", help="animation format")
+    parser.add_argument("--frame-skip", type=positive_int, default=2, help="keep every n-th frame")
+    parser.add_argument("--fps", type=positive_float, default=10.0, help="animation playback rate")
 
+
+def run(args: argparse.Namespace) -> int:
+    from bbgym.cli.record import check_format, open_writer
+
+    require("pygame", "render")
+    animation = args.out / f"sail_episode.{args.format}"
+    check_format(animation)
     stats, frames = sail_episode(args.seed, args.frame_skip)
     print(f"BeachballSail-v0, seed {args.seed}, SimpleSailController")
     print(format_table(stats))
 
     args.out.mkdir(parents=True, exist_ok=True)
-    animation = args.out / f"sail_episode.{args.format}"
-    write_gif(animation, frames, args.fps)
+    writer = open_writer(animation, args.fps)
+    for frame in frames:
+        writer(frame)
+    writer.close()
     stats_path = args.out / "episode.json"
     stats_path.write_text(json.dumps(stats, indent=2) + "\n")
     print(f"wrote {animation} ({len(frames)} frames at {args.fps:g} fps)")
     print(f"wrote {stats_path}")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,26 +1,10 @@
-"""Play an env from the keyboard (gymnasium.utils.play).
-
-    python scripts/play.py --env BeachballSail-v0 [--seed 0] [--fps 20] [--zoom 1.0]
+"""Keyboard control of the envs for ``gymnasium.utils.play`` (``bbgym play``; needs pygame,
+the ``render`` extra).
 
 Both action spaces are continuous, so a small wrapper defined here turns the keys held in
-each frame into an action, keeping state between frames:
-
-BeachballSail-v0 (one env step per frame, 0.25 s, so 20 fps is 5x real time):
-  LEFT / RIGHT   rudder hard over while held: turn to port / to starboard (0 when released)
-  UP / DOWN      sheet in / ease out, 0.05 a frame; the sheet stays where you leave it
-
-BeachballThrow-v0, BeachballCurve-v0, BeachballTopple-v0 (aim first, then throw):
-  UP / DOWN      elevation +/- 1 deg a frame
-  LEFT / RIGHT   azimuth +/- 1 deg a frame (left: counterclockwise)
-  W / S          launch speed +/- 0.2 m/s a frame (Topple: under 0.5 m/s throwing waits)
-  A / D          side spin +/- 2 rad/s a frame (A: curves the ball to the left)
-  E / Q          back spin +/- 2 rad/s a frame (Q below 0: top spin)
-  SPACE          throw (once per press); the flight is played back, then where it landed
-The aim starts at 10 m/s, 35 deg up, toward the target (Throw, Curve) or the wall, without
-spin; it is printed on every change. ESC or closing the window quits.
-
-A finished episode starts the next one. ``--seed`` seeds the first episode (the next ones
-follow from it).
+each frame into an action, keeping state between frames. The keys are listed by
+``bbgym play --help`` (:mod:`bbgym.cli.play`). A finished episode starts the next one; the
+seed given seeds the first episode (the next ones follow from it).
 """
 
 from __future__ import annotations
@@ -29,10 +13,8 @@ import os
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
-import argparse
 import itertools
 import math
-import sys
 import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -310,35 +292,3 @@ def play_env(
         env, fps=fps, zoom=zoom, keys_to_action=env.get_keys_to_action(), noop=env.noop,
         callback=callback,
     )  # fmt: skip
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        description=__doc__.splitlines()[0],
-        epilog=__doc__.split("\n\n", 2)[2],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    parser.add_argument("--env", required=True, help="env id, e.g. BeachballSail-v0")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the first episode")
-    parser.add_argument("--fps", type=int, default=20, help="frames (sail: env steps) a second")
-    parser.add_argument("--zoom", type=float, default=1.0, help="window scale")
-    args = parser.parse_args(argv)
-    if args.fps <= 0:
-        parser.error("--fps must be > 0")
-    if args.zoom <= 0:
-        parser.error("--zoom must be > 0")
-    gym.spec(args.env)  # unknown ids fail here, with Gymnasium's message
-    try:
-        env = make_play_env(args.env, args.seed)
-    except ValueError as err:
-        parser.error(str(err))
-    try:
-        play_env(env, fps=args.fps, zoom=args.zoom)
-    finally:
-        env.close()
-        print()
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

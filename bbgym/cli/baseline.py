@@ -1,0 +1,254 @@
+"""Train PPO on a bbgym env, evaluate it beside random and scripted play, write a run folder.
+
+    bbgym baseline --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N]
+        [--seed 0] [--episodes 100] [--out runs/baseline/<env>-seed<seed>] [--no-train]
+
+The main job (``make run``) is this command on BeachballSail-v0 with the default preset.
+Steps, each reported as it goes (PPO shows a progress bar):
+
+1. train PPO as ``bbgym train`` does (the preset's ``ppo`` and ``train`` sections);
+   ``--no-train`` skips this and evaluates the model already in the run folder;
+2. evaluate the best model of training (chosen on the evaluation seeds 10000+), a uniform
+   random policy and the env's scripted agent (the VMG autopilot for sailing) over the
+   same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from training's);
+3. write into the run folder: ``model.zip`` / ``best_model.zip``, ``results.md`` and
+   ``results.json`` (success with a 95% interval, return, length, time to mark and time /
+   oracle time), ``learning_curve.png`` (evaluation success and return against
+   timesteps, with random and scripted as reference lines), ``episode.gif`` (one episode
+   of the trained policy) and ``summary.json`` (budget, wall times, steps per second).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from bbgym.cli import UsageError, env_id, evaluate, positive_int, record, require, train
+
+POLICIES = ("random", "scripted", "ppo")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--env", default="BeachballSail-v0", type=env_id, help="env id")
+    parser.add_argument(
+        "--preset", default=None,
+        help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
+    )  # fmt: skip
+    parser.add_argument("--timesteps", type=positive_int, default=None,
+                        help="training budget (default: the preset's total_timesteps)")  # fmt: skip
+    parser.add_argument("--seed", type=int, default=0, help="training seed")
+    parser.add_argument("--episodes", type=positive_int, default=100, help="evaluation episodes")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="run folder (default runs/baseline/<env>-seed<seed>)")  # fmt: skip
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
+    )
+
+
+def best_model_index(timesteps: np.ndarray, mean_returns: np.ndarray, train_log: dict) -> int:
+    """Which evaluation's model is ``best_model.zip``: the one at the log's
+    ``best_model_timesteps`` (``train.json``; the nearest evaluation if none is at exactly that
+    step), else, as SB3's EvalCallback saves on a new best mean return, the first evaluation
+    with the highest mean return."""
+    best = train_log.get("best_model_timesteps")
+    if best is not None and len(timesteps):
+        return int(np.argmin(np.abs(np.asarray(timesteps, dtype=float) - float(best))))
+    finite = np.where(np.isfinite(mean_returns), mean_returns, -np.inf)
+    return int(np.argmax(finite))  # the first of equal maxima: SB3 needs a strict improvement
+
+
+def _seed_range(result: dict) -> str:
+    seeds = result.get("seeds")
+    if not seeds:
+        return f"{result.get('episodes', '?')} episodes"
+    return f"seeds {seeds[0]}..{seeds[-1]}"
+
+
+def _steps_label(steps: float) -> str:
+    if steps >= 1e6:
+        return f"{steps / 1e6:.3g}M"
+    if steps >= 1e4:
+        return f"{steps / 1e3:.3g}k"
+    return f"{steps:.0f}"
+
+
+def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> Any:
+    """The learning-curve figure of :func:`plot_learning_curve` (a matplotlib Figure)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    with np.load(run / "eval" / "evaluations.npz") as npz:
+        data = {key: npz[key] for key in npz.files}
+    log_path = run / "train.json"
+    train_log = json.loads(log_path.read_text()) if log_path.exists() else {}
+    steps = np.asarray(data["timesteps"], dtype=float).reshape(-1)
+    returns = np.asarray(data["results"], dtype=float).reshape(len(steps), -1)
+    n_episodes = returns.shape[1]
+    mean, std = returns.mean(axis=1), returns.std(axis=1)
+    successes = None
+    if "successes" in data and data["successes"].size:
+        successes = 100.0 * np.asarray(data["successes"], dtype=float).reshape(len(steps), -1)
+        successes = successes.mean(axis=1)
+    seed = train_log.get("seed")
+    if seed is None:
+        eval_seeds = f"eval env seeded {train.EVAL_SEED_OFFSET} + the training seed"
+    else:
+        eval_seeds = f"eval env seeded {int(seed) + train.EVAL_SEED_OFFSET}"
+    ppo_label = f"PPO evaluations ({eval_seeds}, {n_episodes} episodes per point)"
+    i_best = best_model_index(steps, mean, train_log)
+    i_final = len(steps) - 1
+
+    fig, (ax_success, ax_return) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+    panels = [(ax_return, mean, "mean_return", 1.0, "{:.1f}")]
+    if successes is not None:
+        panels.insert(0, (ax_success, successes, "success_rate", 100.0, "{:.0f}%"))
+    else:
+        ax_success.text(0.5, 0.5, "no success rate logged", ha="center", va="center",
+                        transform=ax_success.transAxes, color="grey")  # fmt: skip
+    ax_return.fill_between(steps, mean - std, mean + std, alpha=0.2, label="PPO mean +- std")
+    if len(steps) == 1:  # a band of one point is not drawn: show its spread as an error bar
+        ax_return.errorbar(steps, mean, yerr=std, fmt="none", ecolor="tab:blue", alpha=0.5)
+    colors = {"random": "tab:gray", "scripted": "tab:green"}
+    for ax, values, key, scale, fmt in panels:
+        ax.plot(steps, values, "o-", ms=4, label=ppo_label)
+        ax.plot(
+            steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
+            label=f"final evaluation: {fmt.format(values[i_final])} at "
+            f"{_steps_label(steps[i_final])} steps",
+        )  # fmt: skip
+        ax.plot(
+            steps[i_best], values[i_best], "*", ms=15, color="tab:orange", mec="black",
+            label=f"best model (best_model.zip): {fmt.format(values[i_best])} at "
+            f"{_steps_label(steps[i_best])} steps",
+        )  # fmt: skip
+        for name, color in colors.items():
+            if name in results:
+                r = results[name]
+                ax.axhline(
+                    scale * r[key], color=color, ls="--",
+                    label=f"{name}: {fmt.format(scale * r[key])} ({_seed_range(r)})",
+                )  # fmt: skip
+        if "ppo" in results:
+            r = results["ppo"]
+            ax.plot(
+                steps[i_best], scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
+                label=f"best model re-evaluated: {fmt.format(scale * r[key])} ({_seed_range(r)})",
+            )  # fmt: skip
+    if len(steps) == 1:  # one evaluation: give the x axis some width around it
+        for ax in (ax_success, ax_return):
+            ax.set_xlim(0.0, 2.0 * max(steps[0], 1.0))
+    ax_success.set(xlabel="timesteps", ylabel="success (%)", ylim=(-3, 103))
+    ax_success.set_title(f"{env_id}: evaluation success rate")
+    ax_return.set(xlabel="timesteps", ylabel="episode return")
+    ax_return.set_title(f"{env_id}: evaluation return (mean +- std over episodes)")
+    refs = [results[n] for n in (*colors, "ppo") if n in results]
+    ref_text = "no reference evaluation"
+    if refs:
+        ref_text = (
+            f"reference lines: the baseline's own evaluation of each policy over "
+            f"{_seed_range(refs[0])} ({refs[0].get('episodes', '?')} episodes)"
+        )
+    fig.suptitle(
+        f"{env_id} learning curve. Points: SB3's EvalCallback during training, {eval_seeds} "
+        f"once (its episodes run on between evaluations), {n_episodes} episodes per point.\n"
+        "Best model: the evaluation whose model is best_model.zip (SB3 saves one on a new best "
+        f"mean return).\n{ref_text[0].upper()}{ref_text[1:]}.",
+        fontsize=9,
+    )
+    for ax in (ax_success, ax_return):
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), fontsize=8, frameon=False)
+    return fig
+
+
+def plot_learning_curve(run: Path, results: dict[str, dict], env_id: str, out: Path) -> None:
+    """Evaluation success rate and mean return against timesteps (SB3's
+    ``<run>/eval/evaluations.npz``), marking the saved best model (``train.json``'s
+    ``best_model_timesteps``) and the final evaluation, with the reference policies'
+    evaluation results (``results``) as horizontal lines; the legend and title say which
+    seeds each uses. Works for a run of one evaluation too."""
+    import matplotlib.pyplot as plt
+
+    fig = learning_curve_figure(run, results, env_id)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
+def run(args: argparse.Namespace) -> int:
+    from bbgym.config import load_training
+
+    require("stable_baselines3", "train")
+    require("matplotlib", "plots")
+    args.out = args.out or Path("runs") / "baseline" / f"{args.env}-seed{args.seed}"
+    if args.no_train and not (args.out / "train.json").exists():
+        raise UsageError(f"--no-train needs a trained run in {args.out} (its train.json)")
+    config, _ = train.resolve_preset(args.env, args.preset)
+    args.out.mkdir(parents=True, exist_ok=True)
+    _, settings = load_training(config)
+    budget = args.timesteps or settings["total_timesteps"]
+    print(f"[1/4] training PPO on {args.env}: {budget} timesteps, {settings['n_envs']} envs")
+    start = time.perf_counter()
+    if args.no_train:
+        print(f"      (--no-train: using the model already in {args.out})")
+    else:
+        train.train_sb3(
+            args.env, preset=args.preset, timesteps=budget, seed=args.seed, out=args.out,
+            progress=not args.no_progress,
+        )  # fmt: skip
+    train_log = json.loads((args.out / "train.json").read_text())
+    train_wall = train_log["wall_time_s"] if args.no_train else time.perf_counter() - start
+    budget = train_log["timesteps"]
+
+    print(f"[2/4] evaluating random, scripted and PPO over {args.episodes} seeded episodes")
+    model = args.out / "best_model.zip"
+    start = time.perf_counter()
+    results = {
+        name: evaluate.evaluate(args.env, name, args.episodes, 0, model if name == "ppo" else None)
+        for name in POLICIES
+    }
+    if args.env.startswith("BeachballSail"):
+        for result in results.values():
+            result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
+    eval_wall = time.perf_counter() - start
+    table = evaluate.format_table(list(results.values()))
+    print(table)
+    (args.out / "results.md").write_text(table + "\n")
+    (args.out / "results.json").write_text(json.dumps(list(results.values()), indent=2) + "\n")
+
+    print("[3/4] plotting the learning curve")
+    plot_learning_curve(args.out, results, args.env, args.out / "learning_curve.png")
+
+    print("[4/4] recording an episode of the trained policy")
+    animation = args.out / "episode.gif"
+    record.record_to_file(args.env, "ppo", animation, model=model, seed=0, frame_skip=2)
+
+    summary = {
+        "env": args.env,
+        "config": str(config),
+        "seed": args.seed,
+        "timesteps": budget,
+        "n_envs": settings["n_envs"],
+        "train_wall_time_s": train_wall,
+        "train_timesteps_per_s": budget / train_wall,
+        "eval_wall_time_s": eval_wall,
+        "eval_episodes": args.episodes,
+        "eval_seeds": [0, args.episodes - 1],
+        "success_rate": {name: r["success_rate"] for name, r in results.items()},
+    }
+    (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    print(f"run folder {args.out}: " + ", ".join(sorted(p.name for p in args.out.iterdir())))
+    return 0

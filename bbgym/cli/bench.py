@@ -1,0 +1,327 @@
+"""Benchmark the bbgym envs against Gymnasium's CartPole, all measured in one run.
+
+    bbgym bench [--quick] [--backends] [--out runs/bench] [--seconds S] [--repeats R]
+
+Prints a markdown table and writes it (``bench.md``) and the raw numbers (``bench.json``)
+to ``--out``:
+
+* single env steps/s (``gym.make``, actions sampled before the timed loop), beside
+  CartPole-v1, and the ratio;
+* native vector env steps/s (``gym.make_vec(..., vectorization_mode="vector_entry_point")``)
+  at N = 1, 64, 1024, 4096, beside Gymnasium's native vector CartPole at the same N (for
+  the throw envs a step is a whole throw, so these are throws/s);
+* stable-baselines3 PPO training throughput (MlpPolicy, 8 envs, the bbgym envs through
+  :mod:`bbgym.sb3`, CartPole through SB3's DummyVecEnv; same settings for all), if
+  stable-baselines3 is installed;
+* peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
+* the backends of the native vector envs (``--backends``, needs torch): torch float64 and
+  float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
+  (the first step: it compiles every part, the autoreset's too) and the bytes of the env's
+  state, beside CartPole at the same N (best of ``--repeats`` loops each).
+  torch runs with ``--torch-threads`` threads (default 2), pinned for every row, the PPO
+  rows included.
+
+Timed loops are capped at ``--seconds`` each; single-env loops are repeated ``--repeats``
+times (best kept).
+``--quick`` shrinks everything so the test suite can run the script.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+import tracemalloc
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import bbgym  # noqa: F401  (registers the envs)
+from bbgym.cli import positive_float, positive_int, require
+
+BBGYM_ENVS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+THROW_ENVS = ("BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+REFERENCE = "CartPole-v1"
+
+
+def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
+    """Env-steps per second of one env (``gym.make``, with its wrappers)."""
+    env = gym.make(env_id)
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(steps)]
+    env.reset(seed=seed)
+    for action in actions[:20]:  # warm-up
+        if any(env.step(action)[2:4]):
+            env.reset()
+    env.reset(seed=seed)
+    done = 0
+    start = time.perf_counter()
+    for action in actions:
+        _, _, terminated, truncated, _ = env.step(action)
+        done += 1
+        if terminated or truncated:
+            env.reset()
+        if done % 16 == 0 and time.perf_counter() - start > seconds:
+            break
+    elapsed = time.perf_counter() - start
+    env.close()
+    return done / elapsed
+
+
+def time_vector(
+    env_id: str, num_envs: int, steps: int, seconds: float, seed: int, **backend: Any
+) -> float:
+    """Env-steps per second (``num_envs`` per vector step) of a native vector env."""
+    return time_backend(env_id, num_envs, steps, seconds, seed, **backend)["rate"]
+
+
+def time_backend(
+    env_id: str, num_envs: int, steps: int, seconds: float, seed: int, repeats: int = 1,
+    **backend: Any,
+) -> dict[str, float]:  # fmt: skip
+    """Steps/s of a native vector env on a backend (best of ``repeats`` timed loops), its
+    first step's time (on torch: the compile time of every part of the step, the
+    autoreset's included) and the bytes of its state."""
+    env = gym.make_vec(
+        env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", **backend
+    )
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(max(steps, 2))]
+    env.reset(seed=seed)
+    start = time.perf_counter()
+    env.step(actions[0])  # compiles
+    first_step = time.perf_counter() - start
+    env.step(actions[1])
+    rate = 0.0
+    for _ in range(repeats):
+        done = 0
+        start = time.perf_counter()
+        for action in actions:
+            env.step(action)
+            done += 1
+            if time.perf_counter() - start > seconds:
+                break
+        rate = max(rate, done * num_envs / (time.perf_counter() - start))
+    state_bytes = 0
+    state = getattr(env.unwrapped, "state", None)
+    if state is not None:
+        from bbgym.envs.core import tree_map
+
+        leaves: list = []
+        tree_map(leaves.append, state)
+        state_bytes = sum(int(getattr(leaf, "nbytes", 0)) for leaf in leaves)
+    env.close()
+    return {"rate": rate, "warmup_s": first_step, "state_mb": state_bytes / 2**20}
+
+
+def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """The backend rows: CartPole, NumPy and torch (float64, float32) at each N."""
+    rows: list[dict[str, Any]] = []
+    for n in args.backend_envs:
+        steps = max(3, args.steps // n)
+        reference = max(time_vector(REFERENCE, n, steps, args.seconds, args.seed)
+                        for _ in range(args.repeats))  # fmt: skip
+        rows.append({"env": REFERENCE, "kind": f"N={n}", "rate": reference, "ratio": 1.0})
+        for env_id in args.envs:
+            kinds = [("numpy float64", {})] if n > max(args.num_envs) else []
+            kinds += [(f"torch {d}", {"backend": "torch", "dtype": d, "compile": args.compile})
+                      for d in ("float64", "float32")]  # fmt: skip
+            for kind, backend in kinds:
+                r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats,
+                                 **backend)  # fmt: skip
+                rows.append({"env": env_id, "kind": f"N={n} {kind}", **r,
+                             "ratio": r["rate"] / reference})  # fmt: skip
+                print(f"{env_id} N={n} {kind}: {r['rate']:,.0f}/s, "
+                      f"warm-up {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
+    return rows
+
+
+def vector_memory_mb(env_id: str, num_envs: int, steps: int, seed: int) -> float:
+    """Peak memory allocated (tracemalloc: Python objects and NumPy arrays) by making,
+    resetting and stepping a native vector env."""
+    tracemalloc.start()
+    env = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+    env.action_space.seed(seed)
+    env.reset(seed=seed)
+    for _ in range(steps):
+        env.step(env.action_space.sample())
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    env.close()
+    return peak / 2**20
+
+
+def ppo_throughput(env_id: str, timesteps: int, n_steps: int, seed: int) -> float | None:
+    """Timesteps per second of ``PPO("MlpPolicy", ...).learn`` with 8 envs (None without
+    stable-baselines3)."""
+    try:
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.env_util import make_vec_env
+    except ImportError:
+        return None
+    if env_id == REFERENCE:
+        env = make_vec_env(env_id, n_envs=8, seed=seed)
+    else:
+        from bbgym.sb3 import make_sb3_vec_env
+
+        env = make_sb3_vec_env(env_id, n_envs=8, seed=seed)
+    model = PPO("MlpPolicy", env, n_steps=n_steps, seed=seed, device="cpu", verbose=0)
+    start = time.perf_counter()
+    model.learn(total_timesteps=timesteps)
+    elapsed = time.perf_counter() - start
+    env.close()
+    return model.num_timesteps / elapsed
+
+
+def machine_info() -> dict[str, Any]:
+    return {
+        "platform": platform.platform(),
+        "processor": platform.processor() or platform.machine(),
+        "python": platform.python_version(),
+        "cpu_count": os.cpu_count(),
+        "numpy": np.__version__,
+        "gymnasium": gym.__version__,
+        **torch_info(),
+    }
+
+
+def torch_info() -> dict[str, Any]:
+    try:
+        import torch
+    except ImportError:
+        return {}
+    return {"torch": torch.__version__, "torch_threads": torch.get_num_threads()}
+
+
+def measure(args: argparse.Namespace) -> dict[str, Any]:
+    best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
+    rows: list[dict[str, Any]] = []
+
+    reference = best(time_single, REFERENCE, args.steps, args.seconds, args.seed)
+    rows.append({"env": REFERENCE, "kind": "single", "rate": reference, "ratio": 1.0})
+    for env_id in args.envs:
+        rate = best(time_single, env_id, args.steps, args.seconds, args.seed)
+        rows.append({"env": env_id, "kind": "single", "rate": rate, "ratio": rate / reference})
+
+    for n in args.num_envs:
+        vector_steps = max(2, args.steps // n)
+        # Vector loops run once: a throw env's step at N=4096 takes seconds.
+        reference = time_vector(REFERENCE, n, vector_steps, args.seconds, args.seed)
+        rows.append({"env": REFERENCE, "kind": f"vector N={n}", "rate": reference, "ratio": 1.0})
+        for env_id in args.envs:
+            rate = time_vector(env_id, n, vector_steps, args.seconds, args.seed)
+            row = {"env": env_id, "kind": f"vector N={n}", "rate": rate}
+            rows.append({**row, "ratio": rate / reference})
+
+    ppo_reference = ppo_throughput(REFERENCE, args.ppo_timesteps, args.ppo_n_steps, args.seed)
+    if ppo_reference is not None:
+        rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": ppo_reference, "ratio": 1.0})
+        for env_id in args.envs:
+            rate = ppo_throughput(env_id, args.ppo_timesteps, args.ppo_n_steps, args.seed)
+            rows.append({"env": env_id, "kind": "PPO 8 envs", "rate": rate,
+                         "ratio": rate / ppo_reference})  # fmt: skip
+
+    memory = {
+        env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
+    }
+    backend = backend_rows(args) if args.backends else []
+    return {"rows": rows, "backend_rows": backend, "memory_mb": memory,
+            "machine": machine_info()}  # fmt: skip
+
+
+def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
+    lines = [
+        "| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
+        "|---|---|---:|---:|",
+    ]
+    for r in result["rows"]:
+        unit = " throws/s" if r["env"] in THROW_ENVS and r["kind"] != "PPO 8 envs" else ""
+        lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {r['ratio']:.4f} |")
+    if result.get("backend_rows"):
+        lines += [
+            "",
+            "| env | N, backend | steps/s | ratio to CartPole-v1 (same N) | first step "
+            "(compile) | state |",
+            "|---|---|---:|---:|---:|---:|",
+        ]
+        for r in result["backend_rows"]:
+            unit = " throws/s" if r["env"] in THROW_ENVS else ""
+            extra = (f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r
+                     else " | ")  # fmt: skip
+            lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
+                         f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
+    lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |", "|---|---:|"]
+    lines += [f"| {env_id} | {mb:.1f} MB |" for env_id, mb in result["memory_mb"].items()]
+    m = result["machine"]
+    lines += [
+        "",
+        f"machine: {m['platform']}, {m['cpu_count']} CPUs, python {m['python']}, "
+        f"numpy {m['numpy']}, gymnasium {m['gymnasium']}, torch {m.get('torch', '-')} "
+        f"({m.get('torch_threads', '-')} threads)",
+        f"settings: {args.steps} steps per loop, loops capped at {args.seconds} s, best of "
+        f"{args.repeats}; PPO: MlpPolicy, 8 envs, n_steps {args.ppo_n_steps}, "
+        f"{args.ppo_timesteps} timesteps",
+    ]
+    return "\n".join(lines)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--quick", action="store_true", help="tiny sizes (the test suite)")
+    parser.add_argument("--out", type=Path, default=Path("runs/bench"), help="output folder")
+    parser.add_argument("--steps", type=positive_int, default=20000,
+                        help="env-steps per timed loop")  # fmt: skip
+    parser.add_argument("--seconds", type=positive_float, default=2.0,
+                        help="cap of each timed loop")  # fmt: skip
+    parser.add_argument("--repeats", type=positive_int, default=2,
+                        help="repeats, the best is kept")  # fmt: skip
+    parser.add_argument("--seed", type=int, default=0, help="seed of the envs and actions")
+    parser.add_argument("--backends", action="store_true", help="add the torch backend rows")
+    parser.add_argument("--torch-threads", type=positive_int, default=2,
+                        help="torch's thread count")  # fmt: skip
+    parser.add_argument("--envs", nargs="+", default=list(BBGYM_ENVS), choices=BBGYM_ENVS,
+                        help="the envs to time")  # fmt: skip
+    parser.add_argument("--no-compile", dest="compile", action="store_false",
+                        help="torch rows eager (no torch.compile)")  # fmt: skip
+
+
+def _sizes(args: argparse.Namespace) -> None:
+    """The batch sizes and budgets of the timed loops (tiny with ``--quick``)."""
+    args.envs = tuple(args.envs)
+    args.num_envs = (1, 64, 1024, 4096)
+    args.backend_envs = (1024, 4096, 65536)
+    args.memory_envs = 4096
+    args.ppo_timesteps, args.ppo_n_steps = 2048, 256
+    if args.quick:
+        args.steps, args.seconds, args.repeats = 40, 0.2, 1
+        args.num_envs = (1, 8)
+        args.memory_envs = 64
+        args.ppo_timesteps, args.ppo_n_steps = 64, 8
+        args.backend_envs = (8,)
+        args.compile = False
+
+
+def run(args: argparse.Namespace) -> int:
+    _sizes(args)
+    if args.backends:
+        require("torch", "torch")
+        require("array_api_compat", "torch")
+    try:
+        import torch
+
+        torch.set_num_threads(args.torch_threads)  # pinned: every torch row, PPO included
+    except ImportError:
+        pass
+    start = time.perf_counter()
+    result = measure(args)
+    table = format_table(result, args)
+    print(table)
+    print(f"total {time.perf_counter() - start:.0f} s")
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "bench.md").write_text(table + "\n")
+    (args.out / "bench.json").write_text(json.dumps(result, indent=2) + "\n")
+    print(f"wrote {args.out / 'bench.md'} and {args.out / 'bench.json'}")
+    return 0

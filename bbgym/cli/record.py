@@ -1,0 +1,360 @@
+"""An animation (GIF or MP4) of an episode of any policy.
+
+    bbgym record --env BeachballSail-v0 --policy scripted [--model path.zip]
+        [--seed 0] [--out runs/record/<env>-<policy>-seed<seed>.gif] [--fps 20]
+        [--frame-skip 1] [--max-steps M] [--hold 1.0]
+
+Policies: those of ``bbgym evaluate`` (``random``, ``scripted``,
+``ppo`` with ``--model``, ...). The format follows the extension of ``--out``: ``.gif``
+(Pillow) or ``.mp4`` (H.264 through the ``imageio-ffmpeg`` package, in the ``plots``
+extra).
+
+Sailing: one frame per step (0.25 s, so the default 20 fps plays 5x real time). Ball envs
+(Throw, Curve, Topple), where a step is a whole throw: the flight of every throw, one frame
+per 0.05 s (real time at 20 fps, from the env's ``render_flight()``), then where it landed.
+``--frame-skip K`` keeps every K-th frame, but always the end of every throw and of the
+episode, which are shown for ``--hold`` seconds. ``--max-steps`` cuts a long episode short.
+Each frame has a caption along its bottom: the env id and policy, the step and the return so
+far (during a throw's flight the return before it, so the caption does not give the result
+away), and on the last frame the final return and the outcome ("success: reached the mark",
+"capsized", "timed out", "missed", "success: wall down", "failed: out of throws", ...).
+Runs headless (SDL's dummy video driver). Prints a one-line summary.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+import argparse
+import importlib.util
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import bbgym  # noqa: F401  (registers the envs)
+from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
+from bbgym.cli.evaluate import POLICIES, make_policy
+
+FORMATS = (".gif", ".mp4")
+DEFAULT_FPS = 20.0
+
+FrameSink = Callable[[np.ndarray, int], None]
+"""``sink(frame, periods)``: show the ``(H, W, 3)`` uint8 ``frame`` for ``periods`` frames."""
+
+SUCCESS_COLOR = (110, 230, 120)
+FAILURE_COLOR = (255, 120, 104)
+NEUTRAL_COLOR = (245, 245, 245)
+
+
+def episode_outcome(
+    info: dict[str, Any], terminated: bool, truncated: bool
+) -> tuple[str, bool | None]:
+    """How an episode ended, from its last ``info``: (text, success; None when it was cut
+    short, neither terminated nor truncated)."""
+    state = info.get("wall_state")
+    if bool(info.get("is_success", False)):
+        if state is not None:
+            return ("success: wall down" + (" (broke loose)" if state == "loose" else ""), True)
+        if "capsized" in info:
+            return "success: reached the mark", True
+        return "success: hit", True
+    if terminated:
+        if bool(info.get("capsized", False)):
+            return "capsized", False
+        if state == "fallen_toward":
+            return "failed: wall fell toward you", False
+        if state is not None:
+            return "failed: out of throws, wall standing", False
+        if "throws_left" in info:
+            return "missed", False
+        return "failed", False
+    if truncated:
+        return "timed out", False
+    return "cut short (--max-steps)", None
+
+
+def policy_label(policy: Any) -> str:
+    """A policy's name for a caption: its ``name`` attribute, else its class's name."""
+    name = getattr(policy, "name", None)
+    if isinstance(name, str) and name:
+        return name
+    if callable(policy) and getattr(policy, "__name__", "") not in ("", "<lambda>"):
+        return str(policy.__name__)
+    kind = type(policy).__name__
+    return "policy" if kind == "function" else kind
+
+
+class FrameList:
+    """A frame sink that keeps the frames in memory (``frames``, with the ``periods`` each
+    is shown for): for a notebook, or a test."""
+
+    def __init__(self) -> None:
+        self.frames: list[np.ndarray] = []
+        self.periods: list[int] = []
+
+    def __call__(self, frame: np.ndarray, periods: int = 1) -> None:
+        self.frames.append(frame)
+        self.periods.append(periods)
+
+
+class GifWriter:
+    """Collects frames (as palette images, a quarter of the memory) and writes a looping GIF.
+
+    Pillow merges identical consecutive frames into one (adding up their durations), so
+    the file may hold fewer frames than were added; the timing is kept.
+    """
+
+    def __init__(self, path: Path, fps: float) -> None:
+        from PIL import Image
+
+        self._image = Image
+        self.path, self.fps = path, fps
+        self.images: list[Any] = []
+        self.durations: list[int] = []
+
+    def __call__(self, frame: np.ndarray, periods: int = 1) -> None:
+        image = self._image.fromarray(np.asarray(frame, dtype=np.uint8))
+        self.images.append(image.convert("P", palette=self._image.Palette.ADAPTIVE))
+        self.durations.append(int(round(periods * 1000.0 / self.fps)))
+
+    def close(self) -> None:
+        if not self.images:
+            raise ValueError("no frames to write")
+        self.images[0].save(
+            self.path,
+            save_all=True,
+            append_images=self.images[1:],
+            duration=self.durations if len(self.durations) > 1 else self.durations[0],
+            loop=0,
+            optimize=False,
+        )
+
+
+class Mp4Writer:
+    """Streams frames to an H.264 MP4 through imageio-ffmpeg (a held frame is repeated)."""
+
+    def __init__(self, path: Path, fps: float) -> None:
+        import imageio_ffmpeg
+
+        self._write_frames = imageio_ffmpeg.write_frames
+        self.path, self.fps = path, fps
+        self._gen: Any = None
+
+    def __call__(self, frame: np.ndarray, periods: int = 1) -> None:
+        frame = np.ascontiguousarray(frame, dtype=np.uint8)
+        if self._gen is None:
+            height, width = frame.shape[:2]
+            self._gen = self._write_frames(
+                str(self.path), (width, height), fps=self.fps, quality=7,
+                ffmpeg_log_level="error",
+            )  # fmt: skip
+            self._gen.send(None)
+        for _ in range(max(1, periods)):
+            self._gen.send(frame)
+
+    def close(self) -> None:
+        if self._gen is None:
+            raise ValueError("no frames to write")
+        self._gen.close()
+        self._gen = None
+
+
+def check_format(path: Path) -> str:
+    """The animation format for ``path`` (``.gif`` or ``.mp4``), or ``ValueError`` saying why
+    it cannot be written."""
+    suffix = path.suffix.lower()
+    if suffix not in FORMATS:
+        raise ValueError(
+            f"cannot tell the animation format from {str(path)!r}: the file name must end "
+            f"in {' or '.join(FORMATS)}"
+        )
+    if suffix == ".mp4" and importlib.util.find_spec("imageio_ffmpeg") is None:
+        raise ValueError(
+            "writing .mp4 needs the imageio-ffmpeg package: pip install imageio-ffmpeg "
+            '(or pip install -e ".[plots]"), or write a .gif'
+        )
+    return suffix
+
+
+def open_writer(path: Path, fps: float) -> GifWriter | Mp4Writer:
+    """A frame sink writing ``path`` in the format its extension names."""
+    return Mp4Writer(path, fps) if check_format(path) == ".mp4" else GifWriter(path, fps)
+
+
+def record_episode(
+    env: gym.Env,
+    policy: Any,
+    seed: int,
+    sink: FrameSink,
+    frame_skip: int = 1,
+    max_steps: int | None = None,
+    hold_periods: int = 1,
+    *,
+    title: bool = True,
+    policy_name: str | None = None,
+) -> dict[str, Any]:
+    """Run one episode of ``policy`` on ``env`` (``render_mode="rgb_array"``) from
+    ``reset(seed=seed)`` and feed its frames to ``sink``; return its statistics (with the
+    ``outcome`` of :func:`episode_outcome`).
+
+    Frames: the start, then per step the in-flight frames of a ball env
+    (``env.unwrapped.render_flight()``) and ``env.render()``. Every ``frame_skip``-th frame
+    is kept, and always the end of each throw and of the episode, shown ``hold_periods``
+    frames long. With ``title`` each frame gets a caption over its bottom strip (the frame
+    keeps its size): env id and ``policy_name`` (default :func:`policy_label`), the step
+    and the return so far (in a flight, the return before that throw), and on the last
+    frame the final return and the outcome.
+    """
+    flights = hasattr(env.unwrapped, "render_flight")
+    env_name = env.spec.id if env.spec is not None else type(env.unwrapped).__name__
+    left = f"{env_name} \N{MIDDLE DOT} {policy_name or policy_label(policy)}"
+    obs, info = env.reset(seed=seed)
+    if hasattr(policy, "reset"):
+        policy.reset()
+    index, kept = 0, 0
+    # (frame, its caption's right side, kept?, periods): each frame is sent on later.
+    last: tuple[np.ndarray, str, bool, int] | None = None
+
+    captioner: Any = None
+
+    def captioned(frame: np.ndarray, right: str, color: tuple[int, int, int]) -> np.ndarray:
+        nonlocal captioner
+        if not title:
+            return frame
+        if captioner is None:
+            from bbgym.render.base import Captioner
+
+            captioner = Captioner()
+        return captioner(frame, left, right, right_color=color)
+
+    def emit(frame: np.ndarray, right: str, key: bool) -> None:
+        # Each frame waits for the next: the last one of the episode is always kept.
+        nonlocal index, kept, last
+        if last is not None and last[2]:
+            sink(captioned(last[0], last[1], NEUTRAL_COLOR), last[3])
+            kept += 1
+        last = (frame, right, key or index % frame_skip == 0, hold_periods if key else 1)
+        index += 1
+
+    def progress(step: int, so_far: float) -> str:
+        return f"step {step} \N{MIDDLE DOT} return {so_far:+.2f}"
+
+    emit(env.render(), progress(0, 0.0), key=False)
+    total, steps, terminated, truncated = 0.0, 0, False, False
+    while not (terminated or truncated):
+        if max_steps is not None and steps >= max_steps:
+            break
+        before = total
+        obs, reward, terminated, truncated, info = env.step(policy(obs))
+        total += float(reward)
+        steps += 1
+        if flights:
+            for frame in env.unwrapped.render_flight():
+                emit(frame, progress(steps, before), key=False)
+        emit(env.render(), progress(steps, total), key=flights)
+    assert last is not None
+    outcome, success = episode_outcome(info, terminated, truncated)
+    color = {True: SUCCESS_COLOR, False: FAILURE_COLOR}.get(success, NEUTRAL_COLOR)
+    final = f"final return {total:+.2f} \N{MIDDLE DOT} {outcome}"
+    sink(captioned(last[0], final, color), hold_periods)  # the last frame: kept and held
+    kept += 1
+    return {
+        "steps": steps,
+        "frames": kept,
+        "return": total,
+        "success": bool(info.get("is_success", False)),
+        "terminated": bool(terminated),
+        "truncated": bool(truncated),
+        "capped": not (terminated or truncated),
+        "outcome": outcome,
+    }
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
+    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--policy", required=True, choices=POLICIES, help="the policy to record")
+    parser.add_argument("--model", type=Path, default=None, help="saved PPO model (.zip)")
+    parser.add_argument("--seed", type=int, default=0, help="episode seed")
+    parser.add_argument(
+        "--out", type=Path, default=None,
+        help="output file, .gif or .mp4 (default runs/record/<env>-<policy>-seed<seed>.gif)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--fps", type=positive_float, default=DEFAULT_FPS,
+        help="playback rate (20: real time for the ball envs, 5x for sailing)",
+    )  # fmt: skip
+    parser.add_argument("--frame-skip", type=positive_int, default=1, help="keep every K-th frame")
+    parser.add_argument("--max-steps", type=positive_int, default=None,
+                        help="cut the episode short")  # fmt: skip
+    parser.add_argument(
+        "--hold", type=float, default=1.0,
+        help="seconds the end of each throw and of the episode is shown",
+    )  # fmt: skip
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.hold < 0:
+        raise UsageError("--hold must be >= 0")
+    if args.policy == "ppo" and args.model is None:
+        raise UsageError("--policy ppo needs --model (a saved stable-baselines3 model .zip)")
+    if args.out is None:
+        args.out = Path("runs/record") / f"{args.env}-{args.policy}-seed{args.seed}.gif"
+    try:
+        check_format(args.out)
+    except ValueError as err:
+        raise UsageError(str(err)) from None
+    stats = record_to_file(
+        args.env, args.policy, args.out, model=args.model, seed=args.seed, fps=args.fps,
+        frame_skip=args.frame_skip, max_steps=args.max_steps, hold=args.hold,
+    )  # fmt: skip
+    capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
+    print(
+        f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
+        f"{stats['frames']} frames at {args.fps:g} fps, return {stats['return']:.2f}, "
+        f"success {stats['success']} ({stats['outcome']}) -> {args.out}"
+    )
+    return 0
+
+
+def record_to_file(
+    env_id: str,
+    policy_name: str,
+    out: Path,
+    *,
+    model: Path | None = None,
+    seed: int = 0,
+    fps: float = DEFAULT_FPS,
+    frame_skip: int = 1,
+    max_steps: int | None = None,
+    hold: float = 1.0,
+    title: bool = True,
+) -> dict[str, Any]:
+    """Record one episode of ``policy_name`` on ``env_id`` into ``out`` (.gif or .mp4),
+    captioned unless ``title`` is False; return the episode's statistics (see
+    :func:`record_episode`)."""
+    check_format(out)
+    require("pygame", "render")
+    require("PIL", "plots")
+    env = gym.make(env_id, render_mode="rgb_array")
+    try:
+        try:
+            policy = make_policy(policy_name, env, model, seed)
+        except ValueError as err:
+            raise UsageError(str(err)) from None
+        out.parent.mkdir(parents=True, exist_ok=True)
+        writer = open_writer(out, fps)
+        stats = record_episode(
+            env, policy, seed, writer, frame_skip=frame_skip, max_steps=max_steps,
+            hold_periods=max(1, round(hold * fps)), title=title, policy_name=policy_name,
+        )  # fmt: skip
+        writer.close()
+    finally:
+        env.close()
+    return stats

@@ -1,0 +1,244 @@
+"""Train PPO on a bbgym env from its preset.
+
+    bbgym train --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N] [--seed 0]
+        [--out runs/ppo/BeachballSail-v0-seed0] [--resume]
+    bbgym train --env BeachballSail-v0 --engine rllib [--num-env-runners 2] [--iterations 10]
+        [--address auto]
+
+The preset (the env's shipped one, or ``--preset`` naming another by env id, name or file)
+gives the env's arguments (``env``), PPO's keyword arguments (``ppo``) and the run
+settings (``train``: number of envs, budget, evaluation and checkpoint periods).
+
+Engine ``sb3`` (default, the ``train`` extra): stable-baselines3 on the env's native vector
+env through :mod:`bbgym.sb3`, with a progress bar, TensorBoard logs in ``<out>/tb``, a
+periodic evaluation on separate seeds (10000 + seed; success rate and return in
+``<out>/eval``, the best model as ``<out>/best_model.zip``; the end of training is always
+evaluated, so a short budget still has a best model) and checkpoints in
+``<out>/checkpoints``. The final model is ``<out>/model.zip``; ``--resume`` continues from
+it. A summary goes to ``<out>/train.json``.
+
+Engine ``rllib`` (the ``rllib`` extra): Ray RLlib's PPO on its new API stack, each env
+runner stepping the env's native vector env; ``--iterations`` training iterations, a
+checkpoint in ``<out>/checkpoint`` and a summary in ``<out>/rllib.json``. Without
+``--address`` a local Ray starts for the run; ``--address auto`` joins the cluster of
+``ray start --head`` (see the README).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import time
+from pathlib import Path
+from typing import Any
+
+from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require
+
+EVAL_SEED_OFFSET = 10_000
+"""Evaluation episodes use seeds far from the training ones."""
+
+ENGINES = ("sb3", "rllib")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument(
+        "--preset", default=None,
+        help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
+    )  # fmt: skip
+    parser.add_argument("--timesteps", type=positive_int, default=None,
+                        help="sb3: the budget (default: the preset's total_timesteps)")  # fmt: skip
+    parser.add_argument("--seed", type=int, default=0, help="training seed")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="run folder (default runs/<engine>/<env>-seed<seed>)")  # fmt: skip
+    parser.add_argument("--resume", action="store_true", help="sb3: continue from <out>/model.zip")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--engine", choices=ENGINES, default="sb3", help="training library")
+    parser.add_argument("--iterations", type=positive_int, default=10,
+                        help="rllib: training iterations")  # fmt: skip
+    parser.add_argument("--num-env-runners", type=nonnegative_int, default=2,
+                        help="rllib: env runner processes (0: sample in the driver)")  # fmt: skip
+    parser.add_argument("--num-envs-per-env-runner", type=positive_int, default=None,
+                        help="rllib: vector env size per runner (default: n_envs)")  # fmt: skip
+    parser.add_argument("--address", default=None,
+                        help="rllib: a Ray cluster to join ('auto' or host:port)")  # fmt: skip
+    parser.add_argument("--num-cpus", type=positive_int, default=None,
+                        help="rllib: CPUs of the local Ray started without --address")  # fmt: skip
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.engine == "rllib":
+        return _run_rllib(args)
+    if args.out is None:
+        args.out = Path("runs") / "ppo" / f"{args.env}-seed{args.seed}"
+    summary = train_sb3(
+        args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=args.out,
+        resume=args.resume, progress=not args.no_progress,
+    )  # fmt: skip
+    print(json.dumps(summary, indent=2))
+    return 0
+
+
+def resolve_preset(env: str, preset: str | Path | None) -> tuple[Path, dict[str, Any]]:
+    """:func:`bbgym.config.env_preset`, its errors as usage errors of ``--preset``."""
+    from bbgym.config import env_preset
+
+    try:
+        return env_preset(env, preset)
+    except ValueError as err:
+        raise UsageError(f"--preset: {err}") from None
+
+
+def train_sb3(
+    env: str,
+    *,
+    preset: str | Path | None = None,
+    timesteps: int | None = None,
+    seed: int = 0,
+    out: Path,
+    resume: bool = False,
+    progress: bool = True,
+) -> dict[str, Any]:
+    """Train stable-baselines3 PPO on ``env`` from its preset into the run folder ``out``;
+    return the summary also written to ``<out>/train.json``."""
+    require("stable_baselines3", "train")
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from bbgym.config import load_training
+    from bbgym.sb3 import make_sb3_vec_env
+
+    path, env_kwargs = resolve_preset(env, preset)
+    ppo_kwargs, settings = load_training(path)
+    budget = timesteps or settings["total_timesteps"]
+    n_envs = settings["n_envs"]
+    if progress:
+        progress = _progress_bar_available()
+
+    out.mkdir(parents=True, exist_ok=True)
+    shutil.copy(path, out / "config.yaml")
+    vec_env = VecMonitor(make_sb3_vec_env(env, n_envs=n_envs, seed=seed, **env_kwargs))
+    # Several envs evaluate at once: a native vector env of one is NumPy on one element.
+    n_eval = min(n_envs, settings["eval_episodes"])
+    eval_env = VecMonitor(
+        make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
+    )
+    evaluation = _final_eval_callback()(
+        eval_env,
+        n_eval_episodes=settings["eval_episodes"],
+        eval_freq=max(1, settings["eval_every_timesteps"] // n_envs),
+        best_model_save_path=str(out),
+        log_path=str(out / "eval"),
+        deterministic=True,
+    )
+    callbacks = [
+        evaluation,
+        CheckpointCallback(
+            save_freq=max(1, settings["checkpoint_every_timesteps"] // n_envs),
+            save_path=str(out / "checkpoints"),
+            name_prefix="ppo",
+        ),
+    ]
+    model_path = out / "model.zip"
+    if resume and model_path.exists():
+        model = PPO.load(model_path, env=vec_env, device="cpu", tensorboard_log=str(out / "tb"))
+        print(f"resuming from {model_path} at {model.num_timesteps} timesteps")
+    else:
+        policy = ppo_kwargs.pop("policy")
+        model = PPO(
+            policy, vec_env, seed=seed, device="cpu", tensorboard_log=str(out / "tb"),
+            verbose=0, **ppo_kwargs,
+        )  # fmt: skip
+    start = time.perf_counter()
+    model.learn(
+        total_timesteps=budget,
+        callback=callbacks,
+        progress_bar=progress,
+        reset_num_timesteps=not resume,
+    )
+    wall = time.perf_counter() - start
+    model.save(model_path)
+    summary = {
+        "env": env,
+        "engine": "sb3",
+        "seed": seed,
+        "timesteps": int(model.num_timesteps),
+        "wall_time_s": wall,
+        "timesteps_per_s": budget / wall,
+        "config": str(path),
+        "model": str(model_path),
+        "best_model": str(out / "best_model.zip"),
+        "best_model_timesteps": evaluation.best_timesteps,
+        "best_mean_return": float(evaluation.best_mean_reward),
+    }
+    (out / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
+    vec_env.close()
+    eval_env.close()
+    return summary
+
+
+def _progress_bar_available() -> bool:
+    """SB3's progress bar needs tqdm and rich (the ``train`` extra has them)."""
+    import importlib.util
+
+    return all(importlib.util.find_spec(m) is not None for m in ("tqdm", "rich"))
+
+
+def _final_eval_callback() -> type:
+    """SB3's ``EvalCallback`` that also evaluates at the end of training (unless the last
+    periodic evaluation was at that very timestep) and remembers when its best model was
+    saved. Without it a budget shorter than the evaluation period saves no best model."""
+    from stable_baselines3.common.callbacks import EvalCallback
+
+    class FinalEvalCallback(EvalCallback):
+        best_timesteps: int | None = None
+
+        def _on_step(self) -> bool:
+            best = self.best_mean_reward
+            keep_going = super()._on_step()
+            if self.best_mean_reward > best:
+                self.best_timesteps = int(self.num_timesteps)
+            return keep_going
+
+        def _on_training_end(self) -> None:
+            if self.evaluations_timesteps and self.evaluations_timesteps[-1] == self.num_timesteps:
+                return
+            period, self.eval_freq = self.eval_freq, 1  # n_calls % 1 == 0: evaluate now
+            try:
+                self._on_step()
+            finally:
+                self.eval_freq = period
+
+    return FinalEvalCallback
+
+
+def _run_rllib(args: argparse.Namespace) -> int:
+    require("ray", "rllib")
+    from bbgym import rllib
+
+    if args.resume:
+        raise UsageError("--resume is for --engine sb3")
+    out = args.out or Path("runs") / "rllib" / f"{args.env}-seed{args.seed}"
+    path, env_kwargs = resolve_preset(args.env, args.preset)
+    summary = rllib.train(
+        args.env,
+        iterations=args.iterations,
+        num_env_runners=args.num_env_runners,
+        num_envs_per_env_runner=args.num_envs_per_env_runner,
+        seed=args.seed,
+        out=out,
+        address=args.address,
+        num_cpus=args.num_cpus,
+        env_kwargs=env_kwargs,
+        preset=path,
+        callback=_print_iteration,
+    )
+    print(json.dumps({k: v for k, v in summary.items() if k != "history"}, indent=2, default=str))
+    return 0
+
+
+def _print_iteration(row: dict[str, Any]) -> None:
+    """One line per RLlib training iteration."""
+    print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))

@@ -1,0 +1,104 @@
+"""The ``bbgym`` command: its parser, its errors, presets by id, and a budget shorter than
+the evaluation period (which once crashed with "best_model.zip.zip not found")."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from bbgym import cli
+from bbgym.config import CONFIG_DIR, PRESET_FILES, env_preset, load_preset, preset_path
+
+
+def test_python_m_bbgym_lists_every_command():
+    done = subprocess.run([sys.executable, "-m", "bbgym", "--help"], capture_output=True,
+                          text=True, timeout=120)  # fmt: skip
+    assert done.returncode == 0
+    for command in cli.COMMANDS:
+        assert command in done.stdout
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["evaluate", "--env", "NoSuchEnv-v0"], "unknown env id 'NoSuchEnv-v0'"),
+        (["evaluate", "--env", "BeachballSail-v0", "--policies", "ppo,bogus"],
+         "unknown policies ['bogus']"),
+        (["evaluate", "--env", "BeachballSail-v0", "--episodes", "0"], "--episodes: must be >= 1"),
+        (["evaluate", "--env", "BeachballSail-v0", "--policies", "ppo"], "needs --model"),
+        (["train", "--env", "BeachballSail-v0", "--preset", "no_such_preset"],
+         "preset 'no_such_preset' is neither"),
+        (["train", "--env", "BeachballSail-v0", "--preset", "BeachballTopple-v0"],
+         "is a preset of BeachballTopple-v0, not BeachballSail-v0"),
+        (["train", "--env", "BeachballSail-v0", "--engine", "tf"], "invalid choice: 'tf'"),
+        (["polar", "--wind-speed", "-1"], "--wind-speed: must be finite and > 0"),
+        (["polar", "--step-deg", "120"], "--step-deg must be in (0, 90]"),
+        (["record", "--env", "BeachballSail-v0", "--policy", "random", "--fps", "nan"],
+         "--fps: must be finite and > 0"),
+        (["fuzz", "--num-envs", "2.5"], "--num-envs: expected an integer, got '2.5'"),
+    ],
+)  # fmt: skip
+def test_bad_arguments_say_what_is_wrong(capsys, argv, message):
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(argv)
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_missing_extra_names_it(capsys, monkeypatch):
+    import importlib.util
+
+    find_spec = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec",
+        lambda name, *a: None if name == "stable_baselines3" else find_spec(name, *a),
+    )  # fmt: skip
+    assert cli.main(["train", "--env", "BeachballSail-v0"]) == 3
+    err = capsys.readouterr().err
+    assert "'stable_baselines3'" in err and 'pip install "bbgym[train]"' in err
+
+
+@pytest.mark.parametrize("env_id", sorted(PRESET_FILES))
+def test_presets_load_by_id_name_and_path(env_id):
+    import gymnasium as gym
+
+    by_id = load_preset(env_id)
+    assert by_id[0] == env_id
+    name = PRESET_FILES[env_id].removesuffix(".yaml")
+    assert preset_path(name) == preset_path(env_id) == CONFIG_DIR / PRESET_FILES[env_id]
+    assert load_preset(name) == load_preset(CONFIG_DIR / PRESET_FILES[env_id])
+    # An id's kwargs are that id's: Curve is the throw preset with its registered kwargs.
+    assert {k: by_id[1][k] for k in gym.spec(env_id).kwargs} == gym.spec(env_id).kwargs
+    path, kwargs = env_preset(env_id)
+    assert path == preset_path(env_id) and "max_episode_steps" not in kwargs
+    env = gym.make(env_id, **kwargs)
+    env.reset(seed=0)
+    env.close()
+
+
+def test_a_budget_shorter_than_the_evaluation_period_still_keeps_a_best_model(tmp_path):
+    """The end of training is always evaluated: the best model and the evaluation log
+    exist after 256 steps of a preset that evaluates every 10^6."""
+    pytest.importorskip("stable_baselines3")
+    import yaml
+
+    from bbgym.cli.train import train_sb3
+
+    preset = yaml.safe_load((CONFIG_DIR / "beachball_sail.yaml").read_text())
+    preset["ppo"].update(n_steps=64, batch_size=64, n_epochs=1)
+    preset["train"].update(n_envs=4, eval_every_timesteps=1_000_000, eval_episodes=2,
+                           checkpoint_every_timesteps=1_000_000)  # fmt: skip
+    config = tmp_path / "sail.yaml"
+    config.write_text(yaml.safe_dump(preset))
+    out = tmp_path / "run"
+    summary = train_sb3("BeachballSail-v0", preset=config, timesteps=256, out=out, progress=False)
+    assert summary["timesteps"] == 256 and (out / "best_model.zip").is_file()
+    assert summary["best_model_timesteps"] == 256
+    import numpy as np
+
+    log = np.load(out / "eval" / "evaluations.npz")
+    assert list(log["timesteps"]) == [256] and log["results"].shape == (1, 2)
+    assert json.loads((out / "train.json").read_text())["best_model"].endswith("best_model.zip")
