@@ -5,7 +5,7 @@ Importing the package registers its environment ids with Gymnasium.
 
 from gymnasium.envs.registration import register, registry
 
-__version__ = "0.3.1"
+__version__ = "0.4.0"
 
 SAIL_MAX_EPISODE_STEPS = 1200
 

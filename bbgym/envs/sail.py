@@ -574,7 +574,7 @@ class BeachballSailEnv(CoreEnv):
     * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
       ``tests/test_golden_v0.py``) on a functional core; the vector env takes
       ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
-    * v0, after bbgym 0.3.1 (the same dynamics): `render_mode="rgb_array_list"`.
+    * v0, bbgym 0.4.0 (the same dynamics): `render_mode="rgb_array_list"`.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 4}

@@ -707,7 +707,7 @@ class BeachballToppleEnv(CoreEnv):
     * v0, bbgym 0.3.0: the same dynamics (episodes replay bit for bit,
       ``tests/test_golden_v0.py``) on a functional core; the vector env takes
       ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
-    * v0, after bbgym 0.3.1 (the same dynamics): the samples are fixed-shape, padded, with
+    * v0, bbgym 0.4.0 (the same dynamics): the samples are fixed-shape, padded, with
       `samples_length` and `ball_trajectory_length` (Gymnasium's vector envs stack them);
       `render_mode="rgb_array_list"`.
     """
