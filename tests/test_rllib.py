@@ -175,6 +175,7 @@ def test_the_train_command_on_rllib(tmp_path):
     assert done.returncode == 0, done.stderr[-3000:]
     summary = json.loads((out / "rllib.json").read_text())
     assert summary["iterations"] == 2 and summary["num_env_runners"] == 2
+    assert summary["torch_threads"] == 1 and summary["versions"]["ray"] == summary["ray_version"]
     batch = summary["train_batch_size"]
     assert 2 * batch <= summary["env_steps_sampled"] < 2 * batch + 2 * 8 * 2
     assert (out / "checkpoint").is_dir() and any((out / "checkpoint").iterdir())

@@ -5,23 +5,21 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
 pytest.importorskip("stable_baselines3")
-yaml = pytest.importorskip("yaml")
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_train_save_load_evaluate(tmp_path):
-    preset = yaml.safe_load((ROOT / "configs" / "beachball_sail.yaml").read_text())
-    preset["ppo"].update(n_steps=128, batch_size=128, n_epochs=2)
-    preset["train"].update(n_envs=4, eval_every_timesteps=1024, eval_episodes=2,
-                           checkpoint_every_timesteps=1024)  # fmt: skip
-    config = tmp_path / "sail.yaml"
-    config.write_text(yaml.safe_dump(preset))
+    from small_preset import write_small_preset
+
+    config = write_small_preset(
+        tmp_path / "sail.yaml",
+        ppo={"n_steps": 128, "batch_size": 128, "n_epochs": 2},
+        train={"n_envs": 4, "eval_every_timesteps": 1024, "eval_episodes": 2,
+               "checkpoint_every_timesteps": 1024},
+    )  # fmt: skip
     out = tmp_path / "run"
     train = [sys.executable, "-m", "bbgym", "train", "--env", "BeachballSail-v0",
              "--preset", str(config), "--out", str(out), "--no-progress"]  # fmt: skip

@@ -54,6 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="run folder (default runs/<engine>/<env>-seed<seed>)")  # fmt: skip
     parser.add_argument("--resume", action="store_true", help="sb3: continue from <out>/model.zip")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_threads_argument(parser)
     parser.add_argument("--engine", choices=ENGINES, default="sb3", help="training library")
     parser.add_argument("--iterations", type=positive_int, default=10,
                         help="rllib: training iterations")  # fmt: skip
@@ -67,6 +68,44 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="rllib: CPUs of the local Ray started without --address")  # fmt: skip
 
 
+def add_threads_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--torch-threads", type=positive_int, default=1,
+        help="torch's thread count while training (the result depends on it: pinned)",
+    )  # fmt: skip
+
+
+def pin_torch_threads(threads: int) -> None:
+    """Set torch's intra-op thread count: a model trained with another count differs (its
+    float sums are split differently), so every training entry point pins it."""
+    import torch
+
+    torch.set_num_threads(threads)
+
+
+def run_provenance(seed: int, threads: int) -> dict[str, Any]:
+    """What a training run's result depends on besides its preset: the seed, torch's thread
+    count, the versions of the libraries, the machine and the command line."""
+    import platform
+    import sys
+    from importlib import metadata
+
+    def version(name: str) -> str | None:
+        try:
+            return metadata.version(name)
+        except metadata.PackageNotFoundError:
+            return None
+
+    names = ("bbgym", "torch", "stable-baselines3", "gymnasium", "numpy", "ray")
+    return {
+        "seed": seed,
+        "torch_threads": threads,
+        "versions": {"python": platform.python_version(), **{n: version(n) for n in names}},
+        "machine": {"platform": platform.platform(), "cpus": __import__("os").cpu_count()},
+        "command": [Path(sys.argv[0]).name, *sys.argv[1:]],
+    }
+
+
 def run(args: argparse.Namespace) -> int:
     if args.engine == "rllib":
         return _run_rllib(args)
@@ -74,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
         args.out = Path("runs") / "ppo" / f"{args.env}-seed{args.seed}"
     summary = train_sb3(
         args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=args.out,
-        resume=args.resume, progress=not args.no_progress,
+        resume=args.resume, progress=not args.no_progress, torch_threads=args.torch_threads,
     )  # fmt: skip
     print(json.dumps(summary, indent=2))
     return 0
@@ -99,9 +138,16 @@ def train_sb3(
     out: Path,
     resume: bool = False,
     progress: bool = True,
+    torch_threads: int = 1,
 ) -> dict[str, Any]:
     """Train stable-baselines3 PPO on ``env`` from its preset into the run folder ``out``;
-    return the summary also written to ``<out>/train.json``."""
+    return the summary also written to ``<out>/train.json``.
+
+    Reproducible: torch runs on ``torch_threads`` threads; ``seed`` seeds PPO (Python's,
+    NumPy's and torch's generators and the action space, through SB3's
+    ``set_random_seed``), the training envs (``seed + i``) and the evaluation envs
+    (``seed + 10000 + i``); the same command and seed on the same machine give the same
+    model. ``train.json`` records the seed, threads, versions, machine and command."""
     require("stable_baselines3", "train")
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CheckpointCallback
@@ -113,6 +159,7 @@ def train_sb3(
     path, env_kwargs = resolve_preset(env, preset)
     ppo_kwargs, settings = load_training(path)
     budget = timesteps or settings["total_timesteps"]
+    pin_torch_threads(torch_threads)
     n_envs = settings["n_envs"]
     if progress:
         progress = _progress_bar_available()
@@ -172,6 +219,7 @@ def train_sb3(
         "best_model": str(out / "best_model.zip"),
         "best_model_timesteps": evaluation.best_timesteps,
         "best_mean_return": float(evaluation.best_mean_reward),
+        **run_provenance(seed, torch_threads),
     }
     (out / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
     vec_env.close()
@@ -224,6 +272,7 @@ def _run_rllib(args: argparse.Namespace) -> int:
     path, env_kwargs = resolve_preset(args.env, args.preset)
     summary = rllib.train(
         args.env,
+        learner_threads=args.torch_threads,
         iterations=args.iterations,
         num_env_runners=args.num_env_runners,
         num_envs_per_env_runner=args.num_envs_per_env_runner,
@@ -235,6 +284,9 @@ def _run_rllib(args: argparse.Namespace) -> int:
         preset=path,
         callback=_print_iteration,
     )
+    # What the result depends on, beside the summary bbgym.rllib wrote.
+    summary.update(run_provenance(args.seed, args.torch_threads))
+    (out / rllib.SUMMARY_FILE).write_text(json.dumps(summary, indent=2, default=str) + "\n")
     print(json.dumps({k: v for k, v in summary.items() if k != "history"}, indent=2, default=str))
     return 0
 
