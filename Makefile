@@ -24,7 +24,7 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(STAMP)
-	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v0 --out runs/main
+	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v0 --seeds 1 --out runs/main
 
 demo: $(STAMP)
 	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym demo --out runs/demo

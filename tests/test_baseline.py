@@ -3,47 +3,69 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
 
 pytest.importorskip("stable_baselines3")
 pytest.importorskip("matplotlib")
-yaml = pytest.importorskip("yaml")
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_main_job_writes_the_run_folder(tmp_path):
     from PIL import Image
+    from small_preset import write_small_preset
 
     from bbgym import cli
 
-    preset = yaml.safe_load((ROOT / "configs" / "beachball_sail.yaml").read_text())
-    preset["ppo"].update(n_steps=64, batch_size=256)
-    preset["train"].update(n_envs=8, eval_every_timesteps=1024, eval_episodes=2,
-                           checkpoint_every_timesteps=100_000)  # fmt: skip
-    config = tmp_path / "sail.yaml"
-    config.write_text(yaml.safe_dump(preset))
+    config = write_small_preset(
+        tmp_path / "sail.yaml",
+        ppo={"n_steps": 64, "batch_size": 256},
+        train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
+               "checkpoint_every_timesteps": 100_000},
+    )  # fmt: skip
     out = tmp_path / "run"
     argv = ["--env", "BeachballSail-v0", "--preset", str(config), "--timesteps", "2048",
-            "--episodes", "3", "--out", str(out), "--no-progress"]  # fmt: skip
+            "--episodes", "3", "--seeds", "2", "--jobs", "2", "--out", str(out)]  # fmt: skip
     assert cli.main(["baseline", *argv]) == 0
 
-    for name in ("model.zip", "best_model.zip", "results.md", "results.json",
-                 "learning_curve.png", "episode.gif", "summary.json", "train.json"):  # fmt: skip
+    for name in ("results.md", "results.json", "learning_curve.png", "episode.gif",
+                 "summary.json"):  # fmt: skip
         assert (out / name).stat().st_size > 0, name
+    for seed in (0, 1):
+        for name in ("model.zip", "best_model.zip", "train.json", "learning_curve.png"):
+            assert (out / f"seed{seed}" / name).stat().st_size > 0, (seed, name)
     results = json.loads((out / "results.json").read_text())
-    assert [r["policy"] for r in results] == ["random", "scripted", "ppo"]
+    policies = [r["policy"] for r in results]
+    assert policies == ["random", "scripted", "ppo, 2 seeds", "ppo seed 0", "ppo seed 1"]
     assert all(r["episodes"] == 3 and r["seeds"] == [0, 2] for r in results)
     # The autopilot is the oracle: its own time ratio is exactly 1 where it arrived.
     scripted = results[1]
-    assert scripted["success_rate"] == 1.0
+    assert scripted["success_rate"] == 1.0 and scripted["outcomes"] == {"success": 3}
     assert scripted["time_vs_oracle"] == pytest.approx(1.0)
+    # PPO over seeds: the mean and the worst of the per-seed rates, outcomes summed.
+    ppo, by_seed = results[2], results[3:]
+    rates = [r["success_rate"] for r in by_seed]
+    assert ppo["success_rate"] == pytest.approx(sum(rates) / 2)
+    assert ppo["worst_seed_success_rate"] == min(rates)
+    assert sum(ppo["outcomes"].values()) == 6
+    low, high = ppo["success_ci95"]
+    assert 0.0 <= low <= ppo["success_rate"] <= high <= 1.0
     table = (out / "results.md").read_text()
-    assert table.count("| BeachballSail-v0 |") == 3
+    assert table.count("| BeachballSail-v0 |") == 5 and "worst seed" in table
     summary = json.loads((out / "summary.json").read_text())
     assert summary["timesteps"] == 2048 and summary["train_wall_time_s"] > 0
+    assert summary["training_seeds"] == [0, 1] and summary["torch_threads"] == 1
+    # Trained in two processes at once, a seed's model is the one a lone training gives.
+    import torch
+    from stable_baselines3 import PPO
+
+    from bbgym.cli.train import train_sb3
+
+    alone = tmp_path / "alone"
+    train_sb3("BeachballSail-v0", preset=config, timesteps=2048, seed=1, out=alone,
+              progress=False, torch_threads=1)  # fmt: skip
+    a, b = (PPO.load(f / "model.zip", device="cpu").policy.state_dict()
+            for f in (alone, out / "seed1"))  # fmt: skip
+    assert all(torch.equal(a[k], b[k]) for k in a)
     with Image.open(out / "learning_curve.png") as png:
         assert png.size[0] > 600
     with Image.open(out / "episode.gif") as gif:

@@ -83,16 +83,16 @@ def test_a_budget_shorter_than_the_evaluation_period_still_keeps_a_best_model(tm
     """The end of training is always evaluated: the best model and the evaluation log
     exist after 256 steps of a preset that evaluates every 10^6."""
     pytest.importorskip("stable_baselines3")
-    import yaml
+    from small_preset import write_small_preset
 
     from bbgym.cli.train import train_sb3
 
-    preset = yaml.safe_load((CONFIG_DIR / "beachball_sail.yaml").read_text())
-    preset["ppo"].update(n_steps=64, batch_size=64, n_epochs=1)
-    preset["train"].update(n_envs=4, eval_every_timesteps=1_000_000, eval_episodes=2,
-                           checkpoint_every_timesteps=1_000_000)  # fmt: skip
-    config = tmp_path / "sail.yaml"
-    config.write_text(yaml.safe_dump(preset))
+    config = write_small_preset(
+        tmp_path / "sail.yaml",
+        ppo={"n_steps": 64, "batch_size": 64, "n_epochs": 1},
+        train={"n_envs": 4, "eval_every_timesteps": 1_000_000, "eval_episodes": 2,
+               "checkpoint_every_timesteps": 1_000_000},
+    )  # fmt: skip
     out = tmp_path / "run"
     summary = train_sb3("BeachballSail-v0", preset=config, timesteps=256, out=out, progress=False)
     assert summary["timesteps"] == 256 and (out / "best_model.zip").is_file()
@@ -102,3 +102,41 @@ def test_a_budget_shorter_than_the_evaluation_period_still_keeps_a_best_model(tm
     log = np.load(out / "eval" / "evaluations.npz")
     assert list(log["timesteps"]) == [256] and log["results"].shape == (1, 2)
     assert json.loads((out / "train.json").read_text())["best_model"].endswith("best_model.zip")
+
+
+@pytest.mark.parametrize(
+    ("velocity", "kind"),
+    [
+        ((4.0, 0.0, 4.0), "missed short"),   # a lob that lands a few metres out
+        ((12.0, 0.0, 8.0), "missed long"),   # far past the 6 m target
+        ((4.2, 3.5, 5.0), "missed left"),    # 40 deg to the left of the line
+        ((4.2, -3.5, 5.0), "missed right"),
+    ],
+)  # fmt: skip
+def test_the_failure_breakdown_names_where_a_throw_missed(velocity, kind):
+    """The target straight ahead at 6 m, no wind: the breakdown of an episode of one throw
+    says which way it missed, from the landing point against the line to the target."""
+    import gymnasium as gym
+    import numpy as np
+
+    from bbgym.cli.evaluate import outcome_kind
+
+    env = gym.make("BeachballThrow-v0", throws_per_episode=1)
+    env.reset(seed=0, options={"wind": (0.0, 0.0), "gusts": False, "target": (6.0, 0.0)})
+    speed = env.unwrapped.task.max_speed
+    action = np.array([*(np.array(velocity) / speed), 0.0, 0.0, 0.0], np.float32)
+    _, _, terminated, truncated, info = env.step(action)
+    assert terminated and not info["is_success"]
+    assert outcome_kind(env, info, terminated, truncated) == kind
+    env.close()
+
+
+def test_the_interval_over_seeds():
+    from bbgym.cli.evaluate import mean_interval
+
+    low, high = mean_interval([0.9, 0.92, 0.94, 0.96, 0.98])
+    # mean 0.94, sd 0.0316, t(4) 2.776: half width 0.0393
+    assert low == pytest.approx(0.94 - 0.03925, abs=1e-4)
+    assert high == pytest.approx(0.94 + 0.03925, abs=1e-4)
+    assert mean_interval([0.5]) == (0.0, 1.0)
+    assert mean_interval([1.0, 1.0, 1.0]) == (1.0, 1.0)

@@ -1,21 +1,27 @@
-"""Train PPO on a bbgym env, evaluate it beside random and scripted play, write a run folder.
+"""Train PPO on a bbgym env over several seeds, evaluate it beside random and scripted play,
+write a run folder.
 
     bbgym baseline --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N]
-        [--seed 0] [--episodes 100] [--out runs/baseline/<env>-seed<seed>] [--no-train]
+        [--seed 0] [--seeds 5] [--jobs 1] [--episodes 100] [--torch-threads 1]
+        [--out runs/baseline/<env>] [--no-train]
 
-The main job (``make run``) is this command on BeachballSail-v0 with the default preset.
-Steps, each reported as it goes (PPO shows a progress bar):
+The main job (``make run``) is this command on BeachballSail-v0 with the default preset
+and one training seed. Steps, each reported as it goes:
 
-1. train PPO as ``bbgym train`` does (the preset's ``ppo`` and ``train`` sections);
-   ``--no-train`` skips this and evaluates the model already in the run folder;
-2. evaluate the best model of training (chosen on the evaluation seeds 10000+), a uniform
-   random policy and the env's scripted agent (the VMG autopilot for sailing) over the
-   same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from training's);
-3. write into the run folder: ``model.zip`` / ``best_model.zip``, ``results.md`` and
-   ``results.json`` (success with a 95% interval, return, length, time to mark and time /
-   oracle time), ``learning_curve.png`` (evaluation success and return against
-   timesteps, with random and scripted as reference lines), ``episode.gif`` (one episode
-   of the trained policy) and ``summary.json`` (budget, wall times, steps per second).
+1. train PPO as ``bbgym train`` does (the preset's ``ppo`` and ``train`` sections), once per
+   training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>`` (``--jobs`` trainings
+   at once, each on ``--torch-threads`` threads); ``--no-train`` skips this and evaluates
+   the models already there;
+2. evaluate each seed's best model of training (chosen on the evaluation seeds 10000+), a
+   uniform random policy and the env's scripted agent (the VMG autopilot for sailing) over
+   the same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from
+   training's), with the breakdown of failures;
+3. write into the run folder: ``results.md`` and ``results.json`` (per policy and per
+   training seed: success with a 95% interval, return, length, time to mark, time / oracle
+   time, failures; for PPO over the seeds: the mean, the worst seed and the 95% interval of
+   the mean over seeds), ``learning_curve.png`` (of the first seed; each seed's in its
+   folder), ``episode.gif`` (one episode of the first seed's policy) and ``summary.json``
+   (budget, wall times, steps per second, seeds, threads, versions, command).
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 import argparse
 import json
+import shutil
 import time
 from pathlib import Path
 from typing import Any
@@ -46,11 +53,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument("--timesteps", type=positive_int, default=None,
                         help="training budget (default: the preset's total_timesteps)")  # fmt: skip
-    parser.add_argument("--seed", type=int, default=0, help="training seed")
+    parser.add_argument("--seed", type=int, default=0, help="first training seed")
+    parser.add_argument("--seeds", type=positive_int, default=5, help="training seeds")
+    parser.add_argument("--jobs", type=positive_int, default=1,
+                        help="trainings at once (processes; each on --torch-threads)")  # fmt: skip
     parser.add_argument("--episodes", type=positive_int, default=100, help="evaluation episodes")
     parser.add_argument("--out", type=Path, default=None,
-                        help="run folder (default runs/baseline/<env>-seed<seed>)")  # fmt: skip
+                        help="run folder (default runs/baseline/<env>)")  # fmt: skip
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    train.add_threads_argument(parser)
     parser.add_argument(
         "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
     )
@@ -193,62 +204,113 @@ def run(args: argparse.Namespace) -> int:
 
     require("stable_baselines3", "train")
     require("matplotlib", "plots")
-    args.out = args.out or Path("runs") / "baseline" / f"{args.env}-seed{args.seed}"
-    if args.no_train and not (args.out / "train.json").exists():
-        raise UsageError(f"--no-train needs a trained run in {args.out} (its train.json)")
+    args.out = args.out or Path("runs") / "baseline" / args.env
+    seeds = list(range(args.seed, args.seed + args.seeds))
+    folders = {seed: args.out / f"seed{seed}" for seed in seeds}
+    missing = [str(f) for f in folders.values() if not (f / "train.json").exists()]
+    if args.no_train and missing:
+        raise UsageError(f"--no-train needs trained runs (their train.json) in {missing}")
     config, _ = train.resolve_preset(args.env, args.preset)
+    train.pin_torch_threads(args.torch_threads)  # evaluation too (--no-train)
     args.out.mkdir(parents=True, exist_ok=True)
     _, settings = load_training(config)
     budget = args.timesteps or settings["total_timesteps"]
-    print(f"[1/4] training PPO on {args.env}: {budget} timesteps, {settings['n_envs']} envs")
+    print(f"[1/4] training PPO on {args.env}: seeds {seeds}, {budget} timesteps each, "
+          f"{settings['n_envs']} envs, {args.jobs} at once, {args.torch_threads} torch "
+          "thread(s) each")  # fmt: skip
     start = time.perf_counter()
     if args.no_train:
-        print(f"      (--no-train: using the model already in {args.out})")
+        print(f"      (--no-train: using the models already in {args.out}/seed*)")
     else:
-        train.train_sb3(
-            args.env, preset=args.preset, timesteps=budget, seed=args.seed, out=args.out,
-            progress=not args.no_progress,
-        )  # fmt: skip
-    train_log = json.loads((args.out / "train.json").read_text())
-    train_wall = train_log["wall_time_s"] if args.no_train else time.perf_counter() - start
-    budget = train_log["timesteps"]
+        train_seeds(args, folders, budget)
+    train_logs = {s: json.loads((f / "train.json").read_text()) for s, f in folders.items()}
+    train_wall = time.perf_counter() - start
+    budget = train_logs[seeds[0]]["timesteps"]
 
-    print(f"[2/4] evaluating random, scripted and PPO over {args.episodes} seeded episodes")
-    model = args.out / "best_model.zip"
+    print(f"[2/4] evaluating random, scripted and PPO ({len(seeds)} seeds) over "
+          f"{args.episodes} seeded episodes")  # fmt: skip
     start = time.perf_counter()
-    results = {
-        name: evaluate.evaluate(args.env, name, args.episodes, 0, model if name == "ppo" else None)
-        for name in POLICIES
-    }
+    results = {name: evaluate.evaluate(args.env, name, args.episodes, 0, None)
+               for name in ("random", "scripted")}  # fmt: skip
+    per_seed = []
+    for seed, folder in folders.items():
+        result = evaluate.evaluate(args.env, "ppo", args.episodes, 0, folder / "best_model.zip")
+        result["policy"] = f"ppo seed {seed}"
+        result["training_seed"] = seed
+        per_seed.append(result)
     if args.env.startswith("BeachballSail"):
-        for result in results.values():
+        for result in [*results.values(), *per_seed]:
             result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
+    results["ppo"] = evaluate.over_seeds(per_seed)
     eval_wall = time.perf_counter() - start
-    table = evaluate.format_table(list(results.values()))
+    rows = [results["random"], results["scripted"], results["ppo"]]
+    rows += per_seed if len(per_seed) > 1 else []
+    table = evaluate.format_table(rows)
+    summary_line = evaluate.format_over_seeds(results["ppo"])
     print(table)
-    (args.out / "results.md").write_text(table + "\n")
-    (args.out / "results.json").write_text(json.dumps(list(results.values()), indent=2) + "\n")
+    print(summary_line)
+    (args.out / "results.md").write_text(table + "\n\n" + summary_line + "\n")
+    (args.out / "results.json").write_text(json.dumps(rows, indent=2) + "\n")
 
-    print("[3/4] plotting the learning curve")
-    plot_learning_curve(args.out, results, args.env, args.out / "learning_curve.png")
+    print("[3/4] plotting the learning curves")
+    first = folders[seeds[0]]
+    for seed, folder in folders.items():
+        curve_results = {**results, "ppo": per_seed[seeds.index(seed)]}
+        plot_learning_curve(folder, curve_results, args.env, folder / "learning_curve.png")
+    shutil.copy(first / "learning_curve.png", args.out / "learning_curve.png")
 
-    print("[4/4] recording an episode of the trained policy")
+    print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
-    record.record_to_file(args.env, "ppo", animation, model=model, seed=0, frame_skip=2)
+    record.record_to_file(args.env, "ppo", animation, model=first / "best_model.zip", seed=0,
+                          frame_skip=2)  # fmt: skip
 
     summary = {
         "env": args.env,
         "config": str(config),
-        "seed": args.seed,
+        **train.run_provenance(args.seed, args.torch_threads),
+        "training_seeds": seeds,
+        "jobs": args.jobs,
         "timesteps": budget,
         "n_envs": settings["n_envs"],
         "train_wall_time_s": train_wall,
-        "train_timesteps_per_s": budget / train_wall,
+        "train_wall_time_s_per_seed": {s: log["wall_time_s"] for s, log in train_logs.items()},
+        "train_timesteps_per_s": budget * len(seeds) / train_wall,
         "eval_wall_time_s": eval_wall,
         "eval_episodes": args.episodes,
         "eval_seeds": [0, args.episodes - 1],
-        "success_rate": {name: r["success_rate"] for name, r in results.items()},
+        "success_rate": {
+            "random": results["random"]["success_rate"],
+            "scripted": results["scripted"]["success_rate"],
+            "ppo_mean": results["ppo"]["success_rate"],
+            "ppo_worst_seed": results["ppo"]["worst_seed_success_rate"],
+        },
     }
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     print(f"run folder {args.out}: " + ", ".join(sorted(p.name for p in args.out.iterdir())))
     return 0
+
+
+def train_seeds(args: argparse.Namespace, folders: dict[int, Path], budget: int) -> None:
+    """Train every seed's model into its folder: one after another with a progress bar, or
+    ``--jobs`` at once in separate processes (each pinned to ``--torch-threads``)."""
+    kwargs = {"preset": args.preset, "timesteps": budget, "torch_threads": args.torch_threads}
+    if args.jobs == 1:
+        for seed, folder in folders.items():
+            print(f"      seed {seed} -> {folder}")
+            train.train_sb3(args.env, seed=seed, out=folder, progress=not args.no_progress,
+                            **kwargs)  # fmt: skip
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    context = multiprocessing.get_context("spawn")  # a fresh torch in each process
+    with ProcessPoolExecutor(max_workers=args.jobs, mp_context=context) as pool:
+        futures = {
+            seed: pool.submit(
+                train.train_sb3, args.env, seed=seed, out=folder, progress=False, **kwargs
+            )  # fmt: skip
+            for seed, folder in folders.items()
+        }
+        for seed, future in futures.items():
+            log = future.result()
+            print(f"      seed {seed}: {log['timesteps']} timesteps in {log['wall_time_s']:.0f} s")

@@ -23,6 +23,7 @@ import argparse
 import json
 import math
 import time
+from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -87,10 +88,72 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
     raise ValueError(f"unknown policy {name!r}; known: {', '.join(POLICIES)}")
 
 
+def episode_outcome(
+    info: dict[str, Any], terminated: bool, truncated: bool
+) -> tuple[str, bool | None]:
+    """How an episode ended, from its last ``info``: (text, success; None when it was cut
+    short, neither terminated nor truncated)."""
+    state = info.get("wall_state")
+    if bool(info.get("is_success", False)):
+        if state is not None:
+            return ("success: wall down" + (" (broke loose)" if state == "loose" else ""), True)
+        if "capsized" in info:
+            return "success: reached the mark", True
+        return "success: hit", True
+    if terminated:
+        if bool(info.get("capsized", False)):
+            return "capsized", False
+        if state == "fallen_toward":
+            return "failed: wall fell toward you", False
+        if state is not None:
+            return "failed: out of throws, wall standing", False
+        if "throws_left" in info:
+            return "missed", False
+        return "failed", False
+    if truncated:
+        return "timed out", False
+    return "cut short (--max-steps)", None
+
+
+def miss_direction(env: gym.Env, info: dict[str, Any]) -> str:
+    """Where the last throw of a ball env missed its target: ``screen`` (it hit the screen),
+    else the larger of its along-line error (``long`` / ``short``, along the line from the
+    thrower to the target) and its cross-line error (``left`` / ``right``, seen from the
+    thrower). Reads the target from the env's state (a report, not a policy input)."""
+    if bool(info.get("hit_screen", False)):
+        return "screen"
+    k = int(info.get("trajectory_length", 0))
+    if k == 0:
+        return "no throw"
+    land_x, land_y = (float(v) for v in np.asarray(info["trajectory"])[k - 1, :2])
+    scenario = env.unwrapped.state.scenario
+    target_x, target_y = float(scenario.target_x), float(scenario.target_y)
+    distance = math.hypot(target_x, target_y)
+    along_x, along_y = target_x / distance, target_y / distance
+    long_error = land_x * along_x + land_y * along_y - distance
+    left_error = along_x * land_y - along_y * land_x  # counterclockwise of the line
+    if abs(long_error) >= abs(left_error):
+        return "long" if long_error > 0 else "short"
+    return "left" if left_error > 0 else "right"
+
+
+def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated: bool) -> str:
+    """An episode's outcome for the failure breakdown: ``success``, or how it failed
+    (``capsized``, ``timed out``, ``missed long/short/left/right/screen``, ``failed: wall
+    fell toward you``, ``failed: out of throws, wall standing``)."""
+    text, success = episode_outcome(info, terminated, truncated)
+    if success:
+        return "success"
+    if text == "missed":
+        return f"missed {miss_direction(env, info)}"
+    return text
+
+
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
     env = gym.make(env_id)
     policy = make_policy(policy_name, env, model, seed)
     successes, returns, lengths, times = 0, [], [], []
+    outcomes: Counter[str] = Counter()
     episode_times: list[float | None] = []  # time to the mark per episode, None if missed
     start = time.perf_counter()
     for k in range(episodes):
@@ -104,6 +167,7 @@ def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Pat
             steps += 1
             done = terminated or truncated
         successes += bool(info["is_success"])
+        outcomes[outcome_kind(env, info, terminated, truncated)] += 1
         returns.append(total)
         lengths.append(steps)
         if info["is_success"] and "elapsed_time" in info:
@@ -122,6 +186,7 @@ def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Pat
         "mean_return": float(np.mean(returns)),
         "mean_length": float(np.mean(lengths)),
         "mean_time_to_mark_s": float(np.mean(times)) if times else None,
+        "outcomes": dict(outcomes.most_common()),
         "wall_time_s": time.perf_counter() - start,
         "episode_time_to_mark_s": episode_times if times else None,
     }
@@ -136,11 +201,102 @@ def time_vs_oracle(result: dict, oracle: dict) -> float | None:
     return float(np.mean(ratios)) if ratios else None
 
 
+T_975 = {
+    1: 12.706,
+    2: 4.303,
+    3: 3.182,
+    4: 2.776,
+    5: 2.571,
+    6: 2.447,
+    7: 2.365,
+    8: 2.306,
+    9: 2.262,
+    10: 2.228,
+    15: 2.131,
+    20: 2.086,
+    30: 2.042,
+}
+"""Student's t 0.975 quantile by degrees of freedom (between the listed ones, the next
+smaller listed, so the interval errs wide; beyond 30, 1.96)."""
+
+
+def mean_interval(values: list[float]) -> tuple[float, float]:
+    """95% interval of the mean of ``values`` (Student's t; one value: the whole [0, 1])."""
+    n = len(values)
+    if n < 2:
+        return (0.0, 1.0)
+    dof = n - 1
+    t = 1.96 if dof > 30 else T_975[max(k for k in T_975 if k <= dof)]
+    half = t * float(np.std(values, ddof=1)) / math.sqrt(n)
+    mean = float(np.mean(values))
+    return (max(0.0, mean - half), min(1.0, mean + half))
+
+
+def over_seeds(per_seed: list[dict]) -> dict:
+    """One result over training seeds: the mean success rate with the 95% interval of the
+    mean over seeds (``success_ci95``), the worst seed, the pooled rate's Wilson interval,
+    mean return, length and time / oracle, and the failures summed."""
+    rates = [r["success_rate"] for r in per_seed]
+    worst = min(per_seed, key=lambda r: r["success_rate"])
+    episodes = sum(r["episodes"] for r in per_seed)
+    successes = round(sum(r["success_rate"] * r["episodes"] for r in per_seed))
+    outcomes: Counter[str] = Counter()
+    for r in per_seed:
+        outcomes.update(r.get("outcomes") or {})
+    ratios = [r["time_vs_oracle"] for r in per_seed if r.get("time_vs_oracle") is not None]
+    times = [r["mean_time_to_mark_s"] for r in per_seed if r["mean_time_to_mark_s"]]
+    return {
+        "env": per_seed[0]["env"],
+        "policy": f"ppo, {len(per_seed)} seeds",
+        "training_seeds": [r.get("training_seed") for r in per_seed],
+        "episodes": per_seed[0]["episodes"],
+        "seeds": per_seed[0]["seeds"],
+        "success_rate": float(np.mean(rates)),
+        "success_ci95": list(mean_interval(rates)),
+        "success_by_seed": rates,
+        "worst_seed": worst.get("training_seed"),
+        "worst_seed_success_rate": worst["success_rate"],
+        "pooled_success_ci95": list(wilson_interval(successes, episodes)),
+        "mean_return": float(np.mean([r["mean_return"] for r in per_seed])),
+        "mean_length": float(np.mean([r["mean_length"] for r in per_seed])),
+        "mean_time_to_mark_s": float(np.mean(times)) if times else None,
+        "time_vs_oracle": float(np.mean(ratios)) if ratios else None,
+        "worst_time_vs_oracle": max(ratios) if ratios else None,
+        "outcomes": dict(outcomes.most_common()),
+        "wall_time_s": sum(r["wall_time_s"] for r in per_seed),
+    }
+
+
+def format_over_seeds(result: dict) -> str:
+    """One line: PPO's mean over seeds, its interval, the worst seed and each seed's rate."""
+    low, high = result["success_ci95"]
+    by_seed = ", ".join(
+        f"{seed}: {100 * rate:.0f}%"
+        for seed, rate in zip(result["training_seeds"], result["success_by_seed"], strict=True)
+    )
+    ratio = result.get("time_vs_oracle")
+    oracle = ""
+    if ratio is not None:
+        oracle = f"; time / oracle {ratio:.2f} (worst seed {result['worst_time_vs_oracle']:.2f})"
+    return (
+        f"{result['env']} PPO over {len(result['success_by_seed'])} training seeds: mean "
+        f"{100 * result['success_rate']:.1f}% (95% interval of the mean over seeds "
+        f"{100 * low:.0f}-{100 * high:.0f}%), worst seed {result['worst_seed']} "
+        f"{100 * result['worst_seed_success_rate']:.0f}% (by seed: {by_seed}){oracle}"
+    )
+
+
+def format_failures(outcomes: dict[str, int] | None) -> str:
+    """``"capsized 3, timed out 2"``: the failures of a result, most frequent first."""
+    failures = {k: v for k, v in (outcomes or {}).items() if k != "success"}
+    return ", ".join(f"{kind} {count}" for kind, count in failures.items()) or "-"
+
+
 def format_table(results: list[dict]) -> str:
     lines = [
         "| env | policy | episodes | success (95% CI) | mean return | mean length | "
-        "time to mark | time / oracle | wall time |",
-        "|---|---|---:|---|---:|---:|---:|---:|---:|",
+        "time to mark | time / oracle | failures | wall time |",
+        "|---|---|---:|---|---:|---:|---:|---:|---|---:|",
     ]
     for r in results:
         low, high = r["success_ci95"]
@@ -150,7 +306,8 @@ def format_table(results: list[dict]) -> str:
         lines.append(
             f"| {r['env']} | {r['policy']} | {r['episodes']} | {100 * r['success_rate']:.0f}% "
             f"({100 * low:.0f}-{100 * high:.0f}%) | {r['mean_return']:.2f} | "
-            f"{r['mean_length']:.1f} | {ttm} | {ratio} | {r['wall_time_s']:.0f} s |"
+            f"{r['mean_length']:.1f} | {ttm} | {ratio} | {format_failures(r.get('outcomes'))} | "
+            f"{r['wall_time_s']:.0f} s |"
         )
     return "\n".join(lines)
 

@@ -39,7 +39,7 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
-from bbgym.cli.evaluate import POLICIES, make_policy
+from bbgym.cli.evaluate import POLICIES, episode_outcome, make_policy
 
 FORMATS = (".gif", ".mp4")
 DEFAULT_FPS = 20.0
@@ -50,33 +50,6 @@ FrameSink = Callable[[np.ndarray, int], None]
 SUCCESS_COLOR = (110, 230, 120)
 FAILURE_COLOR = (255, 120, 104)
 NEUTRAL_COLOR = (245, 245, 245)
-
-
-def episode_outcome(
-    info: dict[str, Any], terminated: bool, truncated: bool
-) -> tuple[str, bool | None]:
-    """How an episode ended, from its last ``info``: (text, success; None when it was cut
-    short, neither terminated nor truncated)."""
-    state = info.get("wall_state")
-    if bool(info.get("is_success", False)):
-        if state is not None:
-            return ("success: wall down" + (" (broke loose)" if state == "loose" else ""), True)
-        if "capsized" in info:
-            return "success: reached the mark", True
-        return "success: hit", True
-    if terminated:
-        if bool(info.get("capsized", False)):
-            return "capsized", False
-        if state == "fallen_toward":
-            return "failed: wall fell toward you", False
-        if state is not None:
-            return "failed: out of throws, wall standing", False
-        if "throws_left" in info:
-            return "missed", False
-        return "failed", False
-    if truncated:
-        return "timed out", False
-    return "cut short (--max-steps)", None
 
 
 def policy_label(policy: Any) -> str:
