@@ -11,10 +11,12 @@ successful episodes. Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
 
 Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent from
 ``bbgym.agents``: the VMG autopilot for sailing, the throw solver, the topple agent), ``simple``
-(sailing only: the simple helmsman), ``ppo`` (a stable-baselines3 model saved at
-``--model``). For sailing, each policy's time to the mark is also compared with the
-autopilot's on the episodes both finished ("time / oracle time"; the autopilot is run for
-it if it is not among the policies).
+(sailing only: the simple helmsman), ``planner`` (Throw and Curve: the privileged
+planner of :mod:`bbgym.agents.planner`, which reads the true wind and verifies its throws
+in a copy of the env; its success rate is the winnable fraction it proves), ``ppo`` (a
+stable-baselines3 model saved at ``--model``). For sailing, each policy's time to the mark
+is also compared with the autopilot's on the episodes both finished ("time / oracle
+time"; the autopilot is run for it if it is not among the policies).
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ import bbgym  # noqa: F401  (registers the envs)
 from bbgym.cli import UsageError, env_id, positive_int, require
 
 Policy = Callable[[np.ndarray], np.ndarray]
-POLICIES = ("random", "scripted", "simple", "ppo")
+POLICIES = ("random", "scripted", "simple", "planner", "ppo")
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -75,6 +77,12 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
 
             return ToppleAgent()
         raise ValueError(f"no scripted policy for {env_id!r}")
+    if name == "planner":
+        if not env_id.startswith(("BeachballThrow", "BeachballCurve")):
+            raise ValueError(f"the privileged planner plans throws; none yet for {env_id!r}")
+        from bbgym.agents.planner import ThrowPlanner
+
+        return ThrowPlanner(env)
     if name == "ppo":
         if model_path is None:
             raise ValueError("--policies ppo needs --model")
