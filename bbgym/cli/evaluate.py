@@ -300,6 +300,13 @@ def format_failures(outcomes: dict[str, int] | None) -> str:
     return ", ".join(f"{kind} {count}" for kind, count in failures.items()) or "-"
 
 
+def episodes_label(result: dict) -> str:
+    """``"100"``, or ``"5 x 100"`` for a result over training seeds (its failures are the
+    sum over every seed's episodes)."""
+    seeds = result.get("success_by_seed")
+    return f"{len(seeds)} x {result['episodes']}" if seeds else str(result["episodes"])
+
+
 def format_table(results: list[dict]) -> str:
     lines = [
         "| env | policy | episodes | success (95% CI) | mean return | mean length | "
@@ -312,7 +319,7 @@ def format_table(results: list[dict]) -> str:
         ratio = r.get("time_vs_oracle")
         ratio = f"{ratio:.2f}" if ratio is not None else "-"
         lines.append(
-            f"| {r['env']} | {r['policy']} | {r['episodes']} | {100 * r['success_rate']:.0f}% "
+            f"| {r['env']} | {r['policy']} | {episodes_label(r)} | {100 * r['success_rate']:.0f}% "
             f"({100 * low:.0f}-{100 * high:.0f}%) | {r['mean_return']:.2f} | "
             f"{r['mean_length']:.1f} | {ttm} | {ratio} | {format_failures(r.get('outcomes'))} | "
             f"{r['wall_time_s']:.0f} s |"

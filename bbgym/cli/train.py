@@ -96,11 +96,14 @@ def run_provenance(seed: int, threads: int) -> dict[str, Any]:
         except metadata.PackageNotFoundError:
             return None
 
-    names = ("bbgym", "torch", "stable-baselines3", "gymnasium", "numpy", "ray")
+    from bbgym import __version__  # the code's, even where an editable install is stale
+
+    names = ("torch", "stable-baselines3", "gymnasium", "numpy", "ray")
+    versions = {"python": platform.python_version(), "bbgym": __version__}
     return {
         "seed": seed,
         "torch_threads": threads,
-        "versions": {"python": platform.python_version(), **{n: version(n) for n in names}},
+        "versions": {**versions, **{n: version(n) for n in names}},
         "machine": {"platform": platform.platform(), "cpus": __import__("os").cpu_count()},
         "command": [Path(sys.argv[0]).name, *sys.argv[1:]],
     }
