@@ -140,3 +140,18 @@ def test_the_interval_over_seeds():
     assert high == pytest.approx(0.94 + 0.03925, abs=1e-4)
     assert mean_interval([0.5]) == (0.0, 1.0)
     assert mean_interval([1.0, 1.0, 1.0]) == (1.0, 1.0)
+
+
+def test_one_seed_keeps_its_own_interval():
+    from bbgym.cli.evaluate import format_over_seeds, over_seeds
+
+    seed = {"env": "E", "episodes": 100, "seeds": [0, 99], "success_rate": 0.98,
+            "success_ci95": [0.93, 0.99], "mean_return": 1.0, "mean_length": 2.0,
+            "mean_time_to_mark_s": None, "outcomes": {"success": 98, "timed out": 2},
+            "wall_time_s": 1.0, "training_seed": 0}  # fmt: skip
+    one = over_seeds([seed])
+    assert one["policy"] == "ppo, 1 seed" and one["success_ci95"] == [0.93, 0.99]
+    assert "95% Wilson interval 93-99%" in format_over_seeds(one)
+    two = over_seeds([seed, {**seed, "success_rate": 0.90, "training_seed": 1}])
+    assert two["policy"] == "ppo, 2 seeds" and two["worst_seed"] == 1
+    assert two["outcomes"] == {"success": 196, "timed out": 4}

@@ -242,7 +242,8 @@ def mean_interval(values: list[float]) -> tuple[float, float]:
 
 def over_seeds(per_seed: list[dict]) -> dict:
     """One result over training seeds: the mean success rate with the 95% interval of the
-    mean over seeds (``success_ci95``), the worst seed, the pooled rate's Wilson interval,
+    mean over seeds (``success_ci95``; for a single seed, its Wilson interval over its
+    episodes), the worst seed, the pooled rate's Wilson interval,
     mean return, length and time / oracle, and the failures summed."""
     rates = [r["success_rate"] for r in per_seed]
     worst = min(per_seed, key=lambda r: r["success_rate"])
@@ -255,12 +256,14 @@ def over_seeds(per_seed: list[dict]) -> dict:
     times = [r["mean_time_to_mark_s"] for r in per_seed if r["mean_time_to_mark_s"]]
     return {
         "env": per_seed[0]["env"],
-        "policy": f"ppo, {len(per_seed)} seeds",
+        "policy": f"ppo, {len(per_seed)} seed{'s' if len(per_seed) > 1 else ''}",
         "training_seeds": [r.get("training_seed") for r in per_seed],
         "episodes": per_seed[0]["episodes"],
         "seeds": per_seed[0]["seeds"],
         "success_rate": float(np.mean(rates)),
-        "success_ci95": list(mean_interval(rates)),
+        "success_ci95": list(
+            mean_interval(rates) if len(rates) > 1 else per_seed[0]["success_ci95"]
+        ),
         "success_by_seed": rates,
         "worst_seed": worst.get("training_seed"),
         "worst_seed_success_rate": worst["success_rate"],
@@ -286,9 +289,11 @@ def format_over_seeds(result: dict) -> str:
     oracle = ""
     if ratio is not None:
         oracle = f"; time / oracle {ratio:.2f} (worst seed {result['worst_time_vs_oracle']:.2f})"
+    n = len(result["success_by_seed"])
+    interval = "95% interval of the mean over seeds" if n > 1 else "95% Wilson interval"
     return (
-        f"{result['env']} PPO over {len(result['success_by_seed'])} training seeds: mean "
-        f"{100 * result['success_rate']:.1f}% (95% interval of the mean over seeds "
+        f"{result['env']} PPO over {n} training seed{'s' if n > 1 else ''}: mean "
+        f"{100 * result['success_rate']:.1f}% ({interval} "
         f"{100 * low:.0f}-{100 * high:.0f}%), worst seed {result['worst_seed']} "
         f"{100 * result['worst_seed_success_rate']:.0f}% (by seed: {by_seed}){oracle}"
     )
