@@ -12,6 +12,7 @@ torch = pytest.importorskip("torch")
 
 from small_preset import write_small_preset  # noqa: E402
 
+import bbgym  # noqa: E402
 from bbgym.cli.train import train_sb3  # noqa: E402
 
 
@@ -54,6 +55,6 @@ def test_the_same_seed_trains_the_same_model_and_another_seed_does_not(tmp_path)
     assert summary["seed"] == 3 and summary["torch_threads"] == 1
     versions = summary["versions"]
     assert versions["torch"] == torch.__version__
-    assert versions["bbgym"] == __import__("bbgym").__version__
+    assert versions["bbgym"] == bbgym.__version__
     assert {"bbgym", "stable-baselines3", "gymnasium", "numpy", "python"} <= set(versions)
     assert summary["command"] and summary["machine"]["cpus"] >= 1

@@ -86,6 +86,7 @@ def pin_torch_threads(threads: int) -> None:
 def run_provenance(seed: int, threads: int) -> dict[str, Any]:
     """What a training run's result depends on besides its preset: the seed, torch's thread
     count, the versions of the libraries, the machine and the command line."""
+    import os
     import platform
     import sys
     from importlib import metadata
@@ -104,7 +105,7 @@ def run_provenance(seed: int, threads: int) -> dict[str, Any]:
         "seed": seed,
         "torch_threads": threads,
         "versions": {**versions, **{n: version(n) for n in names}},
-        "machine": {"platform": platform.platform(), "cpus": __import__("os").cpu_count()},
+        "machine": {"platform": platform.platform(), "cpus": os.cpu_count()},
         "command": [Path(sys.argv[0]).name, *sys.argv[1:]],
     }
 
