@@ -3,9 +3,11 @@
 Importing the package registers its environment ids with Gymnasium.
 """
 
+import math
+
 from gymnasium.envs.registration import register, registry
 
-__version__ = "0.4.0"
+__version__ = "0.5.0"
 
 SAIL_MAX_EPISODE_STEPS = 1200
 
@@ -30,12 +32,17 @@ for _id, _kwargs in (("BeachballThrow-v0", {}), ("BeachballCurve-v0", _CURVE)):
             kwargs=_kwargs,
         )
 
-if "BeachballTopple-v0" not in registry:
-    register(
-        id="BeachballTopple-v0",
-        entry_point="bbgym.envs.topple:BeachballToppleEnv",
-        vector_entry_point="bbgym.envs.topple:BeachballToppleVectorEnv",
-        max_episode_steps=100,
-    )
+# v1: the walls the planner can bring down (bbgym.envs.topple, Version History): nearer, in
+# an onshore breeze (from behind the thrower: pi/2 .. 3 pi/2 counterclockwise from +x).
+_TOPPLE_V1 = {"wall_distance_range": (3.0, 5.0), "wind_from_range": (0.5 * math.pi, 1.5 * math.pi)}
+for _id, _kwargs in (("BeachballTopple-v0", {}), ("BeachballTopple-v1", _TOPPLE_V1)):
+    if _id not in registry:
+        register(
+            id=_id,
+            entry_point="bbgym.envs.topple:BeachballToppleEnv",
+            vector_entry_point="bbgym.envs.topple:BeachballToppleVectorEnv",
+            max_episode_steps=100,
+            kwargs=_kwargs,
+        )
 
 __all__ = ["__version__"]

@@ -14,9 +14,11 @@ PRESET_FILES = {
     "BeachballThrow-v0": "beachball_throw.yaml",
     "BeachballCurve-v0": "beachball_throw.yaml",
     "BeachballTopple-v0": "beachball_topple.yaml",
+    "BeachballTopple-v1": "beachball_topple.yaml",
 }
 """The shipped preset of each env id. BeachballCurve-v0 shares the throw preset and applies
-its registered kwargs (the screen and the far targets) on top."""
+its registered kwargs (the screen and the far targets) on top; BeachballTopple-v1 the
+topple preset with its registered kwargs (nearer walls, an onshore breeze)."""
 
 
 def preset_path(preset: str | Path) -> Path:

@@ -11,9 +11,10 @@ successful episodes. Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
 
 Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent from
 ``bbgym.agents``: the VMG autopilot for sailing, the throw solver, the topple agent), ``simple``
-(sailing only: the simple helmsman), ``planner`` (Throw and Curve: the privileged
-planner of :mod:`bbgym.agents.planner`, which reads the true wind and verifies its throws
-in a copy of the env; its success rate is the winnable fraction it proves), ``ppo`` (a
+(sailing only: the simple helmsman), ``planner`` (the ball envs: the privileged
+planners of :mod:`bbgym.agents.planner`, which read the true wind and the env's random
+stream and search through the physics; the success rate is the winnable fraction they
+prove), ``ppo`` (a
 stable-baselines3 model saved at ``--model``). For sailing, each policy's time to the mark
 is also compared with the autopilot's on the episodes both finished ("time / oracle
 time"; the autopilot is run for it if it is not among the policies).
@@ -78,8 +79,12 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
             return ToppleAgent()
         raise ValueError(f"no scripted policy for {env_id!r}")
     if name == "planner":
+        if env_id.startswith("BeachballTopple"):
+            from bbgym.agents.planner import TopplePlanner
+
+            return TopplePlanner(env)
         if not env_id.startswith(("BeachballThrow", "BeachballCurve")):
-            raise ValueError(f"the privileged planner plans throws; none yet for {env_id!r}")
+            raise ValueError(f"the privileged planners play the ball envs, not {env_id!r}")
         from bbgym.agents.planner import ThrowPlanner
 
         return ThrowPlanner(env)

@@ -40,16 +40,26 @@ def check_multiple(name: str, value: float, base_name: str, base: float) -> int:
     return count
 
 
+FULL_CIRCLE_RAD = (0.0, 2.0 * math.pi)
+
+
 def mean_wind(
-    options: Mapping[str, Any], speed_range: tuple[float, float], speed_draw: Any, from_draw: Any
+    options: Mapping[str, Any],
+    speed_range: tuple[float, float],
+    speed_draw: Any,
+    from_draw: Any,
+    from_range: tuple[float, float] = FULL_CIRCLE_RAD,
 ) -> tuple[Any, Any]:
     """Mean wind ``(speed, from)``: the ``wind`` option (a vector, where the air moves) if
-    given, else a speed uniform in ``speed_range`` from a uniform direction (draws in [0, 1))."""
+    given, else a speed uniform in ``speed_range`` from a direction uniform in
+    ``from_range`` (draws in [0, 1); the default, any direction, is ``2 pi * from_draw`` to
+    the bit)."""
     if "wind" in options:
         wx, wy = options["wind"]
         return math.hypot(wx, wy), math.atan2(-wy, -wx)
     lo, hi = speed_range
-    return lo + (hi - lo) * speed_draw, 2.0 * math.pi * from_draw
+    from_lo, from_hi = from_range
+    return lo + (hi - lo) * speed_draw, from_lo + (from_hi - from_lo) * from_draw
 
 
 def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:

@@ -20,6 +20,7 @@ from gymnasium import spaces
 
 from bbgym import backends
 from bbgym.envs.common import (
+    FULL_CIRCLE_RAD,
     check_box_action,
     check_multiple,
     check_option_keys,
@@ -81,6 +82,7 @@ COMPILED_CHUNK_SUBSTEPS = 1
 # Accepted intervals (README, "Validation and errors"); the rest are shared with the throw envs.
 WALL_DISTANCE_MAX_M = 50.0
 INTERVAL_S = span(0.0, 60.0, low_open=True)
+WIND_FROM_RAD = span(-2.0 * math.pi, 2.0 * math.pi)
 ARGUMENT_TABLE = (
     ("`wall`, `ball`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
     ("`throws_per_episode`", f"int in {THROWS_PER_EPISODE}"),
@@ -89,6 +91,7 @@ ARGUMENT_TABLE = (
         f"[wall.base_depth_m / 2 + 1, {WALL_DISTANCE_MAX_M:g}] m",
     ),
     ("`wind_speed_range`, length of `options['wind']`", f"{WIND_SPEED_MPS} m/s"),
+    ("`wind_from_range`", f"{WIND_FROM_RAD} rad, spanning at most 2 pi"),
     ("`windsock_noise`", f"{WINDSOCK_NOISE_MPS} m/s"),
     ("`max_speed`", f"{LAUNCH_SPEED_MPS} m/s"),
     ("`max_spin`", f"{LAUNCH_SPIN_RPS} rad/s"),
@@ -209,6 +212,7 @@ class ToppleTask(TaskCore):
         throws_per_episode: int = 8,
         wall_distance_range: tuple[float, float] = (4.0, 8.0),
         wind_speed_range: tuple[float, float] = (0.0, 3.0),
+        wind_from_range: tuple[float, float] = FULL_CIRCLE_RAD,
         gusts: bool = True,
         gust_params: Mapping[str, float] | GustParams | None = None,
         gust_dt: float = 0.25,
@@ -237,6 +241,11 @@ class ToppleTask(TaskCore):
             why="the wall's foot stands at least 1 m from the thrower",
         )  # fmt: skip
         self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
+        self.wind_from_range = check_range("wind_from_range", wind_from_range, WIND_FROM_RAD)
+        if self.wind_from_range[1] - self.wind_from_range[0] > FULL_CIRCLE_RAD[1]:
+            raise ValueError(
+                f"wind_from_range must span at most 2 pi (one turn), got {wind_from_range!r}"
+            )
         self.gusts = check_bool("gusts", gusts)
         gust_params = BALL_GUSTS if gust_params is None else gust_params
         self.gust_params = build_params(GustParams, "gust_params", gust_params)
@@ -304,7 +313,9 @@ class ToppleTask(TaskCore):
             distance = zero + options["wall_distance"]
         else:
             distance = d_lo + (d_hi - d_lo) * draws[0]
-        wind_speed, wind_from = mean_wind(options, self.wind_speed_range, draws[1], draws[2])
+        wind_speed, wind_from = mean_wind(
+            options, self.wind_speed_range, draws[1], draws[2], self.wind_from_range
+        )
         gusts = xp.full_like(zero, options.get("gusts", self.gusts), dtype=xp.bool)
         scenario = ToppleScenario(distance, zero + wind_speed, zero + wind_from, gusts)
 
@@ -577,7 +588,9 @@ _DOC_ARGS = """
     ## Arguments
 
     Keyword arguments of ``gym.make("BeachballTopple-v0", ...)`` and ``gym.make_vec``; the
-    defaults are the preset in ``configs/beachball_topple.yaml``.
+    defaults are the preset in ``configs/beachball_topple.yaml``. ``BeachballTopple-v1``
+    is registered with ``wall_distance_range=(3.0, 5.0)`` and
+    ``wind_from_range=(pi / 2, 3 pi / 2)`` (see Version History).
 
     | argument | default | meaning |
     |---|---|---|
@@ -586,7 +599,8 @@ _DOC_ARGS = """
     | `ball` | `None` | mapping of `BallParams` fields |
     | `throws_per_episode` | `8` | steps (throws or waits) per episode |
     | `wall_distance_range` | `(4.0, 8.0)` | m along +x |
-    | `wind_speed_range` | `(0.0, 3.0)` | mean wind, m/s, from any direction |
+    | `wind_speed_range` | `(0.0, 3.0)` | mean wind, m/s |
+    | `wind_from_range` | `(0.0, 2 pi)` | rad, where the mean wind blows from (pi: behind you) |
     | `gusts`, `gust_params`, `gust_dt` | `True`, `None`, `0.25` | gust renewal period, s |
     | `windsock_noise` | `0.3` | m/s per component |
     | `max_speed`, `max_spin` | `18.0`, `60.0` | launch speed (m/s), spin (rad/s) at full action |
@@ -610,8 +624,9 @@ class BeachballToppleEnv(CoreEnv):
     ## Description
 
     A light stage-set panel (2.4 m high, 0.7 m wide, 8 kg, on a foot 0.4 m deep) stands
-    4-8 m in front of the thrower along +x, its face toward the thrower, in a gusty wind
-    from any direction. The wind on its face and the beach balls that hit it rock it about
+    4-8 m in front of the thrower along +x (v1: 3-5 m), its face toward the thrower, in a
+    gusty wind from any direction (v1: an onshore breeze, from behind the thrower's
+    shoulders). The wind on its face and the beach balls that hit it rock it about
     the edge of its foot (seed §8, "Buster Keaton"); once its centre of mass passes over the
     edge it falls. A strong enough push along the ground tears the foot loose, and the
     panel flies off in the wind. Each step the agent throws a ball (impulse and spin, as in
@@ -660,9 +675,11 @@ class BeachballToppleEnv(CoreEnv):
 
     ## Starting State
 
-    The wall stands upright at a uniform distance of 4-8 m; the mean wind is uniform in
-    0-3 m/s from a uniform direction. `reset(options=...)` pins `wind` ((x, y) m/s, where
-    the air moves), `wall_distance` (m), `gusts` (bool). Unknown keys raise `TypeError`.
+    The wall stands upright at a uniform distance of 4-8 m (v1: 3-5 m); the mean wind is
+    uniform in 0-3 m/s from a direction uniform in `wind_from_range` (v0: any; v1: the
+    half-turn behind the thrower, so the mean wind never blows against the throw).
+    `reset(options=...)` pins `wind` ((x, y) m/s, where the air moves), `wall_distance`
+    (m), `gusts` (bool). Unknown keys raise `TypeError`.
 
     ## Episode End
 
@@ -710,6 +727,15 @@ class BeachballToppleEnv(CoreEnv):
     * v0, bbgym 0.4.0 (the same dynamics): the samples are fixed-shape, padded, with
       `samples_length` and `ball_trajectory_length` (Gymnasium's vector envs stack them);
       `render_mode="rgb_array_list"`.
+    * v1, bbgym 0.5.0: the same physics and spaces, a winnable task distribution. A
+      privileged planner (`bbgym.agents.planner.plan_topple`: a beam search through the
+      core in the true gusts) wins only 46 of v0's first 100 episodes: a mean headwind of
+      2 m/s is unwinnable even 3 m from the wall (the draggy ball arrives slow, and the
+      wind's torque on the face holds the wall back; a lighter wall on a deeper foot, as
+      stable in the wind, is no easier), and walls beyond 6 m fall only to a tailwind.
+      v1 puts the wall 3-5 m away (`wall_distance_range=(3, 5)`) in an onshore breeze
+      (`wind_from_range=(pi / 2, 3 pi / 2)`, crosswinds included): the planner wins 100 of
+      its first 100 episodes, random play 1.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}
