@@ -41,6 +41,30 @@ def test_registered_with_entry_points():
 
 def test_check_env_passes():
     check_env(gym.make("BeachballTopple-v0").unwrapped, skip_render_check=True)
+    check_env(gym.make("BeachballTopple-v1").unwrapped, skip_render_check=True)
+
+
+def test_v1_puts_the_wall_near_in_an_onshore_breeze():
+    """v1's registered kwargs: walls 3-5 m away, the mean wind never against the throw
+    (from the half-turn behind the thrower), its speed and the physics as in v0."""
+    assert gym.spec("BeachballTopple-v1").kwargs == {
+        "wall_distance_range": (3.0, 5.0), "wind_from_range": (0.5 * math.pi, 1.5 * math.pi)
+    }  # fmt: skip
+    vec = gym.make_vec("BeachballTopple-v1", num_envs=400)
+    vec.reset(seed=0)
+    scenario = vec.unwrapped.state.scenario
+    distance, speed, wind_from = (np.asarray(x) for x in scenario[:3])
+    assert 3.0 <= distance.min() < 3.1 and 4.9 < distance.max() <= 5.0
+    along_throw = -speed * np.cos(wind_from)  # the mean air velocity's x (toward the wall)
+    assert along_throw.min() >= 0.0 and along_throw.max() > 2.5
+    assert np.abs(speed * np.sin(wind_from)).max() > 2.5  # strong crosswinds remain
+    assert 0.0 <= speed.min() and speed.max() <= 3.0
+    v0, v1 = gym.make("BeachballTopple-v0"), gym.make("BeachballTopple-v1")
+    pinned = {"wind": (1.0, -0.5), "wall_distance": 4.0}
+    np.testing.assert_array_equal(v0.reset(seed=2, options=pinned)[0],
+                                  v1.reset(seed=2, options=pinned)[0])  # fmt: skip
+    throw = np.array([0.7, 0.0, 0.4, 0.0, 0.0, 0.0], np.float32)
+    assert v0.step(throw)[4]["wall_angle"] == v1.step(throw)[4]["wall_angle"]
 
 
 def test_deterministic_under_seed():
@@ -229,6 +253,8 @@ def test_bad_reset_options_raise(options, name):
         ({"interval": 0.0}, "interval"),
         ({"interval": 1.005}, "interval"),
         ({"wall_distance_range": (8.0, 4.0)}, "wall_distance_range"),
+        ({"wind_from_range": (0.0, 7.0)}, "wind_from_range"),
+        ({"wind_from_range": (-3.0, 3.5)}, "wind_from_range"),
         ({"throws_per_episode": 0}, "throws_per_episode"),
         ({"render_mode": "text"}, "render_mode"),
     ],
