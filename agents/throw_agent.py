@@ -13,7 +13,11 @@ import numpy as np
 
 from bbgym.envs.throw import DISTANCE_SCALE_M, WIND_SCALE_MPS, ThrowTask
 
-from .throw_solver import solve_throw
+from .throw_solver import solve_throw, solve_throw_robust
+
+SCREEN_DROP_M = 1.5
+"""A landing short of this far past the screen (along the line to the target) counts as
+stopped by it."""
 
 
 class ThrowSolverAgent:
@@ -22,7 +26,10 @@ class ThrowSolverAgent:
     Each throw is solved by :func:`agents.throw_solver.solve_throw` for the target, in the
     wind the windsock reads (noisy, and gusts change it between throws). After a miss the
     agent aims its next throw off the target by minus the miss it saw, which also takes
-    out what the windsock got wrong.
+    out what the windsock got wrong. With a screen in the way it throws the curve with the
+    most room to spare (:func:`~agents.throw_solver.solve_throw_robust`, over winds within
+    the windsock's noise and the gusts' spread of the reading), and a throw stopped by the
+    screen teaches it nothing about the wind: the next one aims at the target again.
     """
 
     def __init__(self, task: ThrowTask, refine: int = 2) -> None:
@@ -43,11 +50,25 @@ class ThrowSolverAgent:
             sock = row[2:4] * WIND_SCALE_MPS
             miss = row[4:6] * DISTANCE_SCALE_M  # last landing minus target
             thrown = row[7] > 0.5
+            screen = bool(row[14] > 0.5)
+            if screen and thrown:
+                # Stopped by the screen, the ball dropped at its foot or bounced back: along
+                # the line to the target, it landed short of just past the screen.
+                line = target / np.hypot(*target)
+                landing = target + miss
+                centre = row[15:17] * DISTANCE_SCALE_M
+                thrown = float(landing @ line) > float(centre @ line) + SCREEN_DROP_M
             aim = self._aims[i] - miss if thrown and np.isfinite(self._aims[i]).all() else target
             self._aims[i] = aim
-            solution = solve_throw(
-                self.task, tuple(aim), tuple(sock), screen=bool(row[14] > 0.5), refine=self.refine
-            )
+            if screen:
+                wind_std = self.task.windsock_noise + self.task.gust_params.speed_std * np.hypot(
+                    *sock
+                )
+                solution = solve_throw_robust(
+                    self.task, tuple(aim), tuple(sock), wind_std, screen=True, refine=self.refine
+                )
+            else:
+                solution = solve_throw(self.task, tuple(aim), tuple(sock), refine=self.refine)
             actions[i] = solution.action
         return actions[0] if np.ndim(obs) == 1 else actions
 

@@ -74,6 +74,60 @@ def solve_throw(
     seed: int = 0,
 ) -> Solution:
     """Best throw found at ``target`` in a steady ``wind`` (m/s, where the air moves)."""
+    bearing, params, miss = _search(task, target, wind, screen, use_spin, refine, seed)
+    i = int(np.argmin(miss))
+    action = np.clip(_actions(task, bearing, *params[i : i + 1].T)[0], -1.0, 1.0)
+    return Solution(action=action.astype(np.float32), predicted_miss_m=float(miss[i]))
+
+
+def solve_throw_robust(
+    task: ThrowTask,
+    target: tuple[float, float],
+    wind: tuple[float, float],
+    wind_std: float,
+    screen: bool = False,
+    refine: int = 3,
+    seed: int = 0,
+    shortlist: int = 64,
+    winds: int = 12,
+) -> Solution:
+    """The throw most likely to land in the ring when the wind is only known to within
+    ``wind_std`` (m/s per component, e.g. a noisy windsock in gusts): the ``shortlist``
+    best throws for the estimate ``wind`` (:func:`solve_throw`'s search) are flown again
+    in ``winds`` winds drawn around it, and the one that lands inside the ring in most of
+    them wins (ties: the smaller mean miss). A throw curved close past a screen's edge is
+    the best for the estimate and the first to hit the screen when the wind is a little
+    off; this picks the one with room to spare. ``predicted_miss_m``: its mean miss."""
+    bearing, params, miss = _search(task, target, wind, screen, True, refine, seed, keep_all=True)
+    # Half the shortlist bends the ball left, half right: which way round a screen has the
+    # more room depends on the wind.
+    left = params[:, 3] > 0.0
+    rows = np.concatenate([params[side][np.argsort(miss[side])[: shortlist // 2]]
+                           for side in (left, ~left)])  # fmt: skip
+    rng = np.random.default_rng(seed)
+    drawn = np.asarray(wind) + rng.normal(0.0, wind_std, (winds, 2))
+    actions = np.clip(_actions(task, bearing, *rows.T), -1.0, 1.0)
+    misses = np.stack([_miss(task, actions, target, tuple(w), screen) for w in drawn])
+    hits = (misses <= task.target_radius).sum(axis=0)
+    i = int(np.lexsort((misses.mean(axis=0), -hits))[0])
+    return Solution(
+        action=actions[i].astype(np.float32), predicted_miss_m=float(misses[:, i].mean())
+    )
+
+
+def _search(
+    task: ThrowTask,
+    target: tuple[float, float],
+    wind: tuple[float, float],
+    screen: bool,
+    use_spin: bool,
+    refine: int,
+    seed: int,
+    keep_all: bool = False,
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """The search of :func:`solve_throw`: ``(bearing, throw parameters, misses)`` of its
+    last population, or of every throw it flew (``keep_all``); rows: speed, elevation, aim,
+    side spin, backspin."""
     bearing = math.atan2(target[1], target[0])
     spins = np.linspace(-1.0, 1.0, 7) * task.max_spin if use_spin else [0.0]
     backs = (0.0, 0.5 * task.max_spin) if use_spin else (0.0,)
@@ -90,6 +144,7 @@ def solve_throw(
     )
     params = grid
     miss = _miss(task, _actions(task, bearing, *params.T), target, wind, screen)
+    flown, flown_miss = [params], [miss]
     rng = np.random.default_rng(seed)
     scale = np.array([1.5, math.radians(6.0), math.radians(6.0), 10.0, 10.0])
     if not use_spin:
@@ -103,7 +158,9 @@ def solve_throw(
         trial_miss = _miss(task, _actions(task, bearing, *trials.T), target, wind, screen)
         params = np.concatenate([best, trials])
         miss = np.concatenate([np.sort(miss)[:8], trial_miss])
+        flown.append(trials)
+        flown_miss.append(trial_miss)
         scale = scale * 0.5
-    i = int(np.argmin(miss))
-    action = np.clip(_actions(task, bearing, *params[i : i + 1].T)[0], -1.0, 1.0)
-    return Solution(action=action.astype(np.float32), predicted_miss_m=float(miss[i]))
+    if keep_all:
+        return bearing, np.concatenate(flown), np.concatenate(flown_miss)
+    return bearing, params, miss

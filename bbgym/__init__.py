@@ -22,7 +22,14 @@ if "BeachballSail-v0" not in registry:
 THROW_MAX_EPISODE_STEPS = 100
 
 _CURVE = {"screen": True, "target_distance_range": (7.0, 10.0)}
-for _id, _kwargs in (("BeachballThrow-v0", {}), ("BeachballCurve-v0", _CURVE)):
+# v1: the curves the planner can throw (bbgym.envs.throw, Version History): a mean wind of
+# at most 2 m/s.
+_CURVE_V1 = {**_CURVE, "wind_speed_range": (0.0, 2.0)}
+for _id, _kwargs in (
+    ("BeachballThrow-v0", {}),
+    ("BeachballCurve-v0", _CURVE),
+    ("BeachballCurve-v1", _CURVE_V1),
+):
     if _id not in registry:
         register(
             id=_id,
