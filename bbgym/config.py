@@ -13,11 +13,13 @@ PRESET_FILES = {
     "BeachballSail-v0": "beachball_sail.yaml",
     "BeachballThrow-v0": "beachball_throw.yaml",
     "BeachballCurve-v0": "beachball_throw.yaml",
+    "BeachballCurve-v1": "beachball_curve.yaml",
     "BeachballTopple-v0": "beachball_topple.yaml",
     "BeachballTopple-v1": "beachball_topple.yaml",
 }
 """The shipped preset of each env id. BeachballCurve-v0 shares the throw preset and applies
-its registered kwargs (the screen and the far targets) on top; BeachballTopple-v1 the
+its registered kwargs (the screen and the far targets) on top; BeachballCurve-v1 has its
+own (the registration's env, PPO tuned for it); BeachballTopple-v1 the
 topple preset with its registered kwargs (nearer walls, an onshore breeze)."""
 
 

@@ -209,9 +209,13 @@ def sample_kwargs(env_id: str, draw: Draw) -> dict[str, Any]:
         0.5 * wall.get("base_depth_m", WallParams.base_depth_m) + 1.0, topple.WALL_DISTANCE_MAX_M
     )
     max_speed = common["max_speed"]
+    # A direction range spans at most one turn (2 pi), inside [-2 pi, 2 pi].
+    from_low = draw("wind_from_range[0]", topple.WIND_FROM_RAD, False)
+    from_span = draw("wind_from_range span", interval(0.0, 2.0 * math.pi), False)
     return {
         **common,
         "wall": wall,
+        "wind_from_range": (from_low, min(from_low + from_span, topple.WIND_FROM_RAD.high)),
         "throws_per_episode": draw_int(draw, "throws_per_episode", 1, 10),
         "wall_distance_range": draw_pair(draw, "wall_distance_range", distances),
         "sim_dt": sim_dt,

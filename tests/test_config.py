@@ -89,3 +89,16 @@ def test_linear_schedules_in_the_ppo_section(tmp_path):
         config.write_text(f"env_id: X\nenv: {{}}\nppo:\n  learning_rate: {bad}\n")
         with pytest.raises(ValueError, match="ppo.learning_rate"):
             load_training(config)
+
+
+def test_curve_preset_is_the_registered_v1():
+    from bbgym.config import env_preset, load_training
+
+    env_id, kwargs = load_preset("BeachballCurve-v1")
+    assert env_id == "BeachballCurve-v1"
+    assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
+    assert kwargs == gym.spec(env_id).kwargs
+    assert env_preset(env_id)[0] == CONFIG_DIR / "beachball_curve.yaml"
+    ppo, train = load_training(env_id)
+    assert ppo["learning_rate"](1.0) == pytest.approx(1e-3) and ppo["learning_rate"](0.0) == 0.0
+    assert train["total_timesteps"] == 3_000_000

@@ -242,7 +242,8 @@ class ToppleTask(TaskCore):
         )  # fmt: skip
         self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
         self.wind_from_range = check_range("wind_from_range", wind_from_range, WIND_FROM_RAD)
-        if self.wind_from_range[1] - self.wind_from_range[0] > FULL_CIRCLE_RAD[1]:
+        # (A turn computed as low + 2 pi may round a hair beyond it: allowed.)
+        if self.wind_from_range[1] - self.wind_from_range[0] > FULL_CIRCLE_RAD[1] + 1e-9:
             raise ValueError(
                 f"wind_from_range must span at most 2 pi (one turn), got {wind_from_range!r}"
             )
