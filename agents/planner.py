@@ -188,7 +188,9 @@ def plan_topple(env: gym.Env, beam: int = 6) -> TopplePlan:
         score = np.where(
             status == FALLEN_TOWARD, -np.inf, new.wall.angle + RATE_HORIZON_S * new.wall.rate
         )
-        keep = [0] if np.isfinite(score[0]) else []  # branch 0, candidate 0: waits only
+        # Row 0 is branch 0 waiting again: branch 0 is the one that has only waited, for
+        # as long as that branch stands.
+        keep = [0] if np.isfinite(score[0]) else []
         keep += [int(i) for i in np.argsort(-score) if np.isfinite(score[i]) and i != 0]
         keep = np.array(keep[:beam], dtype=np.int64)
         if keep.size == 0:

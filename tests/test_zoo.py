@@ -18,10 +18,17 @@ import pytest
 import yaml
 
 from bbgym import zoo
-from bbgym.config import CONFIG_DIR, PRESET_FILES, load_preset, load_training
+from bbgym.config import CONFIG_DIR, PRESET_FILES, LinearSchedule, load_preset, load_training
 from bbgym.zoo import ZOO_FILE, zoo_hyperparams
 
-ENV_IDS = ["BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0"]
+ENV_IDS = [
+    "BeachballSail-v0",
+    "BeachballThrow-v0",
+    "BeachballCurve-v0",
+    "BeachballCurve-v1",
+    "BeachballTopple-v0",
+    "BeachballTopple-v1",
+]
 ZOO_KEYS = {"n_envs", "n_timesteps", "env_kwargs"}
 """Keys of the shipped file that RL Zoo consumes itself (the rest go to ``PPO(...)``)."""
 
@@ -79,6 +86,8 @@ def test_mapping_of_the_preset(env_id):
     assert params["policy"] == ppo.pop("policy")
     # RL Zoo evaluates policy_kwargs as Python (its globals hold nothing we rely on).
     assert eval(params["policy_kwargs"], {}) == ppo.pop("policy_kwargs")
+    # A schedule (lin_<x>, which RL Zoo reads as its own linear schedule) stays text.
+    ppo = {k: repr(v) if isinstance(v, LinearSchedule) else v for k, v in ppo.items()}
     assert {k: params[k] for k in ppo} == ppo
     assert set(params) == {*ppo, "policy", "policy_kwargs", *ZOO_KEYS}
     _, env_kwargs = load_preset(path)
