@@ -19,3 +19,14 @@ def write_small_preset(
     preset["train"].update(train)
     path.write_text(yaml.safe_dump(preset))
     return path
+
+
+def write_tiny_sail_preset(path: Path) -> Path:
+    """The sailing preset on a budget of seconds: 8 envs, rollouts of 64, an evaluation of
+    2 episodes every 1024 steps (the main job's tests)."""
+    return write_small_preset(
+        path,
+        ppo={"n_steps": 64, "batch_size": 256},
+        train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
+               "checkpoint_every_timesteps": 100_000},
+    )  # fmt: skip

@@ -12,16 +12,11 @@ pytest.importorskip("matplotlib")
 
 def test_main_job_writes_the_run_folder(tmp_path):
     from PIL import Image
-    from small_preset import write_small_preset
+    from small_preset import write_tiny_sail_preset
 
     from bbgym import cli
 
-    config = write_small_preset(
-        tmp_path / "sail.yaml",
-        ppo={"n_steps": 64, "batch_size": 256},
-        train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
-               "checkpoint_every_timesteps": 100_000},
-    )  # fmt: skip
+    config = write_tiny_sail_preset(tmp_path / "sail.yaml")
     out = tmp_path / "run"
     argv = ["--env", "BeachballSail-v0", "--preset", str(config), "--timesteps", "2048",
             "--episodes", "3", "--seeds", "2", "--jobs", "2", "--out", str(out)]  # fmt: skip

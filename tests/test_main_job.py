@@ -40,14 +40,9 @@ def test_the_readme_names_the_makefiles_main_job():
 
 
 def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
-    from small_preset import write_small_preset
+    from small_preset import write_tiny_sail_preset
 
-    preset = write_small_preset(
-        tmp_path / "sail.yaml",
-        ppo={"n_steps": 64, "batch_size": 256},
-        train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
-               "checkpoint_every_timesteps": 100_000},
-    )  # fmt: skip
+    preset = write_tiny_sail_preset(tmp_path / "sail.yaml")
     argv = make_run_command()
     out_at = argv.index("--out")
     out = tmp_path / "main"

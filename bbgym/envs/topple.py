@@ -730,10 +730,11 @@ class BeachballToppleEnv(CoreEnv):
       `render_mode="rgb_array_list"`.
     * v1, bbgym 0.5.0: the same physics and spaces, a winnable task distribution. A
       privileged planner (`bbgym.agents.planner.plan_topple`: a beam search through the
-      core in the true gusts) wins only 46 of v0's first 100 episodes: a mean headwind of
-      2 m/s is unwinnable even 3 m from the wall (the draggy ball arrives slow, and the
-      wind's torque on the face holds the wall back; a lighter wall on a deeper foot, as
-      stable in the wind, is no easier), and walls beyond 6 m fall only to a tailwind.
+      core in the true gusts) wins only 46 of v0's first 100 episodes: in a steady
+      headwind of 2 m/s no throw topples the wall even 4 m away (the draggy ball arrives
+      slow, and the wind's torque on the face holds the wall back; a lighter wall on a
+      deeper foot, as stable in the wind, is no easier), in gusts only a lull lets it
+      fall, and walls beyond 6 m fall only to a tailwind.
       v1 puts the wall 3-5 m away (`wall_distance_range=(3, 5)`) in an onshore breeze
       (`wind_from_range=(pi / 2, 3 pi / 2)`, crosswinds included): the planner wins 100 of
       its first 100 episodes, random play 1.
