@@ -1,5 +1,5 @@
 # Two entry points, each doing its own set-up on a fresh machine:
-#   make run   - the main job: train PPO on BeachballSail-v0 with the default preset,
+#   make run   - the main job: train PPO on BeachballSail-v1 with its shipped preset,
 #                evaluate it beside random play and the VMG autopilot, and write the run
 #                folder runs/main (model, results table, learning curve, animation)
 #   make test  - lint and the test suite
@@ -24,7 +24,7 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(STAMP)
-	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v0 --seeds 1 --out runs/main
+	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v1 --seeds 1 --out runs/main
 
 demo: $(STAMP)
 	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym demo --out runs/demo

@@ -11,13 +11,15 @@ CONFIG_DIR = Path(str(resources.files("bbgym.configs")))
 
 PRESET_FILES = {
     "BeachballSail-v0": "beachball_sail.yaml",
+    "BeachballSail-v1": "beachball_sail_v1.yaml",
     "BeachballThrow-v0": "beachball_throw.yaml",
     "BeachballCurve-v0": "beachball_throw.yaml",
     "BeachballCurve-v1": "beachball_curve.yaml",
     "BeachballTopple-v0": "beachball_topple.yaml",
     "BeachballTopple-v1": "beachball_topple.yaml",
 }
-"""The shipped preset of each env id. BeachballCurve-v0 shares the throw preset and applies
+"""The shipped preset of each env id. BeachballSail-v1 has its own (the registration's env,
+rewards normalized in training); BeachballCurve-v0 shares the throw preset and applies
 its registered kwargs (the screen and the far targets) on top; BeachballCurve-v1 has its
 own (the registration's env, PPO tuned for it); BeachballTopple-v1 the
 topple preset with its registered kwargs (nearer walls, an onshore breeze)."""
@@ -116,6 +118,7 @@ TRAIN_DEFAULTS = {
     "eval_every_timesteps": 20_000,
     "eval_episodes": 20,
     "checkpoint_every_timesteps": 100_000,
+    "normalize_reward": False,
 }
 
 

@@ -138,9 +138,10 @@ def ppo_config(
     (global norm), ``n_steps * train.n_envs`` -> ``train_batch_size_per_learner``,
     ``policy_kwargs.net_arch`` -> ``fcnet_hiddens`` with separate policy and value networks
     and tanh (SB3's ``MlpPolicy``). SB3 has no KL penalty, so neither has this
-    (``use_kl_loss=False``); gSDE, ``squash_output`` and ``log_std_init`` have no RLlib
-    counterpart and are left out. Keyword arguments override the preset; further ones
-    (``**training``) go to ``PPOConfig.training`` as they are (``entropy_coeff=0.01``).
+    (``use_kl_loss=False``); gSDE, ``squash_output``, ``log_std_init`` and the preset's
+    ``normalize_reward`` have no RLlib counterpart and are left out. Keyword arguments
+    override the preset; further ones (``**training``) go to ``PPOConfig.training`` as
+    they are (``entropy_coeff=0.01``).
 
     ``env_kwargs`` update the preset's env kwargs (``max_episode_steps`` among them sets the
     native vector env's time limit). ``num_envs_per_env_runner`` defaults to the preset's

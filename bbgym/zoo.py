@@ -14,7 +14,8 @@ regenerate it with ``python -m bbgym.zoo`` (``--check`` tells whether it is up t
 
 The mapping: the preset's ``ppo`` section gives ``policy`` and PPO's arguments (``lin_<x>``
 schedules are RL Zoo's notation already), ``train.n_envs`` gives ``n_envs``,
-``train.total_timesteps`` gives ``n_timesteps``, and ``env`` (with ``max_episode_steps``
+``train.total_timesteps`` gives ``n_timesteps``, ``train.normalize_reward`` gives
+``normalize`` (rewards only, as RL Zoo's string), and ``env`` (with ``max_episode_steps``
 and the env id's registered arguments, such as BeachballCurve-v0's screen) gives
 ``env_kwargs``. The preset's evaluation and checkpoint periods have no key in RL Zoo's
 file: they are its command-line flags, :func:`zoo_train_flags`.
@@ -30,6 +31,9 @@ from typing import Any
 import yaml
 
 from bbgym.config import CONFIG_DIR, PRESET_FILES, load_preset, load_training, preset_path
+
+NORMALIZE_REWARD = "dict(norm_obs=False, norm_reward=True)"
+"""RL Zoo's ``normalize`` value for a preset's ``train.normalize_reward``."""
 
 ZOO_FILE = CONFIG_DIR / "ppo.yml"
 """RL Zoo's hyperparameter file of PPO, shipped in the package (``configs/ppo.yml``)."""
@@ -83,6 +87,9 @@ def env_hyperparams(env_id: str) -> dict[str, Any]:
     out.update(_plain(ppo))
     if policy_kwargs:
         out["policy_kwargs"] = policy_kwargs_string(policy_kwargs)
+    if train["normalize_reward"]:
+        # RL Zoo's notation for VecNormalize on the rewards alone (it adds PPO's gamma).
+        out["normalize"] = NORMALIZE_REWARD
     out["env_kwargs"] = _plain(env_kwargs)
     return out
 

@@ -21,11 +21,12 @@ def write_small_preset(
     return path
 
 
-def write_tiny_sail_preset(path: Path) -> Path:
-    """The sailing preset on a budget of seconds: 8 envs, rollouts of 64, an evaluation of
-    2 episodes every 1024 steps (the main job's tests)."""
+def write_tiny_sail_preset(path: Path, name: str = "beachball_sail.yaml") -> Path:
+    """A sailing preset (``name``) on a budget of seconds: 8 envs, rollouts of 64, an
+    evaluation of 2 episodes every 1024 steps (the main job's tests)."""
     return write_small_preset(
         path,
+        name,
         ppo={"n_steps": 64, "batch_size": 256},
         train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
                "checkpoint_every_timesteps": 100_000},

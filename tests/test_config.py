@@ -102,3 +102,21 @@ def test_curve_preset_is_the_registered_v1():
     ppo, train = load_training(env_id)
     assert ppo["learning_rate"](1.0) == pytest.approx(1e-3) and ppo["learning_rate"](0.0) == 0.0
     assert train["total_timesteps"] == 3_000_000
+
+
+def test_sail_v1_preset_is_the_registered_v1():
+    from bbgym.config import env_preset, load_training
+
+    env_id, kwargs = load_preset("BeachballSail-v1")
+    assert env_id == "BeachballSail-v1"
+    assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
+    assert kwargs == gym.spec(env_id).kwargs == {"time_penalty": 0.1, "capsize_penalty": 30.0}
+    assert env_preset(env_id)[0] == CONFIG_DIR / "beachball_sail_v1.yaml"
+    # PPO as for v0, with the rewards normalized in training.
+    ppo_v0, train_v0 = load_training("BeachballSail-v0")
+    ppo, train = load_training(env_id)
+    assert ppo == ppo_v0
+    assert train == {**train_v0, "normalize_reward": True}
+    task = gym.make(env_id).unwrapped.task
+    assert (task.time_penalty, task.capsize_penalty) == (0.1, 30.0)
+    assert task.reward_range == (-31.1, 11.0)

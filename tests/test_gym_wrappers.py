@@ -31,12 +31,13 @@ os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 
 ENV_IDS = [
     "BeachballSail-v0",
+    "BeachballSail-v1",
     "BeachballThrow-v0",
     "BeachballCurve-v0",
     "BeachballTopple-v0",
     "BeachballTopple-v1",
 ]
-BALL_IDS = ENV_IDS[1:]
+BALL_IDS = [e for e in ENV_IDS if not e.startswith("BeachballSail")]
 LENGTH_KEY = {"BeachballThrow-v0": "trajectory_length", "BeachballCurve-v0": "trajectory_length",
               "BeachballTopple-v0": "samples_length",
               "BeachballTopple-v1": "samples_length"}  # fmt: skip
@@ -51,6 +52,7 @@ PADDED = {
     },
 }  # fmt: skip
 PADDED["BeachballTopple-v1"] = PADDED["BeachballTopple-v0"]
+PADDED["BeachballSail-v1"] = PADDED["BeachballSail-v0"]
 """The per-step records of each env and their fixed shapes (record_capacity rows)."""
 
 
@@ -58,7 +60,7 @@ def step_frames(env_id: str, info: dict[str, Any]) -> int:
     """The frames ``rgb_array_list`` collects for a step: a throw's flight, one per recorded
     pose but the last, then its landing; Topple's interval, one per sample, then its end;
     Sail's one."""
-    if env_id == "BeachballSail-v0":
+    if env_id.startswith("BeachballSail"):
         return 1
     return int(info[LENGTH_KEY[env_id]]) + env_id.startswith("BeachballTopple")
 
@@ -66,7 +68,7 @@ def step_frames(env_id: str, info: dict[str, Any]) -> int:
 def actions_for(env_id: str, shape: tuple[int, ...], seed: int = 0) -> np.ndarray:
     """Random actions in [-1, 1]; the ball envs' throws forward and up (long flights)."""
     a = np.random.default_rng(seed).uniform(-1.0, 1.0, shape)
-    if env_id != "BeachballSail-v0":
+    if not env_id.startswith("BeachballSail"):
         a[..., 0], a[..., 2] = np.abs(a[..., 0]) * 0.5 + 0.2, np.abs(a[..., 2]) * 0.4 + 0.2
     return a.astype(np.float32)
 
@@ -139,7 +141,7 @@ def run_singles(env_id: str, n: int, seed: int, actions: np.ndarray, **kwargs: A
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_sync_async_native_and_single_envs_agree(env_id):
     n, steps, seed, limit = 3, 7, 21, 4
-    actions = actions_for(env_id, (steps, n, 6 if env_id != "BeachballSail-v0" else 2))
+    actions = actions_for(env_id, (steps, n, 2 if env_id.startswith("BeachballSail") else 6))
     runs = {
         mode: run_vector(
             gym.make_vec(env_id, num_envs=n, vectorization_mode=mode, max_episode_steps=limit),
@@ -299,7 +301,7 @@ def test_rgb_array_list_collects_every_frame_since_the_last_render(env_id):
     frames = env.render()
     # A ball env's step is its flight (render_flight()), then its end (render()).
     assert len(frames) == step_frames(env_id, info)
-    assert len(frames) > 10 or env_id == "BeachballSail-v0"
+    assert len(frames) > 10 or env_id.startswith("BeachballSail")
     np.testing.assert_array_equal(frames[-1], twin.render())
     if env_id in LENGTH_KEY:
         flight = twin.unwrapped.render_flight()
@@ -354,7 +356,7 @@ def record_episode(env: RecordVideo, env_id: str, steps: int) -> tuple[list[dict
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_record_video(env_id, tmp_path):
-    steps = 4 if env_id == "BeachballSail-v0" else 1
+    steps = 4 if env_id.startswith("BeachballSail") else 1
     every = dict(episode_trigger=lambda episode: True)
     # rgb_array: one frame per reset and step.
     env = RecordVideo(gym.make(env_id, render_mode="rgb_array"), str(tmp_path / "a"), **every)
@@ -367,7 +369,7 @@ def test_record_video(env_id, tmp_path):
     infos, recorded = record_episode(env, env_id, 1)
     assert recorded == 2 and len(env.render_history) == 1 + step_frames(env_id, infos[0])
     assert_video(tmp_path / "b", recorded)
-    if env_id == "BeachballSail-v0":
+    if env_id.startswith("BeachballSail"):
         return
     # RecordFlightVideo puts every frame of the lists in the video: the flights.
     env = RecordFlightVideo(gym.make(env_id, render_mode="rgb_array_list"),
@@ -456,7 +458,9 @@ def test_frame_stack_and_time_limit(env_id):
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_vector_wrappers_on_the_native_vector_env(env_id):
     n, steps = 2, 4
-    actions = actions_for(env_id, (steps, n, 6 if env_id != "BeachballSail-v0" else 2), seed=7)
+    actions = actions_for(
+        env_id, (steps, n, 2 if env_id.startswith("BeachballSail") else 6), seed=7
+    )
     plain = run_vector(gym.make_vec(env_id, num_envs=n), 11, actions)
     raw_obs = np.concatenate([row[0] for row in plain])
 

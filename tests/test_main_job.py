@@ -18,6 +18,8 @@ pytest.importorskip("stable_baselines3")
 pytest.importorskip("matplotlib")
 
 ROOT = Path(__file__).resolve().parents[1]
+MAIN_ENV = "BeachballSail-v1"
+"""The env the main job trains (the sailing baseline of the README)."""
 
 
 def make_run_command() -> list[str]:
@@ -33,7 +35,7 @@ def make_run_command() -> list[str]:
 
 def test_the_readme_names_the_makefiles_main_job():
     argv = make_run_command()
-    assert argv[:3] == ["baseline", "--env", "BeachballSail-v0"]
+    assert argv[:3] == ["baseline", "--env", MAIN_ENV]
     readme = (ROOT / "README.md").read_text()
     assert f"`bbgym {' '.join(argv)}`" in readme
     assert f"make run                     # = bbgym {' '.join(argv)}" in readme
@@ -42,7 +44,9 @@ def test_the_readme_names_the_makefiles_main_job():
 def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     from small_preset import write_tiny_sail_preset
 
-    preset = write_tiny_sail_preset(tmp_path / "sail.yaml")
+    from bbgym.config import PRESET_FILES
+
+    preset = write_tiny_sail_preset(tmp_path / "sail.yaml", PRESET_FILES[MAIN_ENV])
     argv = make_run_command()
     out_at = argv.index("--out")
     out = tmp_path / "main"
@@ -66,14 +70,14 @@ def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
 
     # The table's PPO row is what the evaluate command gives the saved best model.
     check = subprocess.run(
-        [*bbgym, "evaluate", "--env", "BeachballSail-v0", "--policies", "ppo", "--model",
+        [*bbgym, "evaluate", "--env", MAIN_ENV, "--policies", "ppo", "--model",
          str(out / "seed0" / "best_model.zip"), "--episodes", "3", "--out", str(tmp_path / "e")],
         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert check.returncode == 0, check.stderr[-3000:]
-    (again,) = json.loads((tmp_path / "e" / "BeachballSail-v0.json").read_text())
+    (again,) = json.loads((tmp_path / "e" / f"{MAIN_ENV}.json").read_text())
     ppo = rows[2]
     for key in ("success_rate", "mean_return", "mean_length", "mean_time_to_mark_s"):
         assert ppo[key] == again[key], key
     table = (out / "results.md").read_text()
-    assert table.count("| BeachballSail-v0 |") == 3
+    assert table.count(f"| {MAIN_ENV} |") == 3

@@ -6,6 +6,7 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 pytest.importorskip("stable_baselines3")
@@ -43,3 +44,51 @@ def test_train_save_load_evaluate(tmp_path):
     assert done.returncode == 0, done.stderr[-2000:]
     results = json.loads((tmp_path / "eval" / "BeachballSail-v0.json").read_text())
     assert results[0]["policy"] == "ppo" and results[0]["episodes"] == 2
+
+
+def test_normalized_rewards_train_resume_and_score_raw(tmp_path):
+    """``train.normalize_reward`` (the Sail-v1 preset): the rewards PPO learns from are
+    scaled by running statistics that are saved and resumed, while the evaluation during
+    training scores the env's own returns."""
+    from small_preset import write_small_preset
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.evaluation import evaluate_policy
+    from stable_baselines3.common.vec_env import VecMonitor, VecNormalize
+
+    from bbgym.cli.train import EVAL_SEED_OFFSET, VEC_NORMALIZE_FILE, train_sb3
+    from bbgym.sb3 import make_sb3_vec_env
+
+    config = write_small_preset(
+        tmp_path / "sail_v1.yaml", "beachball_sail_v1.yaml",
+        ppo={"n_steps": 64, "batch_size": 256},
+        train={"n_envs": 8, "eval_every_timesteps": 100_000, "eval_episodes": 2,
+               "checkpoint_every_timesteps": 100_000},
+    )  # fmt: skip
+    out = tmp_path / "run"
+    train_sb3("BeachballSail-v1", preset=config, timesteps=2048, seed=3, out=out, progress=False)
+    dummy = make_sb3_vec_env("BeachballSail-v1", n_envs=1, seed=0)
+    stats = VecNormalize.load(str(out / VEC_NORMALIZE_FILE), dummy)
+    assert not stats.norm_obs and stats.norm_reward and stats.gamma == 0.99
+    assert stats.ret_rms.count == pytest.approx(2048, abs=1e-3)  # one per env step
+    assert stats.ret_rms.var > 0.0
+
+    # The one evaluation (of the final model, at the end of training) equals SB3's
+    # evaluation of model.zip in fresh envs alike, unnormalized: v1's time cost of 0.1 a
+    # step, not a scaled-down reward.
+    logged = np.load(out / "eval" / "evaluations.npz")
+    assert list(logged["timesteps"]) == [2048]
+    env_kwargs = {"time_penalty": 0.1, "capsize_penalty": 30.0}
+    eval_env = VecMonitor(make_sb3_vec_env(
+        "BeachballSail-v1", n_envs=2, seed=3 + EVAL_SEED_OFFSET, **env_kwargs
+    ))  # fmt: skip
+    returns, _ = evaluate_policy(PPO.load(out / "model.zip", device="cpu"), eval_env,
+                                 n_eval_episodes=2, deterministic=True,
+                                 return_episode_rewards=True)  # fmt: skip
+    assert sorted(logged["results"][-1]) == pytest.approx(sorted(returns))
+    assert min(returns) < -20.0  # 300 s at 0.1 a step is -120; a scaled return is O(1)
+
+    # --resume continues the statistics with the model.
+    train_sb3("BeachballSail-v1", preset=config, timesteps=512, seed=3, out=out,
+              resume=True, progress=False)  # fmt: skip
+    stats = VecNormalize.load(str(out / VEC_NORMALIZE_FILE), dummy)
+    assert stats.ret_rms.count == pytest.approx(2048 + 512, abs=1e-3)

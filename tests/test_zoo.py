@@ -23,6 +23,7 @@ from bbgym.zoo import ZOO_FILE, zoo_hyperparams
 
 ENV_IDS = [
     "BeachballSail-v0",
+    "BeachballSail-v1",
     "BeachballThrow-v0",
     "BeachballCurve-v0",
     "BeachballCurve-v1",
@@ -89,7 +90,11 @@ def test_mapping_of_the_preset(env_id):
     # A schedule (lin_<x>, which RL Zoo reads as its own linear schedule) stays text.
     ppo = {k: repr(v) if isinstance(v, LinearSchedule) else v for k, v in ppo.items()}
     assert {k: params[k] for k in ppo} == ppo
-    assert set(params) == {*ppo, "policy", "policy_kwargs", *ZOO_KEYS}
+    # Reward normalization (Sail-v1) is RL Zoo's normalize key, rewards only.
+    normalized = {"normalize"} if train["normalize_reward"] else set()
+    assert set(params) == {*ppo, "policy", "policy_kwargs", *ZOO_KEYS, *normalized}
+    if normalized:
+        assert eval(params["normalize"], {"dict": dict}) == {"norm_obs": False, "norm_reward": True}
     _, env_kwargs = load_preset(path)
     env_kwargs.update(gym.spec(env_id).kwargs)  # BeachballCurve-v0: the screen, far targets
     assert params["env_kwargs"] == _lists(env_kwargs)
@@ -142,12 +147,18 @@ def test_rl_zoo_parses_every_key(env_id, tmp_path):
     # RL Zoo's own pre-processing: it takes its keys out and returns PPO's arguments.
     hyperparams, env_wrapper, callbacks, vec_env_wrapper = em._preprocess_hyperparams(dict(raw))
     assert env_wrapper is None and vec_env_wrapper is None and callbacks == []
-    assert not em.normalize and em.frame_stack is None
+    assert em.frame_stack is None
+    if "normalize" in expected:  # VecNormalize on the rewards alone, at PPO's discount
+        assert em.normalize
+        assert em.normalize_kwargs == {"norm_obs": False, "norm_reward": True,
+                                       "gamma": expected["gamma"]}  # fmt: skip
+    else:
+        assert not em.normalize
     assert em.n_envs == expected["n_envs"] and em.n_timesteps == expected["n_timesteps"]
     assert em.env_kwargs == expected["env_kwargs"]
     ppo_args = set(inspect.signature(PPO.__init__).parameters) - {"self", "env"}
     assert set(hyperparams) <= ppo_args, sorted(set(hyperparams) - ppo_args)
-    assert set(hyperparams) == set(expected) - ZOO_KEYS
+    assert set(hyperparams) == set(expected) - ZOO_KEYS - {"normalize"}
     # The envs RL Zoo builds from env_kwargs (one here) and PPO built from the arguments.
     env = em.create_envs(1, no_log=True)
     # rl_zoo3 2.9 gives its eval env the file's env_kwargs only with --env-kwargs (else
@@ -158,6 +169,8 @@ def test_rl_zoo_parses_every_key(env_id, tmp_path):
         for _ in range(3):
             action = np.full((1, *env.action_space.shape), 0.5, np.float32)
             step, eval_step = env.step(action), eval_env.step(action)
+            if "normalize" in expected:  # the training env scales its rewards
+                step = (step[0], env.get_original_reward(), step[2])
             for a, b in zip(step[:3], eval_step[:3], strict=True):
                 np.testing.assert_array_equal(a, b)
         with warnings.catch_warnings():

@@ -40,6 +40,9 @@ EVAL_SEED_OFFSET = 10_000
 
 ENGINES = ("sb3", "rllib")
 
+VEC_NORMALIZE_FILE = "vecnormalize.pkl"
+"""The reward normalizer's running statistics (``normalize_reward``), for ``--resume``."""
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
@@ -171,11 +174,19 @@ def train_sb3(
     out.mkdir(parents=True, exist_ok=True)
     shutil.copy(path, out / "config.yaml")
     vec_env = VecMonitor(make_sb3_vec_env(env, n_envs=n_envs, seed=seed, **env_kwargs))
+    stats_path = out / VEC_NORMALIZE_FILE
+    if settings["normalize_reward"]:
+        vec_env = _normalize_reward(vec_env, ppo_kwargs.get("gamma", 0.99), stats_path, resume)
     # Several envs evaluate at once: a native vector env of one is NumPy on one element.
     n_eval = min(n_envs, settings["eval_episodes"])
     eval_env = VecMonitor(
         make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
     )
+    if settings["normalize_reward"]:
+        from stable_baselines3.common.vec_env import VecNormalize
+
+        # SB3's evaluation syncs the statistics into an env wrapped alike; it scores raw.
+        eval_env = VecNormalize(eval_env, training=False, norm_obs=False, norm_reward=False)
     evaluation = _final_eval_callback()(
         eval_env,
         n_eval_episodes=settings["eval_episodes"],
@@ -211,6 +222,8 @@ def train_sb3(
     )
     wall = time.perf_counter() - start
     model.save(model_path)
+    if settings["normalize_reward"]:
+        vec_env.save(str(stats_path))
     summary = {
         "env": env,
         "engine": "sb3",
@@ -229,6 +242,18 @@ def train_sb3(
     vec_env.close()
     eval_env.close()
     return summary
+
+
+def _normalize_reward(vec_env: Any, gamma: float, stats_path: Path, resume: bool) -> Any:
+    """SB3's ``VecNormalize`` on the rewards only (the observations are already scaled):
+    each reward is divided by the running standard deviation of the discounted return, so
+    the value loss stays of order one and does not crowd the policy's gradient out of the
+    clipped gradient norm. The episode statistics stay raw (``VecMonitor`` is inside)."""
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    if resume and stats_path.exists():
+        return VecNormalize.load(str(stats_path), vec_env)
+    return VecNormalize(vec_env, norm_obs=False, norm_reward=True, gamma=gamma)
 
 
 def _progress_bar_available() -> bool:

@@ -1,4 +1,4 @@
-"""BeachballSail-v0: sail a dinghy to a mark with rudder and sheet.
+"""BeachballSail-v0 and -v1: sail a dinghy to a mark with rudder and sheet.
 
 The task's functional core (:class:`SailTask`) is pure functions over a batch of
 immutable :class:`SailState`: the single env runs it on Python floats, the native vector
@@ -520,15 +520,19 @@ class BeachballSailEnv(CoreEnv):
 
     ## Rewards
 
-    Per step, bounded in [-11.01, 11]:
+    Per step, bounded in [-11.01, 11] (v1: [-31.1, 11]):
 
     * `progress`: metres gained toward the mark over 1.5 m (6 m/s for 0.25 s), clipped to
       [-1, 1], times `progress_weight`;
     * `arrival`: `+arrival_bonus` (10) on reaching the mark;
-    * `capsize`: `-capsize_penalty` (10) on capsizing;
-    * `time`: `-time_penalty` (0.01) every step.
+    * `capsize`: `-capsize_penalty` (10; v1: 30) on capsizing;
+    * `time`: `-time_penalty` (0.01; v1: 0.1) every step.
 
-    Each term is in `info["reward_terms"]`.
+    Each term is in `info["reward_terms"]`. The progress terms of an episode sum to the
+    distance made good whatever the speed, so in v0 only the 0.01 a step and the discount
+    pay for sailing fast. In v1 time costs 0.1 a step: a boat making good 1.5 m/s earns
+    0.25 a step, so a slow course runs at a loss. A capsize costs 30, more than the time
+    left in any episode is worth at a discount of 0.99 (0.1 / (1 - 0.99) = 10).
 
     ## Starting State
 
@@ -575,6 +579,9 @@ class BeachballSailEnv(CoreEnv):
       ``tests/test_golden_v0.py``) on a functional core; the vector env takes
       ``backend``, ``device``, ``dtype``, ``output``, ``compile`` (torch, compiled).
     * v0, bbgym 0.4.0 (the same dynamics): `render_mode="rgb_array_list"`.
+    * v1, bbgym 0.6.0: the same boat, wind, marks, spaces and dynamics; the reward charges
+      time: `time_penalty=0.1` (v0: 0.01) and `capsize_penalty=30` (v0: 10), the kwargs it
+      is registered with. Success and time to the mark mean what they mean in v0.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 4}
