@@ -88,8 +88,8 @@ def solve_throw_robust(
     screen: bool = False,
     refine: int = 3,
     seed: int = 0,
-    shortlist: int = 64,
-    winds: int = 12,
+    shortlist: int = 128,
+    winds: int = 24,
 ) -> Solution:
     """The throw most likely to land in the ring when the wind is only known to within
     ``wind_std`` (m/s per component, e.g. a noisy windsock in gusts): the ``shortlist``

@@ -106,4 +106,4 @@ def test_the_robust_curve_lands_in_more_of_the_winds_the_windsock_allows():
             for w in winds
         )
 
-    assert hits(robust) >= hits(nominal) + 5  # measured: 30 against 19 of 40
+    assert hits(robust) >= hits(nominal) + 5  # measured: 27 against 19 of 40
