@@ -14,8 +14,10 @@ env through :mod:`bbgym.sb3`, with a progress bar, TensorBoard logs in ``<out>/t
 periodic evaluation on separate seeds (10000 + seed; success rate and return in
 ``<out>/eval``, the best model as ``<out>/best_model.zip``; the end of training is always
 evaluated, so a short budget still has a best model) and checkpoints in
-``<out>/checkpoints``. The final model is ``<out>/model.zip``; ``--resume`` continues from
-it. A summary goes to ``<out>/train.json``.
+``<out>/checkpoints``; a preset with ``train.normalize_reward`` trains on normalized
+rewards and keeps their statistics in ``<out>/vecnormalize.pkl``. The final model is
+``<out>/model.zip``; ``--resume`` continues from it. A summary goes to
+``<out>/train.json``.
 
 Engine ``rllib`` (the ``rllib`` extra): Ray RLlib's PPO on its new API stack, each env
 runner stepping the env's native vector env; ``--iterations`` training iterations, a
@@ -246,9 +248,10 @@ def train_sb3(
 
 def _normalize_reward(vec_env: Any, gamma: float, stats_path: Path, resume: bool) -> Any:
     """SB3's ``VecNormalize`` on the rewards only (the observations are already scaled):
-    each reward is divided by the running standard deviation of the discounted return, so
-    the value loss stays of order one and does not crowd the policy's gradient out of the
-    clipped gradient norm. The episode statistics stay raw (``VecMonitor`` is inside)."""
+    each reward is divided by the running standard deviation of the discounted return (RL
+    Zoo's ``norm_reward``). On Sail-v1 it is what let every training seed learn to beat to
+    windward (README, "Baselines"). The episode statistics stay raw (``VecMonitor`` is
+    inside), and ``--resume`` continues the saved statistics."""
     from stable_baselines3.common.vec_env import VecNormalize
 
     if resume and stats_path.exists():
