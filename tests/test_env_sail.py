@@ -1,4 +1,4 @@
-"""BeachballSail-v0: Gymnasium contract, determinism, vector env, options, errors, rewards."""
+"""BeachballSail-v0 and -v1: Gymnasium contract, determinism, vector env, options, rewards."""
 
 from __future__ import annotations
 
@@ -242,3 +242,35 @@ def test_render_rgb_array_single_and_vector():
     assert len(frames) == 2 and frames[0].shape == (480, 640, 3)
     assert not np.array_equal(frames[0], frames[1])
     vec.close()
+
+
+def test_v1_is_v0_with_time_and_capsizes_costing_more():
+    """BeachballSail-v1 sails exactly as v0 (observations, ends, progress, arrivals); only
+    its time term (-0.1 a step, v0 -0.01) and capsize term (-30, v0 -10) differ."""
+    check_env(gym.make("BeachballSail-v1").unwrapped, skip_render_check=True)
+    strong = {"wind_speed_range": (9.0, 14.0)}  # random play capsizes in this
+    v0 = gym.make_vec("BeachballSail-v0", num_envs=64, **strong)
+    v1 = gym.make_vec("BeachballSail-v1", num_envs=64, **strong)
+    np.testing.assert_array_equal(v0.reset(seed=5)[0], v1.reset(seed=5)[0])
+    rng = np.random.default_rng(1)
+    capsizes = 0
+    for _ in range(300):
+        action = rng.uniform(-1.0, 1.0, (64, 2)).astype(np.float32)
+        (o0, r0, term0, trunc0, i0), (o1, r1, term1, trunc1, i1) = v0.step(action), v1.step(action)
+        for a, b in ((o0, o1), (term0, term1), (trunc0, trunc1)):
+            np.testing.assert_array_equal(a, b)
+        t0, t1 = i0["reward_terms"], i1["reward_terms"]
+        for term in ("progress", "arrival"):
+            np.testing.assert_array_equal(t0[term], t1[term])
+        stepped = t0["time"] != 0.0  # not the step that restarts a finished env
+        capsized = t0["capsize"] != 0.0
+        np.testing.assert_array_equal(stepped, t1["time"] != 0.0)
+        np.testing.assert_array_equal(capsized, t1["capsize"] != 0.0)
+        np.testing.assert_allclose(t0["time"][stepped], -0.01)
+        np.testing.assert_allclose(t1["time"][stepped], -0.1)
+        np.testing.assert_allclose(t0["capsize"][capsized], -10.0)
+        np.testing.assert_allclose(t1["capsize"][capsized], -30.0)
+        extra = np.where(stepped, -0.09, 0.0) + np.where(capsized, -20.0, 0.0)
+        np.testing.assert_allclose(r1 - r0, extra, atol=1e-9)
+        capsizes += int(capsized.sum())
+    assert capsizes > 0
