@@ -176,19 +176,15 @@ def train_sb3(
     out.mkdir(parents=True, exist_ok=True)
     shutil.copy(path, out / "config.yaml")
     vec_env = VecMonitor(make_sb3_vec_env(env, n_envs=n_envs, seed=seed, **env_kwargs))
-    stats_path = out / VEC_NORMALIZE_FILE
-    if settings["normalize_reward"]:
-        vec_env = _normalize_reward(vec_env, ppo_kwargs.get("gamma", 0.99), stats_path, resume)
     # Several envs evaluate at once: a native vector env of one is NumPy on one element.
     n_eval = min(n_envs, settings["eval_episodes"])
     eval_env = VecMonitor(
         make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
     )
+    stats_path = out / VEC_NORMALIZE_FILE
     if settings["normalize_reward"]:
-        from stable_baselines3.common.vec_env import VecNormalize
-
-        # SB3's evaluation syncs the statistics into an env wrapped alike; it scores raw.
-        eval_env = VecNormalize(eval_env, training=False, norm_obs=False, norm_reward=False)
+        gamma = ppo_kwargs.get("gamma", 0.99)
+        vec_env, eval_env = _normalize_reward(vec_env, eval_env, gamma, stats_path, resume)
     evaluation = _final_eval_callback()(
         eval_env,
         n_eval_episodes=settings["eval_episodes"],
@@ -246,17 +242,22 @@ def train_sb3(
     return summary
 
 
-def _normalize_reward(vec_env: Any, gamma: float, stats_path: Path, resume: bool) -> Any:
+def _normalize_reward(
+    vec_env: Any, eval_env: Any, gamma: float, stats_path: Path, resume: bool
+) -> tuple[Any, Any]:
     """SB3's ``VecNormalize`` on the rewards only (the observations are already scaled):
     each reward is divided by the running standard deviation of the discounted return (RL
     Zoo's ``norm_reward``). On Sail-v1 it is what let every training seed learn to beat to
     windward (README, "Baselines"). The episode statistics stay raw (``VecMonitor`` is
-    inside), and ``--resume`` continues the saved statistics."""
+    inside), and ``--resume`` continues the saved statistics. The evaluation env is
+    wrapped alike, as SB3's evaluation expects, but scores the env's own rewards."""
     from stable_baselines3.common.vec_env import VecNormalize
 
     if resume and stats_path.exists():
-        return VecNormalize.load(str(stats_path), vec_env)
-    return VecNormalize(vec_env, norm_obs=False, norm_reward=True, gamma=gamma)
+        train_env = VecNormalize.load(str(stats_path), vec_env)
+    else:
+        train_env = VecNormalize(vec_env, norm_obs=False, norm_reward=True, gamma=gamma)
+    return train_env, VecNormalize(eval_env, training=False, norm_obs=False, norm_reward=False)
 
 
 def _progress_bar_available() -> bool:
