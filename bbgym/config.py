@@ -19,10 +19,11 @@ PRESET_FILES = {
     "BeachballTopple-v1": "beachball_topple.yaml",
 }
 """The shipped preset of each env id. BeachballSail-v1 has its own (the registration's env,
-rewards normalized in training); BeachballCurve-v0 shares the throw preset and applies
-its registered kwargs (the screen and the far targets) on top; BeachballCurve-v1 has its
-own (the registration's env, PPO tuned for it); BeachballTopple-v1 the
-topple preset with its registered kwargs (nearer walls, an onshore breeze)."""
+trained with SAC; ``beachball_sail_v1_ppo`` is its PPO preset, chosen by name);
+BeachballCurve-v0 shares the throw preset and applies its registered kwargs (the screen
+and the far targets) on top; BeachballCurve-v1 has its own (the registration's env, PPO
+tuned for it); BeachballTopple-v1 the topple preset with its registered kwargs (nearer
+walls, an onshore breeze)."""
 
 
 def preset_path(preset: str | Path) -> Path:
@@ -106,11 +107,15 @@ def _env_kwargs(preset: dict[str, Any]) -> tuple[str, dict[str, Any]]:
         return value
 
     kwargs = tuples(preset["env"])
-    # (The ``ppo`` and ``train`` sections are read by :func:`load_training`.)
+    # (The ``algo``, its section and ``train`` are read by :func:`load_training`.)
     if "max_episode_steps" in preset:
         kwargs["max_episode_steps"] = preset["max_episode_steps"]
     return preset["env_id"], kwargs
 
+
+ALGORITHMS = ("ppo", "sac")
+"""The stable-baselines3 algorithms a preset may train: its top-level ``algo`` (default
+``ppo``) names one, and the section of that name holds its keyword arguments."""
 
 TRAIN_DEFAULTS = {
     "n_envs": 8,
@@ -123,7 +128,7 @@ TRAIN_DEFAULTS = {
 
 
 SCHEDULED = ("learning_rate", "clip_range")
-"""PPO arguments that may be given as ``"lin_<initial value>"`` (RL Zoo's notation)."""
+"""Arguments that may be given as ``"lin_<initial value>"`` (RL Zoo's notation)."""
 
 
 class LinearSchedule:
@@ -156,22 +161,29 @@ def linear_schedule(text: str, name: str = "schedule") -> LinearSchedule:
 
 
 def load_training(preset: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``(ppo_kwargs, train_settings)`` of a preset (an env id, a shipped preset's name or a
-    file): the keyword arguments of stable-baselines3's ``PPO`` (``policy`` included) and
-    the run settings, with defaults for what the file leaves out."""
+    """``(algo_kwargs, train_settings)`` of a preset (an env id, a shipped preset's name or
+    a file): the keyword arguments of the stable-baselines3 algorithm the preset trains
+    (``policy`` included; the section named by its ``algo``, PPO's ``ppo`` by default) and
+    the run settings, with defaults for what the file leaves out and ``algo`` added."""
     import yaml
 
     path = preset_path(preset)
     with open(path, encoding="utf-8") as f:
         preset = yaml.safe_load(f)
-    ppo = dict(preset.get("ppo") or {})
-    ppo.setdefault("policy", "MlpPolicy")
+    algo = preset.get("algo", "ppo")
+    if algo not in ALGORITHMS:
+        raise ValueError(f"{path}: algo must be one of {list(ALGORITHMS)}, got {algo!r}")
+    stray = [name for name in ALGORITHMS if name != algo and name in preset]
+    if stray:
+        raise ValueError(f"{path}: the preset trains {algo} (algo) but has a {stray[0]} section")
+    kwargs = dict(preset.get(algo) or {})
+    kwargs.setdefault("policy", "MlpPolicy")
     for key in SCHEDULED:
-        if isinstance(ppo.get(key), str):
-            ppo[key] = linear_schedule(ppo[key], f"{path}: ppo.{key}")
+        if isinstance(kwargs.get(key), str):
+            kwargs[key] = linear_schedule(kwargs[key], f"{path}: {algo}.{key}")
     train = {**TRAIN_DEFAULTS, **(preset.get("train") or {})}
     unknown = sorted(set(train) - set(TRAIN_DEFAULTS))
     if unknown:
         known = sorted(TRAIN_DEFAULTS)
         raise ValueError(f"{path}: unknown train settings {unknown}; known: {known}")
-    return ppo, train
+    return kwargs, {**train, "algo": algo}

@@ -156,6 +156,9 @@ def ppo_config(
     _check_env_id(env_id)
     runners = _positive("num_env_runners", num_env_runners, minimum=0)
     ppo, train_settings = load_training(env_id if preset is None else preset)
+    if train_settings["algo"] != "ppo":
+        algo = train_settings["algo"]
+        raise ValueError(f"preset: RLlib trains PPO presets; this one trains {algo}")
     envs = _positive(
         "num_envs_per_env_runner",
         train_settings["n_envs"] if num_envs_per_env_runner is None else num_envs_per_env_runner,

@@ -15,7 +15,10 @@ costs no Python loop over the batch beyond the finished envs.
 
 from __future__ import annotations
 
+import json
+import zipfile
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -97,3 +100,35 @@ def make_sb3_vec_env(
     if seed is not None:
         adapter.seed(seed)
     return adapter
+
+
+def algorithm_class(algo: str) -> type:
+    """The stable-baselines3 class of a preset's ``algo`` (:data:`bbgym.config.ALGORITHMS`)."""
+    from stable_baselines3 import PPO, SAC
+
+    classes = {"ppo": PPO, "sac": SAC}
+    if algo not in classes:
+        raise ValueError(f"algo must be one of {sorted(classes)}, got {algo!r}")
+    return classes[algo]
+
+
+def saved_algorithm(path: str | Path) -> str:
+    """Which algorithm saved the stable-baselines3 model ``path`` (``"ppo"`` or ``"sac"``),
+    read from the zip's ``data`` (the policy class's module: SAC's live in
+    ``stable_baselines3.sac``, PPO's ``MlpPolicy`` is the common actor-critic one)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            data = json.loads(archive.read("data"))
+        module = data["policy_class"]["__module__"]
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as err:
+        raise ValueError(f"{path}: not a saved stable-baselines3 model ({err})") from None
+    return "sac" if module.startswith("stable_baselines3.sac") else "ppo"
+
+
+def load_model(path: str | Path, algo: str, name: str = "--model", **kwargs: Any) -> Any:
+    """Load the ``algo`` model saved at ``path`` on the CPU; a model of another algorithm
+    raises an error naming the argument ``name`` (``--model``) and what the file holds."""
+    found = saved_algorithm(path)
+    if found != algo:
+        raise ValueError(f"{name} {path} is a {found.upper()} model, not {algo.upper()}")
+    return algorithm_class(algo).load(path, device="cpu", **kwargs)

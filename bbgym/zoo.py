@@ -3,22 +3,27 @@
     python -m rl_zoo3.train --algo ppo --env BeachballSail-v0 --gym-packages bbgym \\
         --conf-file "$(python -m bbgym.zoo --path)"
 
-The shipped file ``bbgym/configs/ppo.yml`` (the repository's ``configs/ppo.yml``, path
-:data:`ZOO_FILE`) is RL Zoo's own format: one top-level key per env id, each with
-``n_envs``, ``n_timesteps``, ``policy``, PPO's keyword arguments, ``policy_kwargs`` as the
-string RL Zoo evaluates and ``env_kwargs``. It is generated from the presets
-(``configs/beachball_*.yaml``) by :func:`zoo_hyperparams`; after changing a preset,
-regenerate it with ``python -m bbgym.zoo`` (``--check`` tells whether it is up to date).
-``--conf-file bbgym.zoo`` works too: RL Zoo imports a module name and reads its
-``hyperparams``.
+    python -m rl_zoo3.train --algo sac --env BeachballSail-v1 --gym-packages bbgym \\
+        --conf-file "$(python -m bbgym.zoo --path --algo sac)"
 
-The mapping: the preset's ``ppo`` section gives ``policy`` and PPO's arguments (``lin_<x>``
-schedules are RL Zoo's notation already), ``train.n_envs`` gives ``n_envs``,
-``train.total_timesteps`` gives ``n_timesteps``, ``train.normalize_reward`` gives
-``normalize`` (rewards only, as RL Zoo's string), and ``env`` (with ``max_episode_steps``
-and the env id's registered arguments, such as BeachballCurve-v0's screen) gives
-``env_kwargs``. The preset's evaluation and checkpoint periods have no key in RL Zoo's
-file: they are its command-line flags, :func:`zoo_train_flags`.
+The shipped files ``bbgym/configs/ppo.yml`` and ``sac.yml`` (the repository's
+``configs/``, paths :data:`ZOO_FILES`) are RL Zoo's own format, one per algorithm as RL
+Zoo keeps them: one top-level key per env id whose preset trains that algorithm (its
+``algo``), each with ``n_envs``, ``n_timesteps``, ``policy``, the algorithm's keyword
+arguments, ``policy_kwargs`` as the string RL Zoo evaluates and ``env_kwargs``. They are
+generated from the presets (``configs/beachball_*.yaml``) by :func:`zoo_hyperparams`;
+after changing a preset, regenerate them with ``python -m bbgym.zoo`` (``--check`` tells
+whether they are up to date). ``--conf-file bbgym.zoo`` works too: RL Zoo imports a
+module name and reads its ``hyperparams`` (every env id's).
+
+The mapping: the preset's algorithm section (``ppo`` or ``sac``) gives ``policy`` and
+the algorithm's arguments (``lin_<x>`` schedules are RL Zoo's notation already),
+``train.n_envs`` gives ``n_envs``, ``train.total_timesteps`` gives ``n_timesteps``,
+``train.normalize_reward`` gives ``normalize`` (rewards only, as RL Zoo's string), and
+``env`` (with ``max_episode_steps`` and the env id's registered arguments, such as
+BeachballCurve-v0's screen) gives ``env_kwargs``. The preset's evaluation and checkpoint
+periods have no key in RL Zoo's file: they are its command-line flags,
+:func:`zoo_train_flags`.
 """
 
 from __future__ import annotations
@@ -30,21 +35,30 @@ from typing import Any
 
 import yaml
 
-from bbgym.config import CONFIG_DIR, PRESET_FILES, load_preset, load_training, preset_path
+from bbgym.config import (
+    ALGORITHMS,
+    CONFIG_DIR,
+    PRESET_FILES,
+    load_preset,
+    load_training,
+    preset_path,
+)
 
 NORMALIZE_REWARD = "dict(norm_obs=False, norm_reward=True)"
 """RL Zoo's ``normalize`` value for a preset's ``train.normalize_reward``."""
 
-ZOO_FILE = CONFIG_DIR / "ppo.yml"
-"""RL Zoo's hyperparameter file of PPO, shipped in the package (``configs/ppo.yml``)."""
+ZOO_FILES = {algo: CONFIG_DIR / f"{algo}.yml" for algo in ALGORITHMS}
+"""RL Zoo's hyperparameter file of each algorithm, shipped in the package (``configs/``)."""
+ZOO_FILE = ZOO_FILES["ppo"]
+"""RL Zoo's hyperparameter file of PPO (``configs/ppo.yml``)."""
 
 HEADER = """\
-# RL Baselines3 Zoo hyperparameters of PPO for the bbgym envs (rl_zoo3's format).
+# RL Baselines3 Zoo hyperparameters of {ALGO} for the bbgym envs (rl_zoo3's format).
 # GENERATED from the presets (configs/beachball_*.yaml) by bbgym.zoo: do not edit by hand.
 # After changing a preset, regenerate with: python -m bbgym.zoo  (--check: is it current?)
 # Train:
-#   python -m rl_zoo3.train --algo ppo --env BeachballSail-v0 --gym-packages bbgym \\
-#       --conf-file "$(python -m bbgym.zoo --path)" --device cpu
+#   python -m rl_zoo3.train --algo {algo} --env {env_id} --gym-packages bbgym \\
+#       --conf-file "$(python -m bbgym.zoo --path --algo {algo})" --device cpu
 # RL Zoo steps n_envs single envs (gym.make) in a DummyVecEnv, not the native vector env
 # of `bbgym train`; --vec-env subproc spreads them over processes.
 """
@@ -73,31 +87,43 @@ def env_hyperparams(env_id: str) -> dict[str, Any]:
     """RL Zoo's hyperparameters of one env id, from its preset (see the module's doc)."""
     if env_id not in PRESET_FILES:
         raise ValueError(f"no preset for {env_id!r}; known: {sorted(PRESET_FILES)}")
-    with open(preset_path(env_id), encoding="utf-8") as f:
-        ppo = dict(yaml.safe_load(f).get("ppo") or {})  # raw: schedules stay "lin_<x>"
     _, train = load_training(env_id)  # fills the defaults of the train section
+    with open(preset_path(env_id), encoding="utf-8") as f:
+        section = dict(yaml.safe_load(f).get(train["algo"]) or {})  # schedules stay "lin_<x>"
     # BeachballCurve-v0's kwargs are the throw preset's plus its registered ones.
     _, env_kwargs = load_preset(env_id)
     out: dict[str, Any] = {
         "n_envs": int(train["n_envs"]),
         "n_timesteps": int(train["total_timesteps"]),
-        "policy": ppo.pop("policy", "MlpPolicy"),
+        "policy": section.pop("policy", "MlpPolicy"),
     }
-    policy_kwargs = ppo.pop("policy_kwargs", None)
-    out.update(_plain(ppo))
+    policy_kwargs = section.pop("policy_kwargs", None)
+    out.update(_plain(section))
     if policy_kwargs:
         out["policy_kwargs"] = policy_kwargs_string(policy_kwargs)
     if train["normalize_reward"]:
-        # RL Zoo's notation for VecNormalize on the rewards alone (it adds PPO's gamma).
+        # RL Zoo's notation for VecNormalize on the rewards alone (it adds the gamma).
         out["normalize"] = NORMALIZE_REWARD
     out["env_kwargs"] = _plain(env_kwargs)
     return out
 
 
-def zoo_hyperparams() -> dict[str, dict[str, Any]]:
-    """RL Zoo's hyperparameter dict of PPO: ``{env_id: hyperparameters}`` for every env id
-    of :data:`bbgym.config.PRESET_FILES`, what ``yaml.safe_load`` of :data:`ZOO_FILE` gives."""
-    return {env_id: env_hyperparams(env_id) for env_id in PRESET_FILES}
+def preset_algorithm(env_id: str) -> str:
+    """The algorithm an env id's preset trains (its ``algo``)."""
+    return load_training(env_id)[1]["algo"]
+
+
+def zoo_hyperparams(algo: str | None = None) -> dict[str, dict[str, Any]]:
+    """RL Zoo's hyperparameter dict ``{env_id: hyperparameters}`` of the env ids of
+    :data:`bbgym.config.PRESET_FILES` whose preset trains ``algo`` (what ``yaml.safe_load``
+    of ``ZOO_FILES[algo]`` gives); every env id's when ``algo`` is None."""
+    if algo is not None and algo not in ALGORITHMS:
+        raise ValueError(f"algo must be one of {list(ALGORITHMS)}, got {algo!r}")
+    return {
+        env_id: env_hyperparams(env_id)
+        for env_id in PRESET_FILES
+        if algo is None or preset_algorithm(env_id) == algo
+    }
 
 
 def zoo_train_flags(env_id: str) -> list[str]:
@@ -127,11 +153,13 @@ def _represent_list(dumper: Any, data: list[Any]) -> Any:
 _Dumper.add_representer(list, _represent_list)
 
 
-def zoo_text() -> str:
-    """The text of :data:`ZOO_FILE`: :data:`HEADER`, then per env id a comment with the
+def zoo_text(algo: str = "ppo") -> str:
+    """The text of ``ZOO_FILES[algo]``: :data:`HEADER`, then per env id a comment with the
     preset's flags (:func:`zoo_train_flags`) and its YAML block."""
-    blocks = [HEADER]
-    for env_id, params in zoo_hyperparams().items():
+    hyperparams = zoo_hyperparams(algo)
+    example = next(iter(hyperparams), "BeachballSail-v0")
+    blocks = [HEADER.format(ALGO=algo.upper(), algo=algo, env_id=example)]
+    for env_id, params in hyperparams.items():
         block = yaml.dump(
             {env_id: params}, Dumper=_Dumper, sort_keys=False, default_flow_style=False
         )
@@ -142,10 +170,11 @@ def zoo_text() -> str:
     return "\n".join(blocks)
 
 
-def write_zoo_file(path: str | Path = ZOO_FILE) -> Path:
-    """Write RL Zoo's hyperparameter file (:func:`zoo_text`) to ``path``; return the path."""
-    path = Path(path)
-    path.write_text(zoo_text(), encoding="utf-8")
+def write_zoo_file(path: str | Path | None = None, algo: str = "ppo") -> Path:
+    """Write RL Zoo's hyperparameter file of ``algo`` (:func:`zoo_text`) to ``path``
+    (default ``ZOO_FILES[algo]``); return the path."""
+    path = Path(path) if path is not None else ZOO_FILES[algo]
+    path.write_text(zoo_text(algo), encoding="utf-8")
     return path
 
 
@@ -157,21 +186,33 @@ def __getattr__(name: str) -> Any:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="Write RL Zoo's PPO file from the presets.")
-    parser.add_argument("--out", type=Path, default=ZOO_FILE, help="file to write")
-    parser.add_argument("--check", action="store_true", help="exit 1 if the file is stale")
+    parser = argparse.ArgumentParser(description="Write RL Zoo's files from the presets.")
+    parser.add_argument("--algo", choices=ALGORITHMS, default=None,
+                        help="one algorithm's file (default: every one; --path: ppo)")  # fmt: skip
+    parser.add_argument("--out", type=Path, default=None,
+                        help="file to write (with --algo; default: the shipped file)")  # fmt: skip
+    parser.add_argument("--check", action="store_true", help="exit 1 if a file is stale")
     parser.add_argument("--path", action="store_true", help="print the shipped file's path")
     args = parser.parse_args(argv)
     if args.path:
-        print(ZOO_FILE)
+        print(ZOO_FILES[args.algo or "ppo"])
         return 0
+    if args.out is not None and args.algo is None:
+        parser.error("--out needs --algo (one file)")
+    algos = [args.algo] if args.algo else list(ALGORITHMS)
     if args.check:
-        current = args.out.read_text(encoding="utf-8") if args.out.exists() else None
-        if current != zoo_text():
-            print(f"{args.out} is stale: run python -m bbgym.zoo", file=sys.stderr)
+        stale = []
+        for algo in algos:
+            path = args.out or ZOO_FILES[algo]
+            current = path.read_text(encoding="utf-8") if path.exists() else None
+            if current != zoo_text(algo):
+                stale.append(str(path))
+        if stale:
+            print(f"{', '.join(stale)} stale: run python -m bbgym.zoo", file=sys.stderr)
             return 1
         return 0
-    print(write_zoo_file(args.out))
+    for algo in algos:
+        print(write_zoo_file(args.out, algo))
     return 0
 
 

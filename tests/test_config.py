@@ -104,19 +104,44 @@ def test_curve_preset_is_the_registered_v1():
     assert train["total_timesteps"] == 3_000_000
 
 
-def test_sail_v1_preset_is_the_registered_v1():
+def test_sail_v1_presets_are_the_registered_v1():
     from bbgym.config import env_preset, load_training
 
-    env_id, kwargs = load_preset("BeachballSail-v1")
-    assert env_id == "BeachballSail-v1"
-    assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
-    assert kwargs == gym.spec(env_id).kwargs == {"time_penalty": 0.1, "capsize_penalty": 30.0}
-    assert env_preset(env_id)[0] == CONFIG_DIR / "beachball_sail_v1.yaml"
-    # PPO as for v0, with the rewards normalized in training.
     ppo_v0, train_v0 = load_training("BeachballSail-v0")
-    ppo, train = load_training(env_id)
+    for name in ("BeachballSail-v1", "beachball_sail_v1_ppo"):
+        env_id, kwargs = load_preset(name)
+        assert env_id == "BeachballSail-v1"
+        assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
+        assert kwargs == gym.spec(env_id).kwargs == {"time_penalty": 0.1, "capsize_penalty": 30.0}
+    # The env id's preset trains SAC, its whole budget in the replay buffer.
+    assert env_preset("BeachballSail-v1")[0] == CONFIG_DIR / "beachball_sail_v1.yaml"
+    sac, train = load_training("BeachballSail-v1")
+    assert train["algo"] == "sac" and not train["normalize_reward"]
+    assert sac["buffer_size"] >= train["total_timesteps"]
+    # The PPO preset: PPO as for v0, with the rewards normalized in training.
+    ppo, train = load_training("beachball_sail_v1_ppo")
     assert ppo == ppo_v0
     assert train == {**train_v0, "normalize_reward": True}
-    task = gym.make(env_id).unwrapped.task
+    task = gym.make("BeachballSail-v1").unwrapped.task
     assert (task.time_penalty, task.capsize_penalty) == (0.1, 30.0)
     assert task.reward_range == (-31.1, 11.0)
+
+
+def test_algo_names_the_section_of_its_arguments(tmp_path):
+    from bbgym.config import load_training
+
+    config = tmp_path / "p.yaml"
+    config.write_text("env_id: X\nenv: {}\nalgo: sac\nsac:\n  learning_rate: lin_0.001\n")
+    sac, train = load_training(config)
+    assert train["algo"] == "sac" and sac["policy"] == "MlpPolicy"
+    assert sac["learning_rate"](0.5) == pytest.approx(5e-4)
+    assert load_training(CONFIG_DIR / "beachball_sail.yaml")[1]["algo"] == "ppo"  # default
+    for text, error in (
+        ("algo: dqn\n", "algo must be one of"),
+        ("algo: sac\nppo: {}\n", "trains sac .algo. but has a ppo section"),
+        ("ppo: {}\nsac: {}\n", "trains ppo .algo. but has a sac section"),
+        ("algo: sac\nsac:\n  learning_rate: lin_x\n", "sac.learning_rate"),
+    ):
+        config.write_text("env_id: X\nenv: {}\n" + text)
+        with pytest.raises(ValueError, match=error):
+            load_training(config)

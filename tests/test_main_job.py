@@ -44,8 +44,10 @@ def test_the_readme_names_the_makefiles_main_job():
 def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     from small_preset import write_tiny_sail_preset
 
-    from bbgym.config import PRESET_FILES
+    from bbgym.config import PRESET_FILES, load_training
 
+    algo = load_training(MAIN_ENV)[1]["algo"]
+    assert algo == "sac"  # the README's Sail-v1 baseline
     preset = write_tiny_sail_preset(tmp_path / "sail.yaml", PRESET_FILES[MAIN_ENV])
     argv = make_run_command()
     out_at = argv.index("--out")
@@ -63,21 +65,22 @@ def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
                  "seed0/train.json"):  # fmt: skip
         assert (out / name).stat().st_size > 0, name
     rows = json.loads((out / "results.json").read_text())
-    assert [r["policy"] for r in rows] == ["random", "scripted", "ppo, 1 seed"]
+    assert [r["policy"] for r in rows] == ["random", "scripted", "sac, 1 seed"]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["training_seeds"] == [0] and summary["torch_threads"] == 1
+    assert summary["algo"] == "sac" and "sac_mean" in summary["success_rate"]
     assert summary["command"][1:] == [*argv, *small]  # provenance: the command line itself
 
-    # The table's PPO row is what the evaluate command gives the saved best model.
+    # The table's SAC row is what the evaluate command gives the saved best model.
     check = subprocess.run(
-        [*bbgym, "evaluate", "--env", MAIN_ENV, "--policies", "ppo", "--model",
+        [*bbgym, "evaluate", "--env", MAIN_ENV, "--policies", "sac", "--model",
          str(out / "seed0" / "best_model.zip"), "--episodes", "3", "--out", str(tmp_path / "e")],
         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert check.returncode == 0, check.stderr[-3000:]
     (again,) = json.loads((tmp_path / "e" / f"{MAIN_ENV}.json").read_text())
-    ppo = rows[2]
+    learnt = rows[2]
     for key in ("success_rate", "mean_return", "mean_length", "mean_time_to_mark_s"):
-        assert ppo[key] == again[key], key
+        assert learnt[key] == again[key], key
     table = (out / "results.md").read_text()
     assert table.count(f"| {MAIN_ENV} |") == 3

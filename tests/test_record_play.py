@@ -181,6 +181,7 @@ def test_mp4_without_imageio_ffmpeg_is_a_clear_error(monkeypatch):
     [
         (["--policy", "random", "--out", "episode.avi"], "must end in .gif or .mp4"),
         (["--policy", "ppo"], "needs --model"),
+        (["--policy", "sac"], "--policy sac needs --model"),
         (["--policy", "nonsense"], "invalid choice"),
         (["--policy", "random", "--frame-skip", "0"], "--frame-skip: must be >= 1"),
     ],

@@ -10,7 +10,7 @@ import pytest
 pytest.importorskip("stable_baselines3")
 torch = pytest.importorskip("torch")
 
-from small_preset import write_small_preset  # noqa: E402
+from small_preset import write_small_preset, write_tiny_sail_preset  # noqa: E402
 
 import bbgym  # noqa: E402
 from bbgym.cli.train import train_sb3  # noqa: E402
@@ -25,26 +25,34 @@ def small_preset(tmp_path):
     )  # fmt: skip
 
 
-def parameters(run):
-    from stable_baselines3 import PPO
+def parameters(run, algo="ppo"):
+    from bbgym.sb3 import algorithm_class
 
-    return PPO.load(run / "model.zip", device="cpu").policy.state_dict()
+    return algorithm_class(algo).load(run / "model.zip", device="cpu").policy.state_dict()
 
 
-def test_the_same_seed_trains_the_same_model_and_another_seed_does_not(tmp_path):
-    preset = small_preset(tmp_path)
+def train_twice_and_once_more(tmp_path, env_id, preset, seed, timesteps, algo="ppo"):
+    """Train runs ``a`` and ``b`` on ``seed`` and ``c`` on ``seed + 1`` at one torch thread;
+    assert that a and b have the same networks exactly and c does not; return the runs."""
     threads = torch.get_num_threads()
     runs = {}
-    for name, seed in (("a", 3), ("b", 3), ("c", 4)):
+    for name, run_seed in (("a", seed), ("b", seed), ("c", seed + 1)):
         runs[name] = tmp_path / name
-        train_sb3("BeachballSail-v0", preset=preset, timesteps=2048, seed=seed, out=runs[name],
+        train_sb3(env_id, preset=preset, timesteps=timesteps, seed=run_seed, out=runs[name],
                   progress=False, torch_threads=1)  # fmt: skip
     assert torch.get_num_threads() == 1  # pinned by the run
     torch.set_num_threads(threads)
-    a, b, c = (parameters(runs[k]) for k in "abc")
+    a, b, c = (parameters(runs[k], algo) for k in "abc")
     assert a.keys() == b.keys()
     assert all(torch.equal(a[k], b[k]) for k in a)  # exactly, every tensor
     assert not all(torch.equal(a[k], c[k]) for k in a if a[k].is_floating_point())
+    return runs, a
+
+
+def test_the_same_seed_trains_the_same_model_and_another_seed_does_not(tmp_path):
+    runs, _ = train_twice_and_once_more(
+        tmp_path, "BeachballSail-v0", small_preset(tmp_path), seed=3, timesteps=2048
+    )
     # The evaluations during training are the same numbers too.
     import numpy as np
 
@@ -58,3 +66,13 @@ def test_the_same_seed_trains_the_same_model_and_another_seed_does_not(tmp_path)
     assert versions["bbgym"] == bbgym.__version__
     assert {"bbgym", "stable-baselines3", "gymnasium", "numpy", "python"} <= set(versions)
     assert summary["command"] and summary["machine"]["cpus"] >= 1
+
+
+def test_sac_is_reproducible_too(tmp_path):
+    """SAC (the Sail-v1 preset): replay sampling, updates and the entropy coefficient are
+    seeded alike, so two runs of one seed give the same networks, bit for bit."""
+    preset = write_tiny_sail_preset(tmp_path / "sail_v1.yaml", "beachball_sail_v1.yaml")
+    _, networks = train_twice_and_once_more(
+        tmp_path, "BeachballSail-v1", preset, seed=5, timesteps=1024, algo="sac"
+    )
+    assert any("critic_target" in k for k in networks)  # the target critic too

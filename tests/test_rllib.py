@@ -139,6 +139,10 @@ def test_config_follows_the_preset():
     topple = CONFIG_DIR / PRESET_FILES["BeachballTopple-v0"]
     with pytest.raises(ValueError, match="is a preset of BeachballTopple-v0"):
         rllib.ppo_config("BeachballCurve-v0", preset=topple)
+    # BeachballSail-v1's own preset trains SAC; its PPO preset is there by name.
+    with pytest.raises(ValueError, match="RLlib trains PPO presets; this one trains sac"):
+        rllib.ppo_config("BeachballSail-v1")
+    assert rllib.ppo_config("BeachballSail-v1", preset="beachball_sail_v1_ppo") is not None
 
 
 @pytest.mark.parametrize(

@@ -1,4 +1,5 @@
-"""End to end: train PPO a few thousand steps, save, load and evaluate (train extra)."""
+"""End to end: train PPO and SAC a few thousand steps, save, resume, load and evaluate
+(train extra)."""
 
 from __future__ import annotations
 
@@ -47,7 +48,7 @@ def test_train_save_load_evaluate(tmp_path):
 
 
 def test_normalized_rewards_train_resume_and_score_raw(tmp_path):
-    """``train.normalize_reward`` (the Sail-v1 preset): the rewards PPO learns from are
+    """``train.normalize_reward`` (the Sail-v1 PPO preset): the rewards PPO learns from are
     scaled by running statistics that are saved and resumed, while the evaluation during
     training scores the env's own returns."""
     from small_preset import write_small_preset
@@ -59,7 +60,7 @@ def test_normalized_rewards_train_resume_and_score_raw(tmp_path):
     from bbgym.sb3 import make_sb3_vec_env
 
     config = write_small_preset(
-        tmp_path / "sail_v1.yaml", "beachball_sail_v1.yaml",
+        tmp_path / "sail_v1.yaml", "beachball_sail_v1_ppo.yaml",
         ppo={"n_steps": 64, "batch_size": 256},
         train={"n_envs": 8, "eval_every_timesteps": 100_000, "eval_episodes": 2,
                "checkpoint_every_timesteps": 100_000},
@@ -92,3 +93,46 @@ def test_normalized_rewards_train_resume_and_score_raw(tmp_path):
               resume=True, progress=False)  # fmt: skip
     stats = VecNormalize.load(str(out / VEC_NORMALIZE_FILE), dummy)
     assert stats.ret_rms.count == pytest.approx(2048 + 512, abs=1e-3)
+
+
+def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
+    """The Sail-v1 preset trains SAC: its checkpoints, replay buffer (saved with the model,
+    continued by ``--resume``) and model, which ``bbgym evaluate`` loads as ``sac`` only."""
+    from small_preset import write_tiny_sail_preset
+    from stable_baselines3 import SAC
+
+    from bbgym.cli.train import REPLAY_BUFFER_FILE, train_sb3
+
+    config = write_tiny_sail_preset(tmp_path / "sail_v1.yaml", "beachball_sail_v1.yaml")
+    out = tmp_path / "run"
+    summary = train_sb3("BeachballSail-v1", preset=config, timesteps=1024, seed=2, out=out,
+                        progress=False)  # fmt: skip
+    assert summary["algo"] == "sac" and summary["timesteps"] == 1024
+    assert list((out / "checkpoints").glob("sac_*_steps.zip")) == []  # every 100k steps
+    assert (out / "best_model.zip").exists()
+    model = SAC.load(out / "model.zip", device="cpu")
+    model.load_replay_buffer(out / REPLAY_BUFFER_FILE)
+    assert model.replay_buffer.size() * model.n_envs == 1024  # every step, 8 envs a row
+    # Two updates per step of the 8 envs from the 256th step on.
+    assert model._n_updates == 2 * (1024 - 256) // 8
+    train_sb3("BeachballSail-v1", preset=config, timesteps=512, seed=2, out=out, resume=True,
+              progress=False)  # fmt: skip
+    model = SAC.load(out / "model.zip", device="cpu")
+    model.load_replay_buffer(out / REPLAY_BUFFER_FILE)
+    assert model.num_timesteps == 1024 + 512
+    assert model.replay_buffer.size() * model.n_envs == 1024 + 512  # the buffer continued
+    assert model._n_updates == 2 * (1024 + 512 - 256) // 8
+
+    def evaluate(policy: str) -> subprocess.CompletedProcess:
+        command = [sys.executable, "-m", "bbgym", "evaluate", "--env", "BeachballSail-v1",
+                   "--policies", policy, "--model", str(out / "model.zip"), "--episodes", "2",
+                   "--out", str(tmp_path / "eval")]  # fmt: skip
+        return subprocess.run(command, capture_output=True, text=True, timeout=600)
+
+    done = evaluate("sac")
+    assert done.returncode == 0, done.stderr[-2000:]
+    results = json.loads((tmp_path / "eval" / "BeachballSail-v1.json").read_text())
+    assert results[0]["policy"] == "sac" and results[0]["episodes"] == 2
+    done = evaluate("ppo")
+    assert done.returncode != 0
+    assert "--model" in done.stderr and "is a SAC model, not PPO" in done.stderr

@@ -1,5 +1,5 @@
-"""Train PPO on a bbgym env over several seeds, evaluate it beside random and scripted play,
-write a run folder.
+"""Train the preset's algorithm (PPO or SAC) on a bbgym env over several seeds, evaluate it
+beside random and scripted play, write a run folder.
 
     bbgym baseline --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N]
         [--seed 0] [--seeds 5] [--jobs 1] [--episodes 100] [--torch-threads 1]
@@ -8,7 +8,7 @@ write a run folder.
 The main job (``make run``) is this command on BeachballSail-v0 with the default preset
 and one training seed. Steps, each reported as it goes:
 
-1. train PPO as ``bbgym train`` does (the preset's ``ppo`` and ``train`` sections), once per
+1. train as ``bbgym train`` does (the preset's ``algo``, its section and ``train``), once per
    training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>`` (``--jobs`` trainings
    at once, each on ``--torch-threads`` threads); ``--no-train`` skips this and evaluates
    the models already there;
@@ -18,10 +18,11 @@ and one training seed. Steps, each reported as it goes:
    training's), with the breakdown of failures;
 3. write into the run folder: ``results.md`` and ``results.json`` (per policy and per
    training seed: success with a 95% interval, return, length, time to mark, time / oracle
-   time, failures; for PPO over the seeds: the mean, the worst seed and the 95% interval of
-   the mean over seeds), ``learning_curve.png`` (of the first seed; each seed's in its
-   folder), ``episode.gif`` (one episode of the first seed's policy) and ``summary.json``
-   (budget, wall times, steps per second, seeds, threads, versions, command).
+   time, failures; for the learnt policy over the seeds: the mean, the worst seed and the
+   95% interval of the mean over seeds), ``learning_curve.png`` (of the first seed; each
+   seed's in its folder), ``episode.gif`` (one episode of the first seed's policy) and
+   ``summary.json`` (budget, wall times, steps per second, seeds, threads, versions,
+   command).
 """
 
 from __future__ import annotations
@@ -41,8 +42,6 @@ from typing import Any
 import numpy as np
 
 from bbgym.cli import UsageError, env_id, evaluate, positive_int, record, require, train
-
-POLICIES = ("random", "scripted", "ppo")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -94,8 +93,11 @@ def _steps_label(steps: float) -> str:
     return f"{steps:.0f}"
 
 
-def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> Any:
-    """The learning-curve figure of :func:`plot_learning_curve` (a matplotlib Figure)."""
+def learning_curve_figure(
+    run: Path, results: dict[str, dict], env_id: str, algo: str = "ppo"
+) -> Any:
+    """The learning-curve figure of :func:`plot_learning_curve` (a matplotlib Figure);
+    ``results[algo]`` is the learnt policy's re-evaluation."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -118,7 +120,7 @@ def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> A
         eval_seeds = f"eval env seeded {train.EVAL_SEED_OFFSET} + the training seed"
     else:
         eval_seeds = f"eval env seeded {int(seed) + train.EVAL_SEED_OFFSET}"
-    ppo_label = f"PPO evaluations ({eval_seeds}, {n_episodes} episodes per point)"
+    learnt_label = f"{algo.upper()} evaluations ({eval_seeds}, {n_episodes} episodes per point)"
     i_best = best_model_index(steps, mean, train_log)
     i_final = len(steps) - 1
 
@@ -129,12 +131,13 @@ def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> A
     else:
         ax_success.text(0.5, 0.5, "no success rate logged", ha="center", va="center",
                         transform=ax_success.transAxes, color="grey")  # fmt: skip
-    ax_return.fill_between(steps, mean - std, mean + std, alpha=0.2, label="PPO mean +- std")
+    spread = f"{algo.upper()} mean +- std"
+    ax_return.fill_between(steps, mean - std, mean + std, alpha=0.2, label=spread)
     if len(steps) == 1:  # a band of one point is not drawn: show its spread as an error bar
         ax_return.errorbar(steps, mean, yerr=std, fmt="none", ecolor="tab:blue", alpha=0.5)
     colors = {"random": "tab:gray", "scripted": "tab:green"}
     for ax, values, key, scale, fmt in panels:
-        ax.plot(steps, values, "o-", ms=4, label=ppo_label)
+        ax.plot(steps, values, "o-", ms=4, label=learnt_label)
         ax.plot(
             steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
             label=f"final evaluation: {fmt.format(values[i_final])} at "
@@ -152,8 +155,8 @@ def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> A
                     scale * r[key], color=color, ls="--",
                     label=f"{name}: {fmt.format(scale * r[key])} ({_seed_range(r)})",
                 )  # fmt: skip
-        if "ppo" in results:
-            r = results["ppo"]
+        if algo in results:
+            r = results[algo]
             ax.plot(
                 steps[i_best], scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
                 label=f"best model re-evaluated: {fmt.format(scale * r[key])} ({_seed_range(r)})",
@@ -165,7 +168,7 @@ def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> A
     ax_success.set_title(f"{env_id}: evaluation success rate")
     ax_return.set(xlabel="timesteps", ylabel="episode return")
     ax_return.set_title(f"{env_id}: evaluation return (mean +- std over episodes)")
-    refs = [results[n] for n in (*colors, "ppo") if n in results]
+    refs = [results[n] for n in (*colors, algo) if n in results]
     ref_text = "no reference evaluation"
     if refs:
         ref_text = (
@@ -186,7 +189,9 @@ def learning_curve_figure(run: Path, results: dict[str, dict], env_id: str) -> A
     return fig
 
 
-def plot_learning_curve(run: Path, results: dict[str, dict], env_id: str, out: Path) -> None:
+def plot_learning_curve(
+    run: Path, results: dict[str, dict], env_id: str, out: Path, algo: str = "ppo"
+) -> None:
     """Evaluation success rate and mean return against timesteps (SB3's
     ``<run>/eval/evaluations.npz``), marking the saved best model (``train.json``'s
     ``best_model_timesteps``) and the final evaluation, with the reference policies'
@@ -194,7 +199,7 @@ def plot_learning_curve(run: Path, results: dict[str, dict], env_id: str, out: P
     seeds each uses. Works for a run of one evaluation too."""
     import matplotlib.pyplot as plt
 
-    fig = learning_curve_figure(run, results, env_id)
+    fig = learning_curve_figure(run, results, env_id, algo)
     fig.savefig(out, dpi=110)
     plt.close(fig)
 
@@ -214,8 +219,9 @@ def run(args: argparse.Namespace) -> int:
     train.pin_torch_threads(args.torch_threads)  # evaluation too (--no-train)
     args.out.mkdir(parents=True, exist_ok=True)
     _, settings = load_training(config)
+    algo = settings["algo"]
     budget = args.timesteps or settings["total_timesteps"]
-    print(f"[1/4] training PPO on {args.env}: seeds {seeds}, {budget} timesteps each, "
+    print(f"[1/4] training {algo.upper()} on {args.env}: seeds {seeds}, {budget} timesteps each, "
           f"{settings['n_envs']} envs, {args.jobs} at once, {args.torch_threads} torch "
           "thread(s) each")  # fmt: skip
     start = time.perf_counter()
@@ -227,26 +233,26 @@ def run(args: argparse.Namespace) -> int:
     train_wall = time.perf_counter() - start
     budget = train_logs[seeds[0]]["timesteps"]
 
-    print(f"[2/4] evaluating random, scripted and PPO ({len(seeds)} seeds) over "
+    print(f"[2/4] evaluating random, scripted and {algo.upper()} ({len(seeds)} seeds) over "
           f"{args.episodes} seeded episodes")  # fmt: skip
     start = time.perf_counter()
     results = {name: evaluate.evaluate(args.env, name, args.episodes, 0, None)
                for name in ("random", "scripted")}  # fmt: skip
     per_seed = []
     for seed, folder in folders.items():
-        result = evaluate.evaluate(args.env, "ppo", args.episodes, 0, folder / "best_model.zip")
-        result["policy"] = f"ppo seed {seed}"
+        result = evaluate.evaluate(args.env, algo, args.episodes, 0, folder / "best_model.zip")
+        result["policy"] = f"{algo} seed {seed}"
         result["training_seed"] = seed
         per_seed.append(result)
     if args.env.startswith("BeachballSail"):
         for result in [*results.values(), *per_seed]:
             result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
-    results["ppo"] = evaluate.over_seeds(per_seed)
+    results[algo] = evaluate.over_seeds(per_seed, algo)
     eval_wall = time.perf_counter() - start
-    rows = [results["random"], results["scripted"], results["ppo"]]
+    rows = [results["random"], results["scripted"], results[algo]]
     rows += per_seed if len(per_seed) > 1 else []
     table = evaluate.format_table(rows)
-    summary_line = evaluate.format_over_seeds(results["ppo"])
+    summary_line = evaluate.format_over_seeds(results[algo])
     print(table)
     print(summary_line)
     (args.out / "results.md").write_text(table + "\n\n" + summary_line + "\n")
@@ -255,18 +261,19 @@ def run(args: argparse.Namespace) -> int:
     print("[3/4] plotting the learning curves")
     first = folders[seeds[0]]
     for seed, folder in folders.items():
-        curve_results = {**results, "ppo": per_seed[seeds.index(seed)]}
-        plot_learning_curve(folder, curve_results, args.env, folder / "learning_curve.png")
+        curve_results = {**results, algo: per_seed[seeds.index(seed)]}
+        plot_learning_curve(folder, curve_results, args.env, folder / "learning_curve.png", algo)
     shutil.copy(first / "learning_curve.png", args.out / "learning_curve.png")
 
     print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
-    record.record_to_file(args.env, "ppo", animation, model=first / "best_model.zip", seed=0,
+    record.record_to_file(args.env, algo, animation, model=first / "best_model.zip", seed=0,
                           frame_skip=2)  # fmt: skip
 
     summary = {
         "env": args.env,
         "config": str(config),
+        "algo": algo,
         **train.run_provenance(args.seed, args.torch_threads),
         "training_seeds": seeds,
         "jobs": args.jobs,
@@ -281,8 +288,8 @@ def run(args: argparse.Namespace) -> int:
         "success_rate": {
             "random": results["random"]["success_rate"],
             "scripted": results["scripted"]["success_rate"],
-            "ppo_mean": results["ppo"]["success_rate"],
-            "ppo_worst_seed": results["ppo"]["worst_seed_success_rate"],
+            f"{algo}_mean": results[algo]["success_rate"],
+            f"{algo}_worst_seed": results[algo]["worst_seed_success_rate"],
         },
     }
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")

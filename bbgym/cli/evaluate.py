@@ -14,10 +14,10 @@ Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent f
 (sailing only: the simple helmsman), ``planner`` (the ball envs: the privileged
 planners of :mod:`bbgym.agents.planner`, which read the true wind and the env's random
 stream and search through the physics; the success rate is the winnable fraction they
-prove), ``ppo`` (a
-stable-baselines3 model saved at ``--model``). For sailing, each policy's time to the mark
-is also compared with the autopilot's on the episodes both finished ("time / oracle
-time"; the autopilot is run for it if it is not among the policies).
+prove), ``ppo`` and ``sac`` (a stable-baselines3 PPO or SAC model saved at ``--model``).
+For sailing, each policy's time to the mark is also compared with the autopilot's on the
+episodes both finished ("time / oracle time"; the autopilot is run for it if it is not
+among the policies).
 """
 
 from __future__ import annotations
@@ -38,7 +38,9 @@ import bbgym  # noqa: F401  (registers the envs)
 from bbgym.cli import UsageError, env_id, positive_int, require
 
 Policy = Callable[[np.ndarray], np.ndarray]
-POLICIES = ("random", "scripted", "simple", "planner", "ppo")
+LEARNT = ("ppo", "sac")
+"""Policies that are a saved stable-baselines3 model (``--model``), named by its algorithm."""
+POLICIES = ("random", "scripted", "simple", "planner", *LEARNT)
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -88,15 +90,15 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
         from bbgym.agents.planner import ThrowPlanner
 
         return ThrowPlanner(env)
-    if name == "ppo":
+    if name in LEARNT:
         if model_path is None:
-            raise ValueError("--policies ppo needs --model")
+            raise ValueError(f"--policies {name} needs --model")
         if not Path(model_path).is_file():
             raise ValueError(f"--model {model_path}: no such file (a saved SB3 model .zip)")
         require("stable_baselines3", "train")
-        from stable_baselines3 import PPO
+        from bbgym.sb3 import load_model
 
-        model = PPO.load(model_path, device="cpu")
+        model = load_model(model_path, name)
         return lambda obs: model.predict(obs, deterministic=True)[0]
     raise ValueError(f"unknown policy {name!r}; known: {', '.join(POLICIES)}")
 
@@ -245,10 +247,10 @@ def mean_interval(values: list[float]) -> tuple[float, float]:
     return (max(0.0, mean - half), min(1.0, mean + half))
 
 
-def over_seeds(per_seed: list[dict]) -> dict:
-    """One result over training seeds: the mean success rate with the 95% interval of the
-    mean over seeds (``success_ci95``; for a single seed, its Wilson interval over its
-    episodes), the worst seed, the pooled rate's Wilson interval,
+def over_seeds(per_seed: list[dict], algo: str = "ppo") -> dict:
+    """One result of the ``algo`` models of several training seeds: the mean success rate
+    with the 95% interval of the mean over seeds (``success_ci95``; for a single seed, its
+    Wilson interval over its episodes), the worst seed, the pooled rate's Wilson interval,
     mean return, length and time / oracle, and the failures summed."""
     rates = [r["success_rate"] for r in per_seed]
     worst = min(per_seed, key=lambda r: r["success_rate"])
@@ -261,7 +263,8 @@ def over_seeds(per_seed: list[dict]) -> dict:
     times = [r["mean_time_to_mark_s"] for r in per_seed if r["mean_time_to_mark_s"]]
     return {
         "env": per_seed[0]["env"],
-        "policy": f"ppo, {len(per_seed)} seed{'s' if len(per_seed) > 1 else ''}",
+        "policy": f"{algo}, {len(per_seed)} seed{'s' if len(per_seed) > 1 else ''}",
+        "algo": algo,
         "training_seeds": [r.get("training_seed") for r in per_seed],
         "episodes": per_seed[0]["episodes"],
         "seeds": per_seed[0]["seeds"],
@@ -284,7 +287,8 @@ def over_seeds(per_seed: list[dict]) -> dict:
 
 
 def format_over_seeds(result: dict) -> str:
-    """One line: PPO's mean over seeds, its interval, the worst seed and each seed's rate."""
+    """One line: the learnt policy's mean over seeds, its interval, the worst seed and each
+    seed's rate."""
     low, high = result["success_ci95"]
     by_seed = ", ".join(
         f"{seed}: {100 * rate:.0f}%"
@@ -297,7 +301,8 @@ def format_over_seeds(result: dict) -> str:
     n = len(result["success_by_seed"])
     interval = "95% interval of the mean over seeds" if n > 1 else "95% Wilson interval"
     return (
-        f"{result['env']} PPO over {n} training seed{'s' if n > 1 else ''}: mean "
+        f"{result['env']} {result.get('algo', 'ppo').upper()} over {n} training "
+        f"seed{'s' if n > 1 else ''}: mean "
         f"{100 * result['success_rate']:.1f}% ({interval} "
         f"{100 * low:.0f}-{100 * high:.0f}%), worst seed {result['worst_seed']} "
         f"{100 * result['worst_seed_success_rate']:.0f}% (by seed: {by_seed}){oracle}"
@@ -354,7 +359,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--policies", type=parse_policies, default="random,scripted",
         help=f"comma-separated, of: {', '.join(POLICIES)}",
     )  # fmt: skip
-    parser.add_argument("--model", type=Path, default=None, help="saved PPO model (.zip)")
+    parser.add_argument("--model", type=Path, default=None, help="saved PPO or SAC model (.zip)")
     parser.add_argument("--episodes", type=positive_int, default=100, help="episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
     parser.add_argument("--out", type=Path, default=Path("runs/eval"), help="output folder")
@@ -362,8 +367,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     names = args.policies
-    if "ppo" in names and args.model is None:
-        raise UsageError("--policies ppo needs --model (a saved stable-baselines3 model .zip)")
+    learnt = [name for name in names if name in LEARNT]
+    if learnt and args.model is None:
+        raise UsageError(
+            f"--policies {learnt[0]} needs --model (a saved stable-baselines3 model .zip)"
+        )
     try:
         results = [evaluate(args.env, name, args.episodes, args.seed, args.model) for name in names]
     except ValueError as err:

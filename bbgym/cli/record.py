@@ -5,7 +5,7 @@
         [--frame-skip 1] [--max-steps M] [--hold 1.0]
 
 Policies: those of ``bbgym evaluate`` (``random``, ``scripted``,
-``ppo`` with ``--model``, ...). The format follows the extension of ``--out``: ``.gif``
+``ppo`` or ``sac`` with ``--model``, ...). The format follows the extension of ``--out``: ``.gif``
 (Pillow) or ``.mp4`` (H.264 through the ``imageio-ffmpeg`` package, in the ``plots``
 extra).
 
@@ -39,7 +39,7 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
-from bbgym.cli.evaluate import POLICIES, episode_outcome, make_policy
+from bbgym.cli.evaluate import LEARNT, POLICIES, episode_outcome, make_policy
 
 FORMATS = (".gif", ".mp4")
 DEFAULT_FPS = 20.0
@@ -253,7 +253,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
     parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
     parser.add_argument("--policy", required=True, choices=POLICIES, help="the policy to record")
-    parser.add_argument("--model", type=Path, default=None, help="saved PPO model (.zip)")
+    parser.add_argument("--model", type=Path, default=None, help="saved PPO or SAC model (.zip)")
     parser.add_argument("--seed", type=int, default=0, help="episode seed")
     parser.add_argument(
         "--out", type=Path, default=None,
@@ -275,8 +275,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.hold < 0:
         raise UsageError("--hold must be >= 0")
-    if args.policy == "ppo" and args.model is None:
-        raise UsageError("--policy ppo needs --model (a saved stable-baselines3 model .zip)")
+    if args.policy in LEARNT and args.model is None:
+        raise UsageError(
+            f"--policy {args.policy} needs --model (a saved stable-baselines3 model .zip)"
+        )
     if args.out is None:
         args.out = Path("runs/record") / f"{args.env}-{args.policy}-seed{args.seed}.gif"
     try:

@@ -1,13 +1,14 @@
-"""Train PPO on a bbgym env from its preset.
+"""Train PPO or SAC on a bbgym env from its preset.
 
     bbgym train --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N] [--seed 0]
-        [--out runs/ppo/BeachballSail-v0-seed0] [--resume]
+        [--out runs/<algo>/BeachballSail-v0-seed0] [--resume]
     bbgym train --env BeachballSail-v0 --engine rllib [--num-env-runners 2] [--iterations 10]
         [--address auto]
 
 The preset (the env's shipped one, or ``--preset`` naming another by env id, name or file)
-gives the env's arguments (``env``), PPO's keyword arguments (``ppo``) and the run
-settings (``train``: number of envs, budget, evaluation and checkpoint periods).
+gives the env's arguments (``env``), the algorithm (``algo``: ``ppo``, the default, or
+``sac``), its keyword arguments (the section of that name) and the run settings
+(``train``: number of envs, budget, evaluation and checkpoint periods).
 
 Engine ``sb3`` (default, the ``train`` extra): stable-baselines3 on the env's native vector
 env through :mod:`bbgym.sb3`, with a progress bar, TensorBoard logs in ``<out>/tb``, a
@@ -16,10 +17,10 @@ periodic evaluation on separate seeds (10000 + seed; success rate and return in
 evaluated, so a short budget still has a best model) and checkpoints in
 ``<out>/checkpoints``; a preset with ``train.normalize_reward`` trains on normalized
 rewards and keeps their statistics in ``<out>/vecnormalize.pkl``. The final model is
-``<out>/model.zip``; ``--resume`` continues from it. A summary goes to
-``<out>/train.json``.
+``<out>/model.zip`` (SAC's replay buffer beside it, ``<out>/replay_buffer.pkl``);
+``--resume`` continues from them. A summary goes to ``<out>/train.json``.
 
-Engine ``rllib`` (the ``rllib`` extra): Ray RLlib's PPO on its new API stack, each env
+Engine ``rllib`` (the ``rllib`` extra; PPO presets): Ray RLlib's PPO on its new API stack, each env
 runner stepping the env's native vector env; ``--iterations`` training iterations, a
 checkpoint in ``<out>/checkpoint`` and a summary in ``<out>/rllib.json``. Without
 ``--address`` a local Ray starts for the run; ``--address auto`` joins the cluster of
@@ -44,6 +45,9 @@ ENGINES = ("sb3", "rllib")
 
 VEC_NORMALIZE_FILE = "vecnormalize.pkl"
 """The reward normalizer's running statistics (``normalize_reward``), for ``--resume``."""
+
+REPLAY_BUFFER_FILE = "replay_buffer.pkl"
+"""An off-policy algorithm's (SAC's) replay buffer at the end of training, for ``--resume``."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -119,7 +123,10 @@ def run(args: argparse.Namespace) -> int:
     if args.engine == "rllib":
         return _run_rllib(args)
     if args.out is None:
-        args.out = Path("runs") / "ppo" / f"{args.env}-seed{args.seed}"
+        from bbgym.config import load_training
+
+        algo = load_training(resolve_preset(args.env, args.preset)[0])[1]["algo"]
+        args.out = Path("runs") / algo / f"{args.env}-seed{args.seed}"
     summary = train_sb3(
         args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=args.out,
         resume=args.resume, progress=not args.no_progress, torch_threads=args.torch_threads,
@@ -149,24 +156,24 @@ def train_sb3(
     progress: bool = True,
     torch_threads: int = 1,
 ) -> dict[str, Any]:
-    """Train stable-baselines3 PPO on ``env`` from its preset into the run folder ``out``;
-    return the summary also written to ``<out>/train.json``.
+    """Train the preset's stable-baselines3 algorithm (PPO or SAC) on ``env`` into the run
+    folder ``out``; return the summary also written to ``<out>/train.json``.
 
-    Reproducible: torch runs on ``torch_threads`` threads; ``seed`` seeds PPO (Python's,
+    Reproducible: torch runs on ``torch_threads`` threads; ``seed`` seeds the algorithm (Python's,
     NumPy's and torch's generators and the action space, through SB3's
     ``set_random_seed``), the training envs (``seed + i``) and the evaluation envs
     (``seed + 10000 + i``); the same command and seed on the same machine give the same
     model. ``train.json`` records the seed, threads, versions, machine and command."""
     require("stable_baselines3", "train")
-    from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CheckpointCallback
     from stable_baselines3.common.vec_env import VecMonitor
 
     from bbgym.config import load_training
-    from bbgym.sb3 import make_sb3_vec_env
+    from bbgym.sb3 import algorithm_class, load_model, make_sb3_vec_env
 
     path, env_kwargs = resolve_preset(env, preset)
-    ppo_kwargs, settings = load_training(path)
+    algo_kwargs, settings = load_training(path)
+    algo = settings["algo"]
     budget = timesteps or settings["total_timesteps"]
     pin_torch_threads(torch_threads)
     n_envs = settings["n_envs"]
@@ -183,7 +190,7 @@ def train_sb3(
     )
     stats_path = out / VEC_NORMALIZE_FILE
     if settings["normalize_reward"]:
-        gamma = ppo_kwargs.get("gamma", 0.99)
+        gamma = algo_kwargs.get("gamma", 0.99)
         vec_env, eval_env = _normalize_reward(vec_env, eval_env, gamma, stats_path, resume)
     evaluation = _final_eval_callback()(
         eval_env,
@@ -198,18 +205,22 @@ def train_sb3(
         CheckpointCallback(
             save_freq=max(1, settings["checkpoint_every_timesteps"] // n_envs),
             save_path=str(out / "checkpoints"),
-            name_prefix="ppo",
+            name_prefix=algo,
         ),
     ]
-    model_path = out / "model.zip"
+    model_path, buffer_path = out / "model.zip", out / REPLAY_BUFFER_FILE
+    off_policy = algo == "sac"
     if resume and model_path.exists():
-        model = PPO.load(model_path, env=vec_env, device="cpu", tensorboard_log=str(out / "tb"))
+        model = load_model(model_path, algo, "--resume:", env=vec_env,
+                           tensorboard_log=str(out / "tb"))  # fmt: skip
+        if off_policy and buffer_path.exists():
+            model.load_replay_buffer(buffer_path)
         print(f"resuming from {model_path} at {model.num_timesteps} timesteps")
     else:
-        policy = ppo_kwargs.pop("policy")
-        model = PPO(
+        policy = algo_kwargs.pop("policy")
+        model = algorithm_class(algo)(
             policy, vec_env, seed=seed, device="cpu", tensorboard_log=str(out / "tb"),
-            verbose=0, **ppo_kwargs,
+            verbose=0, **algo_kwargs,
         )  # fmt: skip
     start = time.perf_counter()
     model.learn(
@@ -220,11 +231,14 @@ def train_sb3(
     )
     wall = time.perf_counter() - start
     model.save(model_path)
+    if off_policy:
+        model.save_replay_buffer(buffer_path)
     if settings["normalize_reward"]:
         vec_env.save(str(stats_path))
     summary = {
         "env": env,
         "engine": "sb3",
+        "algo": algo,
         "seed": seed,
         "timesteps": int(model.num_timesteps),
         "wall_time_s": wall,
@@ -298,11 +312,15 @@ def _final_eval_callback() -> type:
 def _run_rllib(args: argparse.Namespace) -> int:
     require("ray", "rllib")
     from bbgym import rllib
+    from bbgym.config import load_training
 
     if args.resume:
         raise UsageError("--resume is for --engine sb3")
     out = args.out or Path("runs") / "rllib" / f"{args.env}-seed{args.seed}"
     path, env_kwargs = resolve_preset(args.env, args.preset)
+    algo = load_training(path)[1]["algo"]
+    if algo != "ppo":
+        raise UsageError(f"--engine rllib trains PPO presets; {path.name} trains {algo} (algo)")
     summary = rllib.train(
         args.env,
         learner_threads=args.torch_threads,
