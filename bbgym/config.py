@@ -124,7 +124,13 @@ TRAIN_DEFAULTS = {
     "eval_episodes": 20,
     "checkpoint_every_timesteps": 100_000,
     "normalize_reward": False,
+    "evaluate_model": "best",
 }
+
+EVALUATED_MODELS = {"best": "best_model.zip", "final": "model.zip"}
+"""``train.evaluate_model``: which saved model of a training run ``bbgym baseline``
+evaluates, records and reports: ``best`` (the default) the evaluation during training with
+the best mean return, ``final`` the model at the end of the budget."""
 
 
 SCHEDULED = ("learning_rate", "clip_range")
@@ -186,4 +192,9 @@ def load_training(preset: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
     if unknown:
         known = sorted(TRAIN_DEFAULTS)
         raise ValueError(f"{path}: unknown train settings {unknown}; known: {known}")
+    if train["evaluate_model"] not in EVALUATED_MODELS:
+        raise ValueError(
+            f"{path}: train.evaluate_model must be one of {list(EVALUATED_MODELS)}, "
+            f"got {train['evaluate_model']!r}"
+        )
     return kwargs, {**train, "algo": algo}

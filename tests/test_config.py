@@ -117,6 +117,8 @@ def test_sail_v1_presets_are_the_registered_v1():
     assert env_preset("BeachballSail-v1")[0] == CONFIG_DIR / "beachball_sail_v1.yaml"
     sac, train = load_training("BeachballSail-v1")
     assert train["algo"] == "sac" and not train["normalize_reward"]
+    assert train["evaluate_model"] == "final"  # PPO's presets: "best"
+    assert load_training("BeachballSail-v0")[1]["evaluate_model"] == "best"
     assert sac["buffer_size"] >= train["total_timesteps"]
     # The PPO preset: PPO as for v0, with the rewards normalized in training.
     ppo, train = load_training("beachball_sail_v1_ppo")
@@ -141,6 +143,7 @@ def test_algo_names_the_section_of_its_arguments(tmp_path):
         ("algo: sac\nppo: {}\n", "trains sac .algo. but has a ppo section"),
         ("ppo: {}\nsac: {}\n", "trains ppo .algo. but has a sac section"),
         ("algo: sac\nsac:\n  learning_rate: lin_x\n", "sac.learning_rate"),
+        ("train:\n  evaluate_model: last\n", "train.evaluate_model must be one of"),
     ):
         config.write_text("env_id: X\nenv: {}\n" + text)
         with pytest.raises(ValueError, match=error):

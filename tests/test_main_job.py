@@ -67,14 +67,15 @@ def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     rows = json.loads((out / "results.json").read_text())
     assert [r["policy"] for r in rows] == ["random", "scripted", "sac, 1 seed"]
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["training_seeds"] == [0] and summary["torch_threads"] == 1
+    assert summary["training_seeds"] == [0] and summary["torch_threads"] == 2  # the Makefile's
     assert summary["algo"] == "sac" and "sac_mean" in summary["success_rate"]
+    assert summary["evaluated_model"] == "model.zip"  # the preset's evaluate_model: final
     assert summary["command"][1:] == [*argv, *small]  # provenance: the command line itself
 
-    # The table's SAC row is what the evaluate command gives the saved best model.
+    # The table's SAC row is what the evaluate command gives the saved final model.
     check = subprocess.run(
         [*bbgym, "evaluate", "--env", MAIN_ENV, "--policies", "sac", "--model",
-         str(out / "seed0" / "best_model.zip"), "--episodes", "3", "--out", str(tmp_path / "e")],
+         str(out / "seed0" / "model.zip"), "--episodes", "3", "--out", str(tmp_path / "e")],
         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert check.returncode == 0, check.stderr[-3000:]

@@ -12,7 +12,8 @@ and one training seed. Steps, each reported as it goes:
    training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>`` (``--jobs`` trainings
    at once, each on ``--torch-threads`` threads); ``--no-train`` skips this and evaluates
    the models already there;
-2. evaluate each seed's best model of training (chosen on the evaluation seeds 10000+), a
+2. evaluate each seed's best model of training (chosen on the evaluation seeds 10000+; or
+   its final model, where the preset's ``train.evaluate_model`` is ``final``), a
    uniform random policy and the env's scripted agent (the VMG autopilot for sailing) over
    the same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from
    training's), with the breakdown of failures;
@@ -94,10 +95,11 @@ def _steps_label(steps: float) -> str:
 
 
 def learning_curve_figure(
-    run: Path, results: dict[str, dict], env_id: str, algo: str = "ppo"
+    run: Path, results: dict[str, dict], env_id: str, algo: str = "ppo", evaluated: str = "best"
 ) -> Any:
     """The learning-curve figure of :func:`plot_learning_curve` (a matplotlib Figure);
-    ``results[algo]`` is the learnt policy's re-evaluation."""
+    ``results[algo]`` is the learnt policy's re-evaluation, of its ``evaluated`` model
+    (``best`` or ``final``)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -157,9 +159,11 @@ def learning_curve_figure(
                 )  # fmt: skip
         if algo in results:
             r = results[algo]
+            at = i_best if evaluated == "best" else i_final
             ax.plot(
-                steps[i_best], scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
-                label=f"best model re-evaluated: {fmt.format(scale * r[key])} ({_seed_range(r)})",
+                steps[at], scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
+                label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
+                f"({_seed_range(r)})",
             )  # fmt: skip
     if len(steps) == 1:  # one evaluation: give the x axis some width around it
         for ax in (ax_success, ax_return):
@@ -190,7 +194,12 @@ def learning_curve_figure(
 
 
 def plot_learning_curve(
-    run: Path, results: dict[str, dict], env_id: str, out: Path, algo: str = "ppo"
+    run: Path,
+    results: dict[str, dict],
+    env_id: str,
+    out: Path,
+    algo: str = "ppo",
+    evaluated: str = "best",
 ) -> None:
     """Evaluation success rate and mean return against timesteps (SB3's
     ``<run>/eval/evaluations.npz``), marking the saved best model (``train.json``'s
@@ -199,13 +208,13 @@ def plot_learning_curve(
     seeds each uses. Works for a run of one evaluation too."""
     import matplotlib.pyplot as plt
 
-    fig = learning_curve_figure(run, results, env_id, algo)
+    fig = learning_curve_figure(run, results, env_id, algo, evaluated)
     fig.savefig(out, dpi=110)
     plt.close(fig)
 
 
 def run(args: argparse.Namespace) -> int:
-    from bbgym.config import load_training
+    from bbgym.config import EVALUATED_MODELS, load_training
 
     require("stable_baselines3", "train")
     require("matplotlib", "plots")
@@ -219,7 +228,8 @@ def run(args: argparse.Namespace) -> int:
     train.pin_torch_threads(args.torch_threads)  # evaluation too (--no-train)
     args.out.mkdir(parents=True, exist_ok=True)
     _, settings = load_training(config)
-    algo = settings["algo"]
+    algo, evaluated = settings["algo"], settings["evaluate_model"]
+    model_file = EVALUATED_MODELS[evaluated]
     budget = args.timesteps or settings["total_timesteps"]
     print(f"[1/4] training {algo.upper()} on {args.env}: seeds {seeds}, {budget} timesteps each, "
           f"{settings['n_envs']} envs, {args.jobs} at once, {args.torch_threads} torch "
@@ -233,14 +243,14 @@ def run(args: argparse.Namespace) -> int:
     train_wall = time.perf_counter() - start
     budget = train_logs[seeds[0]]["timesteps"]
 
-    print(f"[2/4] evaluating random, scripted and {algo.upper()} ({len(seeds)} seeds) over "
-          f"{args.episodes} seeded episodes")  # fmt: skip
+    print(f"[2/4] evaluating random, scripted and {algo.upper()} ({len(seeds)} seeds, each "
+          f"seed's {model_file}) over {args.episodes} seeded episodes")  # fmt: skip
     start = time.perf_counter()
     results = {name: evaluate.evaluate(args.env, name, args.episodes, 0, None)
                for name in ("random", "scripted")}  # fmt: skip
     per_seed = []
     for seed, folder in folders.items():
-        result = evaluate.evaluate(args.env, algo, args.episodes, 0, folder / "best_model.zip")
+        result = evaluate.evaluate(args.env, algo, args.episodes, 0, folder / model_file)
         result["policy"] = f"{algo} seed {seed}"
         result["training_seed"] = seed
         per_seed.append(result)
@@ -262,18 +272,20 @@ def run(args: argparse.Namespace) -> int:
     first = folders[seeds[0]]
     for seed, folder in folders.items():
         curve_results = {**results, algo: per_seed[seeds.index(seed)]}
-        plot_learning_curve(folder, curve_results, args.env, folder / "learning_curve.png", algo)
+        plot_learning_curve(folder, curve_results, args.env, folder / "learning_curve.png", algo,
+                            evaluated)  # fmt: skip
     shutil.copy(first / "learning_curve.png", args.out / "learning_curve.png")
 
     print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
-    record.record_to_file(args.env, algo, animation, model=first / "best_model.zip", seed=0,
+    record.record_to_file(args.env, algo, animation, model=first / model_file, seed=0,
                           frame_skip=2)  # fmt: skip
 
     summary = {
         "env": args.env,
         "config": str(config),
         "algo": algo,
+        "evaluated_model": model_file,
         **train.run_provenance(args.seed, args.torch_threads),
         "training_seeds": seeds,
         "jobs": args.jobs,
