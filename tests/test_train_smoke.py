@@ -102,6 +102,7 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     from stable_baselines3 import SAC
 
     from bbgym.cli.train import REPLAY_BUFFER_FILE, train_sb3
+    from bbgym.sb3 import load_model
 
     config = write_tiny_sail_preset(tmp_path / "sail_v1.yaml", "beachball_sail_v1.yaml")
     out = tmp_path / "run"
@@ -117,8 +118,9 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     assert model._n_updates == 2 * (1024 - 256) // 8
     train_sb3("BeachballSail-v1", preset=config, timesteps=512, seed=2, out=out, resume=True,
               progress=False)  # fmt: skip
-    model = SAC.load(out / "model.zip", device="cpu")
+    model = load_model(out / "model.zip", "sac")
     model.load_replay_buffer(out / REPLAY_BUFFER_FILE)
+    assert (model.replay_buffer.n_steps, model.replay_buffer.gamma) == (3, 0.99)  # n-step
     assert model.num_timesteps == 1024 + 512
     assert model.replay_buffer.size() * model.n_envs == 1024 + 512  # the buffer continued
     assert model._n_updates == 2 * (1024 + 512 - 256) // 8
