@@ -444,7 +444,7 @@ _DOC_ARGS = """
     All are keyword arguments of ``gym.make("BeachballSail-v0", ...)`` (and of
     ``gym.make_vec``); the defaults are the preset in ``configs/beachball_sail.yaml``.
     ``BeachballSail-v1`` is registered with ``time_penalty=0.1, capsize_penalty=30.0``
-    (its preset: ``configs/beachball_sail_v1.yaml``); any argument overrides them.
+    (its preset, ``configs/beachball_sail_v1.yaml``, trains SAC); any argument overrides them.
 
     | argument | default | meaning |
     |---|---|---|
