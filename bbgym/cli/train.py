@@ -166,6 +166,7 @@ def train_sb3(
     model. ``train.json`` records the seed, threads, versions, machine and command."""
     require("stable_baselines3", "train")
     from stable_baselines3.common.callbacks import CheckpointCallback
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
     from stable_baselines3.common.vec_env import VecMonitor
 
     from bbgym.config import load_training
@@ -209,11 +210,10 @@ def train_sb3(
         ),
     ]
     model_path, buffer_path = out / "model.zip", out / REPLAY_BUFFER_FILE
-    off_policy = algo == "sac"
     if resume and model_path.exists():
         model = load_model(model_path, algo, "--resume:", env=vec_env,
                            tensorboard_log=str(out / "tb"))  # fmt: skip
-        if off_policy and buffer_path.exists():
+        if isinstance(model, OffPolicyAlgorithm) and buffer_path.exists():
             model.load_replay_buffer(buffer_path)
         print(f"resuming from {model_path} at {model.num_timesteps} timesteps")
     else:
@@ -231,7 +231,7 @@ def train_sb3(
     )
     wall = time.perf_counter() - start
     model.save(model_path)
-    if off_policy:
+    if isinstance(model, OffPolicyAlgorithm):  # SAC: its replay buffer, for --resume
         model.save_replay_buffer(buffer_path)
     if settings["normalize_reward"]:
         vec_env.save(str(stats_path))
