@@ -22,8 +22,8 @@ PRESET_FILES = {
 trained with SAC; ``beachball_sail_v1_ppo`` is its PPO preset, chosen by name);
 BeachballCurve-v0 shares the throw preset and applies its registered kwargs (the screen
 and the far targets) on top; BeachballCurve-v1 has its own (the registration's env, PPO
-tuned for it); BeachballTopple-v1 the topple preset with its registered kwargs (nearer
-walls, an onshore breeze)."""
+tuned for it; ``beachball_curve_sac`` trains it with SAC); BeachballTopple-v1 the topple
+preset with its registered kwargs (nearer walls, an onshore breeze)."""
 
 
 def preset_path(preset: str | Path) -> Path:

@@ -101,7 +101,23 @@ def test_curve_preset_is_the_registered_v1():
     assert env_preset(env_id)[0] == CONFIG_DIR / "beachball_curve.yaml"
     ppo, train = load_training(env_id)
     assert ppo["learning_rate"](1.0) == pytest.approx(1e-3) and ppo["learning_rate"](0.0) == 0.0
-    assert train["total_timesteps"] == 3_000_000
+    # 4.5M throws in batched flights of 1024, 4 epochs an update (README, "Baselines").
+    assert (train["total_timesteps"], train["n_envs"], ppo["n_epochs"]) == (4_500_000, 1024, 4)
+    # Its SAC preset (chosen by name): the same env, the whole budget in the replay buffer,
+    # a sharper policy than SB3's default entropy target (-6 for the 6 action dimensions).
+    assert load_preset("beachball_curve_sac") == load_preset(env_id)
+    sac, train = load_training("beachball_curve_sac")
+    assert train["algo"] == "sac" and train["evaluate_model"] == "final"
+    assert sac["buffer_size"] >= train["total_timesteps"] == 400_000
+    from stable_baselines3 import SAC
+
+    env = gym.make(env_id)
+    try:
+        model = SAC(env=env, **sac)  # SB3 takes every key of the section
+        assert model.target_entropy == -12.0 and model.gamma == 0.95
+        assert model.gradient_steps == 32 and model.batch_size == 256
+    finally:
+        env.close()
 
 
 def test_sail_v1_presets_are_the_registered_v1():
