@@ -7,7 +7,7 @@ import math
 
 from gymnasium.envs.registration import register, registry
 
-__version__ = "0.7.0"
+__version__ = "0.8.0"
 
 SAIL_MAX_EPISODE_STEPS = 1200
 THROW_MAX_EPISODE_STEPS = 100
