@@ -11,7 +11,7 @@ import math
 import gymnasium as gym
 import numpy as np
 
-from bbgym.envs.throw import DISTANCE_SCALE_M, WIND_SCALE_MPS, ThrowTask
+from bbgym.envs.throw.task import DISTANCE_SCALE_M, WIND_SCALE_MPS, ThrowTask
 
 from .throw_solver import solve_throw, solve_throw_robust
 

@@ -14,7 +14,7 @@ from itertools import product
 
 import numpy as np
 
-from bbgym.envs.throw import ThrowScenario, ThrowTask
+from bbgym.envs.throw.task import ThrowScenario, ThrowTask
 from bbgym.physics.wind import GustState
 
 

@@ -9,38 +9,45 @@ from typing import Any
 CONFIG_DIR = Path(str(resources.files("bbgym.configs")))
 """The presets' folder, inside the installed package (a wheel ships them)."""
 
-PRESET_FILES = {
-    "BeachballSail-v0": "beachball_sail.yaml",
-    "BeachballSail-v1": "beachball_sail_v1.yaml",
-    "BeachballThrow-v0": "beachball_throw.yaml",
-    "BeachballCurve-v0": "beachball_throw.yaml",
-    "BeachballCurve-v1": "beachball_curve.yaml",
-    "BeachballTopple-v0": "beachball_topple.yaml",
-    "BeachballTopple-v1": "beachball_topple.yaml",
-}
-"""The shipped preset of each env id. BeachballSail-v1 has its own (the registration's env,
-trained with SAC; ``beachball_sail_v1_ppo`` is its PPO preset, chosen by name);
-BeachballCurve-v0 shares the throw preset and applies its registered kwargs (the screen
-and the far targets) on top; BeachballCurve-v1 has its own (the registration's env, PPO
-tuned for it; ``beachball_curve_sac`` trains it with SAC); BeachballTopple-v1 the topple
-preset with its registered kwargs (nearer walls, an onshore breeze)."""
+
+def preset_files() -> dict[str, Path]:
+    """The shipped preset file of each registered env id that declares one
+    (:attr:`bbgym.spec.Version.preset`). A version of a base task may share the base's
+    preset: its registered kwargs go on top (see :func:`load_preset`)."""
+    import bbgym  # noqa: F401  (registers the ids)
+    from bbgym.spec import specs
+
+    return {
+        v.env_id: _preset_file(v.preset)
+        for spec in specs()
+        for v in spec.versions
+        if v.preset is not None
+    }
+
+
+def _preset_file(preset: str | Path) -> Path:
+    """A spec's preset: a shipped preset's name (``bbgym/configs/<name>.yaml``) or a path."""
+    if isinstance(preset, Path):
+        return preset
+    return CONFIG_DIR / (preset if preset.endswith((".yaml", ".yml")) else f"{preset}.yaml")
 
 
 def preset_path(preset: str | Path) -> Path:
-    """The preset file named by ``preset``: an env id (``"BeachballSail-v0"``), a shipped
+    """The preset file named by ``preset``: a registered env id, a shipped
     preset's name (``"beachball_sail"`` or ``"beachball_sail.yaml"``) or a path to a file."""
     text = str(preset)
-    if text in PRESET_FILES:
-        return CONFIG_DIR / PRESET_FILES[text]
+    files = preset_files()
+    if text in files:
+        return files[text]
     shipped = CONFIG_DIR / (text if text.endswith((".yaml", ".yml")) else f"{text}.yaml")
     if "/" not in text and shipped.is_file():
         return shipped
     path = Path(preset)
     if path.is_file():
         return path
-    names = sorted({Path(name).stem for name in PRESET_FILES.values()})
+    names = sorted(p.stem for p in CONFIG_DIR.glob("*.yaml"))
     raise ValueError(
-        f"preset {text!r} is neither an env id ({', '.join(PRESET_FILES)}), a shipped preset "
+        f"preset {text!r} is neither an env id ({', '.join(files)}), a shipped preset "
         f"({', '.join(names)}) nor a file"
     )
 
@@ -49,8 +56,8 @@ def load_preset(preset: str | Path) -> tuple[str, dict[str, Any]]:
     """Return ``(env_id, kwargs)`` of a preset, ready for ``gym.make(env_id, **kwargs)``.
 
     ``preset`` is an env id, a shipped preset's name or a file (see :func:`preset_path`).
-    Given an env id, the kwargs are that id's: BeachballCurve-v0 gets the throw preset with
-    the Curve registration's kwargs on top. Lists become tuples (ranges), so the kwargs
+    Given an env id, the kwargs are that id's: a version that shares its base task's preset
+    gets its registered kwargs on top. Lists become tuples (ranges), so the kwargs
     compare equal to the code's defaults.
     """
     import yaml
@@ -61,7 +68,7 @@ def load_preset(preset: str | Path) -> tuple[str, dict[str, Any]]:
     if not isinstance(preset_data, dict) or "env_id" not in preset_data or "env" not in preset_data:
         raise ValueError(f"{path}: a preset needs 'env_id' and 'env' keys")
     env_id, kwargs = _env_kwargs(preset_data)
-    if str(preset) in PRESET_FILES and str(preset) != env_id:
+    if str(preset) in preset_files() and str(preset) != env_id:
         import gymnasium as gym
 
         import bbgym  # noqa: F401  (registers the ids)
@@ -74,17 +81,17 @@ def load_preset(preset: str | Path) -> tuple[str, dict[str, Any]]:
 def env_preset(env_id: str, preset: str | Path | None = None) -> tuple[Path, dict[str, Any]]:
     """``(preset file, env kwargs)`` that ``env_id`` trains with: ``preset`` (an env id, a
     shipped preset's name or a file; default ``env_id``'s shipped preset), its kwargs without
-    ``max_episode_steps`` (the registered limit applies). A preset of the base task (the
-    throw preset for BeachballCurve-v0) gets the id's registered kwargs on top, since its
-    own values (``screen: false``) would otherwise override them; a preset of another env
-    raises ``ValueError``."""
+    ``max_episode_steps`` (the registered limit applies). A preset of the base task (one a
+    version shares with its base) gets the id's registered kwargs on top, since its own
+    values would otherwise override them; a preset of another env raises ``ValueError``."""
     import gymnasium as gym
 
     import bbgym  # noqa: F401  (registers the ids)
 
     name = env_id if preset is None else preset
-    if preset is None and env_id not in PRESET_FILES:
-        raise ValueError(f"{env_id} has no shipped preset; known: {', '.join(PRESET_FILES)}")
+    files = preset_files()
+    if preset is None and env_id not in files:
+        raise ValueError(f"{env_id} has no shipped preset; known: {', '.join(files)}")
     path = preset_path(name)
     preset_id, kwargs = load_preset(name)
     kwargs.pop("max_episode_steps", None)

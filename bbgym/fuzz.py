@@ -21,6 +21,7 @@ of 1e-4 s is accepted, but a fuzz run of a million steps at it would take days):
 
 from __future__ import annotations
 
+import importlib
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import fields
@@ -30,13 +31,10 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.physics.ball import BallParams
-from bbgym.physics.sailing import SAIL_MODELS, DinghyParams
+from bbgym.physics.sailing import DinghyParams
 from bbgym.physics.validation import Interval, interval
 from bbgym.physics.wall import WallParams
-from bbgym.physics.wind import GustParams
-
-ENV_IDS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+from bbgym.spec import base_ids, spec_of
 
 Draw = Callable[[str, Interval, bool], float]
 """``draw(name, interval, log) -> float``: a number inside ``interval`` (log-uniform if
@@ -124,161 +122,36 @@ def sample_params(draw: Draw, cls: type, prefix: str) -> dict[str, Any]:
     return values
 
 
-def _fixed(value: float) -> Interval:
-    return interval(value, value)
+def draw_vector(draw: Draw, key: str, lengths: Interval) -> tuple[float, float]:
+    """An ``options[key]`` vector ``(x, y)`` of a length inside ``lengths``, any direction."""
+    length = draw(f"options[{key!r}].length", lengths, False)
+    angle = draw(f"options[{key!r}].angle", interval(-math.pi, math.pi), False)
+    # Rounding may take the length just out of an open interval: pull it in.
+    x, y = length * math.cos(angle), length * math.sin(angle)
+    if not lengths.contains(math.hypot(x, y)):
+        x, y = x * (1 - 1e-9), y * (1 - 1e-9)
+        if not lengths.contains(math.hypot(x, y)):
+            x, y = x * (1 + 2e-9), y * (1 + 2e-9)
+    return (x, y)
+
+
+def _fuzzed(env_id: str) -> Any:
+    spec = spec_of(env_id)
+    if spec.fuzz is None:
+        raise ValueError(f"{env_id}: its family ({spec.family}) declares no fuzz sampler")
+    return spec.fuzz
 
 
 def sample_kwargs(env_id: str, draw: Draw) -> dict[str, Any]:
-    """Constructor arguments of ``env_id`` drawn over their accepted intervals."""
-    from bbgym.envs import sail, throw, topple
-
-    if env_id == "BeachballSail-v0":
-        sim_dt = draw("sim_dt", COST_CAPS["sail_sim_dt"], True)
-        substeps = draw_int(draw, "substeps", 1, int(COST_CAPS["sail_substeps"].high))
-        mark_radius = draw("mark_radius", sail.MARK_RADIUS_M, True)
-        far = interval(mark_radius, mark_radius + COST_CAPS["mark_distance"].high, low_open=True)
-        kwargs = {
-            "sail_model": SAIL_MODELS[draw_int(draw, "sail_model", 0, len(SAIL_MODELS) - 1)],
-            "dinghy": sample_params(draw, DinghyParams, "dinghy"),
-            "gust_params": sample_params(draw, GustParams, "gust_params"),
-            "wind_speed_range": draw_pair(draw, "wind_speed_range", sail.WIND_SPEED_MPS),
-            "gusts": draw_flag(draw, "gusts"),
-            "mark_radius": mark_radius,
-            "mark_distance_range": draw_pair(draw, "mark_distance_range", far),
-            "initial_speed_range": draw_pair(draw, "initial_speed_range", sail.INITIAL_SPEED_MPS),
-            "sim_dt": sim_dt,
-            "ctrl_dt": sim_dt * substeps,
-        }
-        for name in ("progress_weight", "arrival_bonus", "capsize_penalty", "time_penalty"):
-            kwargs[name] = draw(name, sail.REWARD_WEIGHT, False)
-        return kwargs
-
-    ball = sample_params(draw, BallParams, "ball")
-    radius = ball.get("radius_m", BallParams.radius_m)
-    common = {
-        "ball": ball,
-        "wind_speed_range": draw_pair(draw, "wind_speed_range", throw.WIND_SPEED_MPS),
-        "gusts": draw_flag(draw, "gusts"),
-        "gust_params": sample_params(draw, GustParams, "gust_params"),
-        "windsock_noise": draw("windsock_noise", throw.WINDSOCK_NOISE_MPS, False),
-        "max_speed": draw("max_speed", throw.LAUNCH_SPEED_MPS, True),
-        "max_spin": draw("max_spin", throw.LAUNCH_SPIN_RPS, True),
-        "launch_height": draw("launch_height", interval(radius, throw.LAUNCH_HEIGHT_MAX_M), True),
-    }
-    if env_id in ("BeachballThrow-v0", "BeachballCurve-v0"):
-        sim_dt = draw("sim_dt", COST_CAPS["ball_sim_dt"], True)
-        target_radius = draw("target_radius", throw.TARGET_RADIUS_M, True)
-        field_radius = draw(
-            "field_radius", interval(2.5 * target_radius, throw.FIELD_RADIUS_M.high), True
-        )
-        targets = interval(
-            target_radius, field_radius - target_radius, low_open=True, high_open=True
-        )
-        flight = COST_CAPS["max_flight_time"]
-        return {
-            **common,
-            "throws_per_episode": draw_int(draw, "throws_per_episode", 1, 10),
-            "target_radius": target_radius,
-            "field_radius": field_radius,
-            "target_distance_range": draw_pair(draw, "target_distance_range", targets, True),
-            "target_bearing_range": draw_pair(draw, "target_bearing_range", throw.BEARING_RAD),
-            "throw_interval": draw("throw_interval", throw.THROW_INTERVAL_S, True),
-            "screen": env_id == "BeachballCurve-v0" or draw_flag(draw, "screen"),
-            "screen_height": draw("screen_height", throw.SCREEN_SIZE_M, True),
-            "screen_half_width": draw("screen_half_width", throw.SCREEN_SIZE_M, True),
-            "screen_position": draw(
-                "screen_position", interval(0.0, 1.0, low_open=True, high_open=True), False
-            ),
-            "sim_dt": sim_dt,
-            "max_flight_time": draw(
-                "max_flight_time", interval(max(flight.low, 10 * sim_dt), flight.high), True
-            ),
-            "max_roll_time": draw("max_roll_time", flight, True),
-            "miss_scale": draw("miss_scale", throw.MISS_SCALE_M, True),
-            "hit_bonus": draw("hit_bonus", throw.REWARD_WEIGHT, False),
-        }
-
-    wall = sample_params(draw, WallParams, "wall")
-    sim_dt = 0.01 * draw_int(draw, "sim_dt_centis", 1, 5)
-    steps = COST_CAPS["topple_interval"]
-    n_substeps = draw_int(
-        draw, "interval_substeps", round(steps.low / sim_dt), round(steps.high / sim_dt)
-    )
-    gust_every = draw_int(draw, "gust_every", 1, n_substeps)
-    distances = interval(
-        0.5 * wall.get("base_depth_m", WallParams.base_depth_m) + 1.0, topple.WALL_DISTANCE_MAX_M
-    )
-    max_speed = common["max_speed"]
-    # A direction range spans at most one turn (2 pi), inside [-2 pi, 2 pi].
-    from_low = draw("wind_from_range[0]", topple.WIND_FROM_RAD, False)
-    from_span = draw("wind_from_range span", interval(0.0, 2.0 * math.pi), False)
-    return {
-        **common,
-        "wall": wall,
-        "wind_from_range": (from_low, min(from_low + from_span, topple.WIND_FROM_RAD.high)),
-        "throws_per_episode": draw_int(draw, "throws_per_episode", 1, 10),
-        "wall_distance_range": draw_pair(draw, "wall_distance_range", distances),
-        "sim_dt": sim_dt,
-        "interval": n_substeps * sim_dt,
-        "gust_dt": gust_every * sim_dt,
-        "wait_speed": draw("wait_speed", interval(0.0, max_speed), False),
-        **{
-            name: draw(name, throw.REWARD_WEIGHT, False)
-            for name in ("success_bonus", "failure_penalty", "throw_cost", "lean_weight")
-        },
-    }
+    """Constructor arguments of ``env_id`` drawn over their accepted intervals (by its
+    family's sampler, :attr:`bbgym.spec.FuzzSpec.sample_kwargs`)."""
+    return _fuzzed(env_id).sample_kwargs(spec_of(env_id).version(env_id), draw)
 
 
 def sample_options(env_id: str, env: Any, draw: Draw) -> dict[str, Any] | None:
     """``reset`` options for an env made with some kwargs (``env.unwrapped.task``), each
     key present or not, within the same intervals as the constructor's ranges."""
-    from bbgym.envs import sail, throw
-
-    task = getattr(env, "unwrapped", env).task
-    options: dict[str, Any] = {}
-
-    def maybe(key: str) -> bool:
-        return draw_flag(draw, f"options.has_{key}")
-
-    def vector(key: str, lengths: Interval) -> tuple[float, float]:
-        length = draw(f"options[{key!r}].length", lengths, False)
-        angle = draw(f"options[{key!r}].angle", interval(-math.pi, math.pi), False)
-        # Rounding may take the length just out of an open interval: pull it in.
-        x, y = length * math.cos(angle), length * math.sin(angle)
-        if not lengths.contains(math.hypot(x, y)):
-            x, y = x * (1 - 1e-9), y * (1 - 1e-9)
-            if not lengths.contains(math.hypot(x, y)):
-                x, y = x * (1 + 2e-9), y * (1 + 2e-9)
-        return (x, y)
-
-    if maybe("gusts"):
-        options["gusts"] = draw_flag(draw, "options['gusts']")
-    if env_id == "BeachballSail-v0":
-        for key, accepted in (
-            ("wind_speed", sail.WIND_SPEED_MPS),
-            ("speed", sail.INITIAL_SPEED_MPS),
-        ):
-            if maybe(key):
-                options[key] = draw(f"options[{key!r}]", accepted, False)
-        for key in ("wind_from", "heading"):
-            if maybe(key):
-                options[key] = draw(f"options[{key!r}]", interval(-10.0, 10.0), False)
-        if maybe("mark"):
-            lo = task.mark_distance.low
-            near = interval(lo, lo + COST_CAPS["mark_distance"].high, low_open=True)
-            options["mark"] = vector("mark", near)
-        return options or None
-    if maybe("wind"):
-        options["wind"] = vector("wind", throw.WIND_SPEED_MPS)
-    if env_id == "BeachballTopple-v0":
-        if maybe("wall_distance"):
-            options["wall_distance"] = draw("options['wall_distance']", task.wall_distance, False)
-    else:
-        if maybe("target"):
-            options["target"] = vector("target", task.target_distance)
-        if maybe("screen"):
-            options["screen"] = draw_flag(draw, "options['screen']")
-    return options or None
+    return _fuzzed(env_id).sample_options(getattr(env, "unwrapped", env).task, draw)
 
 
 def _finite_floats(value: Any, path: str) -> None:
@@ -356,32 +229,20 @@ BAD_NUMBERS: tuple[tuple[Any, type], ...] = (
 """Values no number argument accepts, and the error each raises."""
 
 
-INTEGER_ARGUMENTS = ("throws_per_episode",)
-
-
 def numeric_arguments(env_id: str) -> list[str]:
     """The env's constructor arguments that take one number (for :func:`check_rejections`),
-    and each parameter field as ``group.field``."""
-    from bbgym.envs import sail, throw, topple
-
-    task = {
-        "BeachballSail-v0": sail.SailTask,
-        "BeachballThrow-v0": throw.ThrowTask,
-        "BeachballCurve-v0": throw.ThrowTask,
-        "BeachballTopple-v0": topple.ToppleTask,
-    }[env_id]
+    and each field of its parameter groups as ``group.field``."""
     import inspect
 
+    spec = spec_of(env_id)
+    env_class = getattr(importlib.import_module(spec.module), spec.env_class)
     names = []
-    groups = {"dinghy": DinghyParams, "ball": BallParams, "wall": WallParams}
-    groups["gust_params"] = GustParams
-    for name, parameter in inspect.signature(task.__init__).parameters.items():
+    for name, parameter in inspect.signature(env_class.task_class.__init__).parameters.items():
         default = parameter.default
-        if name in groups:
-            cls = groups[name]
+        if name in spec.param_groups:
             names += [
                 f"{name}.{f.name}"
-                for f in fields(cls)
+                for f in fields(spec.param_groups[name])
                 if "interval" in f.metadata and not isinstance(f.default, bool)
             ]
         elif isinstance(default, (int, float)) and not isinstance(default, bool):
@@ -402,7 +263,7 @@ def check_rejections(env_id: str) -> int:
     errors were checked."""
     checked = 0
     for path in numeric_arguments(env_id):
-        integer = path in INTEGER_ARGUMENTS
+        integer = path in spec_of(env_id).integer_arguments
         for value, error in BAD_NUMBERS:
             # An int argument refuses every float by its type, NaN and inf included.
             error = TypeError if integer else error
@@ -426,17 +287,6 @@ def check_rejections(env_id: str) -> int:
 
 # -- the long run ------------------------------------------------------------------------------
 
-STEP_SHARE = {
-    "BeachballSail-v0": 0.4,
-    "BeachballThrow-v0": 0.2,
-    "BeachballCurve-v0": 0.2,
-    "BeachballTopple-v0": 0.2,
-}
-"""Share of a run's env steps per env (a sailing step is much cheaper than a throw)."""
-
-EPISODE_STEPS = {"BeachballSail-v0": 300, "BeachballThrow-v0": 12, "BeachballCurve-v0": 12}
-"""Steps per drawn configuration (the rest: 8)."""
-
 
 def run(total_steps: int, seed: int, num_envs: int = 32, minutes: float = math.inf) -> dict:
     """Fuzz every env for about ``total_steps`` env steps (half through single envs, half
@@ -450,19 +300,22 @@ def run(total_steps: int, seed: int, num_envs: int = 32, minutes: float = math.i
     draw = numpy_draw(rng)
     start = time.perf_counter()
     report: dict[str, Any] = {"seed": seed, "num_envs": num_envs, "envs": {}, "failures": []}
-    for env_id in ENV_IDS:
+    env_ids = base_ids()
+    for env_id in env_ids:
         figures = {"steps": 0, "configurations": 0, "failures": 0}
         figures["errors_checked"] = check_rejections(env_id)
         report["envs"][env_id] = figures
-    budget = {env_id: total_steps * share for env_id, share in STEP_SHARE.items()}
+    shares = {env_id: _fuzzed(env_id).step_share for env_id in env_ids}
+    total_share = sum(shares.values())
+    budget = {env_id: total_steps * share / total_share for env_id, share in shares.items()}
     kinds = [0, num_envs]
     turn = 0
-    while any(report["envs"][e]["steps"] < budget[e] for e in ENV_IDS):
+    while any(report["envs"][e]["steps"] < budget[e] for e in env_ids):
         if time.perf_counter() - start > 60.0 * minutes:
             report["stopped_early"] = True
             break
-        env_id = ENV_IDS[turn % len(ENV_IDS)]
-        n = kinds[(turn // len(ENV_IDS)) % 2]
+        env_id = env_ids[turn % len(env_ids)]
+        n = kinds[(turn // len(env_ids)) % 2]
         turn += 1
         figures = report["envs"][env_id]
         if figures["steps"] >= budget[env_id]:
@@ -473,7 +326,7 @@ def run(total_steps: int, seed: int, num_envs: int = 32, minutes: float = math.i
             probe = gym.make(env_id, **kwargs)
             options = sample_options(env_id, probe, draw)
             probe.close()
-            steps = EPISODE_STEPS.get(env_id, 8)
+            steps = _fuzzed(env_id).episode_steps
             figures["steps"] += check_episode(env_id, kwargs, options, steps, case_seed, n)
         except Exception as error:  # noqa: BLE001 - every failure is reported, with its input
             figures["failures"] += 1

@@ -25,6 +25,7 @@ import pygame
 from gymnasium import spaces
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym.spec import spec_of
 
 SHEET_STEP = 0.05
 """Sheet change per frame while UP or DOWN is held (full range -1..1 in 40 frames)."""
@@ -109,7 +110,7 @@ class KeyboardWrapper(gym.Wrapper):
 
 
 class SailKeys(KeyboardWrapper):
-    """BeachballSail-v0 from the keys. Command ``[rudder, sheet change]``: the rudder is
+    """A sailing env from the keys. Command ``[rudder, sheet change]``: the rudder is
     passed on as it is; the sheet moves by ``sheet_step`` times the change per step and
     stays there (the ``sheet`` attribute, set to ``initial_sheet`` at every reset)."""
 
@@ -252,14 +253,12 @@ class ThrowKeys(KeyboardWrapper):
 
 
 def make_play_env(env_id: str, seed: int | None = None) -> KeyboardWrapper:
-    """``env_id`` in ``rgb_array`` mode, wrapped for the keyboard."""
-    env = gym.make(env_id, render_mode="rgb_array")
-    if env_id.startswith("BeachballSail"):
-        return SailKeys(env, seed)
-    if env.action_space.shape == (6,) and hasattr(env.unwrapped, "task"):
-        return ThrowKeys(env, seed)
-    env.close()
-    raise ValueError(f"no keyboard mapping for {env_id!r}")
+    """``env_id`` in ``rgb_array`` mode, wrapped for the keyboard by its family's
+    :attr:`~bbgym.spec.EnvSpec.keyboard`."""
+    spec = spec_of(env_id)
+    if spec.keyboard is None:
+        raise ValueError(f"no keyboard mapping for {env_id!r}")
+    return spec.keyboard(gym.make(env_id, render_mode="rgb_array"), seed)
 
 
 def import_gym_play() -> Any:

@@ -36,7 +36,7 @@ import gymnasium as gym
 import numpy as np
 
 # (Importing any bbgym module runs bbgym/__init__.py, which registers the ids.)
-from bbgym.config import PRESET_FILES, env_preset, load_training
+from bbgym.config import env_preset, load_training, preset_files
 
 if TYPE_CHECKING:  # ray is an optional dependency
     from ray.rllib.algorithms.ppo import PPOConfig
@@ -57,8 +57,9 @@ def _require_ray() -> None:
 
 
 def _check_env_id(env_id: str) -> None:
-    if env_id not in PRESET_FILES:
-        raise ValueError(f"env_id must be one of {sorted(PRESET_FILES)}, got {env_id!r}")
+    files = preset_files()
+    if env_id not in files:
+        raise ValueError(f"env_id must be one of {sorted(files)}, got {env_id!r}")
 
 
 def _make_env(env_id: str, env_config: Mapping[str, Any]) -> gym.Env | gym.vector.VectorEnv:
@@ -93,9 +94,9 @@ def register_envs() -> list[str]:
     _require_ray()
     from ray.tune.registry import register_env
 
-    for env_id in PRESET_FILES:
+    for env_id in preset_files():
         register_env(env_id, functools.partial(_make_env, env_id))
-    return list(PRESET_FILES)
+    return list(preset_files())
 
 
 def preset_env_kwargs(env_id: str, preset: str | Path | None = None) -> dict[str, Any]:

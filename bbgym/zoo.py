@@ -38,9 +38,9 @@ import yaml
 from bbgym.config import (
     ALGORITHMS,
     CONFIG_DIR,
-    PRESET_FILES,
     load_preset,
     load_training,
+    preset_files,
     preset_path,
 )
 
@@ -85,8 +85,9 @@ def policy_kwargs_string(policy_kwargs: dict[str, Any]) -> str:
 
 def env_hyperparams(env_id: str) -> dict[str, Any]:
     """RL Zoo's hyperparameters of one env id, from its preset (see the module's doc)."""
-    if env_id not in PRESET_FILES:
-        raise ValueError(f"no preset for {env_id!r}; known: {sorted(PRESET_FILES)}")
+    files = preset_files()
+    if env_id not in files:
+        raise ValueError(f"no preset for {env_id!r}; known: {sorted(files)}")
     _, train = load_training(env_id)  # fills the defaults of the train section
     with open(preset_path(env_id), encoding="utf-8") as f:
         section = dict(yaml.safe_load(f).get(train["algo"]) or {})  # schedules stay "lin_<x>"
@@ -115,13 +116,13 @@ def preset_algorithm(env_id: str) -> str:
 
 def zoo_hyperparams(algo: str | None = None) -> dict[str, dict[str, Any]]:
     """RL Zoo's hyperparameter dict ``{env_id: hyperparameters}`` of the env ids of
-    :data:`bbgym.config.PRESET_FILES` whose preset trains ``algo`` (what ``yaml.safe_load``
+    :func:`bbgym.config.preset_files` whose preset trains ``algo`` (what ``yaml.safe_load``
     of ``ZOO_FILES[algo]`` gives); every env id's when ``algo`` is None."""
     if algo is not None and algo not in ALGORITHMS:
         raise ValueError(f"algo must be one of {list(ALGORITHMS)}, got {algo!r}")
     return {
         env_id: env_hyperparams(env_id)
-        for env_id in PRESET_FILES
+        for env_id in preset_files()
         if algo is None or preset_algorithm(env_id) == algo
     }
 
@@ -164,7 +165,8 @@ def zoo_text(algo: str = "ppo") -> str:
             {env_id: params}, Dumper=_Dumper, sort_keys=False, default_flow_style=False
         )
         blocks.append(
-            f"# {env_id}: from configs/{PRESET_FILES[env_id]}; its evaluation and checkpoints:\n"
+            f"# {env_id}: from configs/{preset_files()[env_id].name}; its evaluation and "
+            "checkpoints:\n"
             f"#   {' '.join(zoo_train_flags(env_id))}\n{block}"
         )
     return "\n".join(blocks)

@@ -26,12 +26,12 @@ from pathlib import Path
 from typing import Any
 
 from bbgym import rllib
-from bbgym.config import PRESET_FILES
+from bbgym.config import preset_files
 
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--env", default="BeachballSail-v0", choices=sorted(PRESET_FILES))
+    parser.add_argument("--env", default="BeachballSail-v0", choices=sorted(preset_files()))
     parser.add_argument("--runners", default="1,2", help="comma-separated env runner counts")
     parser.add_argument("--iterations", type=int, default=3, help="timed iterations")
     parser.add_argument("--warmup", type=int, default=1, help="untimed iterations first")

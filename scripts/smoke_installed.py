@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
 
     import bbgym
     from bbgym.cli import COMMANDS, bbgym_env_ids
-    from bbgym.config import PRESET_FILES, load_preset
+    from bbgym.config import load_preset, preset_files
 
     location = Path(bbgym.__file__).resolve()
     check("site-packages" in location.parts, f"bbgym imports from site-packages ({location})")
@@ -70,7 +70,7 @@ def main(argv: list[str] | None = None) -> int:
         check(obs.shape[0] == 2 and np.isfinite(obs).all(), f"{env_id} native vector env steps")
         venv.close()
 
-    for env_id, name in PRESET_FILES.items():
+    for env_id, name in preset_files().items():
         for key in (env_id, Path(name).stem):
             preset_id, kwargs = load_preset(key)
             kwargs.pop("max_episode_steps", None)

@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from bbgym import cli
-from bbgym.config import CONFIG_DIR, PRESET_FILES, env_preset, load_preset, preset_path
+from bbgym.config import CONFIG_DIR, env_preset, load_preset, preset_files, preset_path
 
 
 def test_python_m_bbgym_lists_every_command():
@@ -65,15 +65,15 @@ def test_a_missing_extra_names_it(capsys, monkeypatch):
     assert "'stable_baselines3'" in err and 'pip install "bbgym[train]"' in err
 
 
-@pytest.mark.parametrize("env_id", sorted(PRESET_FILES))
+@pytest.mark.parametrize("env_id", sorted(preset_files()))
 def test_presets_load_by_id_name_and_path(env_id):
     import gymnasium as gym
 
     by_id = load_preset(env_id)
     assert by_id[0] == env_id
-    name = PRESET_FILES[env_id].removesuffix(".yaml")
-    assert preset_path(name) == preset_path(env_id) == CONFIG_DIR / PRESET_FILES[env_id]
-    assert load_preset(name) == load_preset(CONFIG_DIR / PRESET_FILES[env_id])
+    name = preset_files()[env_id].stem
+    assert preset_path(name) == preset_path(env_id) == CONFIG_DIR / f"{name}.yaml"
+    assert load_preset(name) == load_preset(CONFIG_DIR / f"{name}.yaml")
     # An id's kwargs are that id's: Curve is the throw preset with its registered kwargs.
     assert {k: by_id[1][k] for k in gym.spec(env_id).kwargs} == gym.spec(env_id).kwargs
     path, kwargs = env_preset(env_id)

@@ -18,7 +18,6 @@ from hypothesis import strategies as st
 
 from bbgym.fuzz import (
     BAD_NUMBERS,
-    ENV_IDS,
     check_episode,
     check_rejections,
     log_floor,
@@ -31,6 +30,7 @@ from bbgym.physics.sailing import DinghyParams
 from bbgym.physics.validation import Interval
 from bbgym.physics.wall import WallParams
 from bbgym.physics.wind import GustParams
+from bbgym.spec import base_ids
 
 # CI explores the same examples every run (derandomize); scripts/fuzz.py explores anew.
 FUZZ = settings(
@@ -59,7 +59,7 @@ def hypothesis_draw(data: st.DataObject):
     return draw
 
 
-@pytest.mark.parametrize("env_id", ENV_IDS)
+@pytest.mark.parametrize("env_id", base_ids())
 @pytest.mark.parametrize("num_envs", [0, 3], ids=["single", "vector"])
 @FUZZ
 @given(data=st.data(), seed=st.integers(0, 2**31 - 1))
@@ -75,7 +75,7 @@ def test_valid_inputs_run_finite(env_id, num_envs, data, seed):
     check_episode(env_id, kwargs, options, steps, seed, num_envs)
 
 
-@pytest.mark.parametrize("env_id", ENV_IDS)
+@pytest.mark.parametrize("env_id", base_ids())
 def test_invalid_numbers_raise_naming_the_argument(env_id):
     names = numeric_arguments(env_id)
     assert check_rejections(env_id) == len(names) * len(BAD_NUMBERS)

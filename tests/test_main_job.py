@@ -44,11 +44,11 @@ def test_the_readme_names_the_makefiles_main_job():
 def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     from small_preset import write_tiny_sail_preset
 
-    from bbgym.config import PRESET_FILES, load_training
+    from bbgym.config import load_training, preset_files
 
     algo = load_training(MAIN_ENV)[1]["algo"]
     assert algo == "sac"  # the README's Sail-v1 baseline
-    preset = write_tiny_sail_preset(tmp_path / "sail.yaml", PRESET_FILES[MAIN_ENV])
+    preset = write_tiny_sail_preset(tmp_path / "sail.yaml", preset_files()[MAIN_ENV].name)
     argv = make_run_command()
     out_at = argv.index("--out")
     out = tmp_path / "main"

@@ -21,15 +21,27 @@ pytest.importorskip("pygame")
 
 import pygame  # noqa: E402
 
-from bbgym.render import (  # noqa: E402
+from bbgym.envs.sail.view import (  # noqa: E402
+    MARK_COLOR,  # noqa: E402
     SailRenderer,
     SailScene,
+)
+from bbgym.envs.throw.view import (  # noqa: E402  # noqa: E402
+    BALL_MARKER_COLOR,
+    TARGET_COLOR,
     ThrowRenderer,
     ThrowScene,
     ThrowScreen,
+    panel_rects,
+    side_view_map,
+    top_view_map,
+)
+from bbgym.envs.topple.view import (  # noqa: E402
+    WALL_COLOR,  # noqa: E402
     ToppleRenderer,
     ToppleScene,
 )
+from bbgym.envs.topple.view import panel_rects as topple_panel_rects  # noqa: E402
 from bbgym.render.base import (  # noqa: E402
     EDGE_MARKER_MARGIN_PX,
     SafeDraw,
@@ -37,16 +49,6 @@ from bbgym.render.base import (  # noqa: E402
     clip_segment,
     safe_box,
 )
-from bbgym.render.sail_view import MARK_COLOR  # noqa: E402
-from bbgym.render.throw_view import (  # noqa: E402
-    BALL_MARKER_COLOR,
-    TARGET_COLOR,
-    panel_rects,
-    side_view_map,
-    top_view_map,
-)
-from bbgym.render.topple_view import WALL_COLOR  # noqa: E402
-from bbgym.render.topple_view import panel_rects as topple_panel_rects  # noqa: E402
 
 W, H = 640, 480
 # Hypothesis runs a renderer many times: one per module, no per-example fixture.

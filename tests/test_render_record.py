@@ -45,26 +45,38 @@ def test_fit_text_cuts_long_text() -> None:
 
 
 @pytest.mark.parametrize(
-    ("info", "terminated", "truncated", "outcome", "success"),
+    ("env_id", "info", "terminated", "truncated", "outcome", "success"),
     [
-        ({"is_success": True, "capsized": False}, True, False, "success: reached the mark", True),
-        ({"is_success": False, "capsized": True}, True, False, "capsized", False),
-        ({"is_success": False, "capsized": False}, False, True, "timed out", False),
-        ({"is_success": True, "throws_left": 1}, True, False, "success: hit", True),
-        ({"is_success": False, "throws_left": 0}, True, False, "missed", False),
-        ({"is_success": True, "wall_state": "fallen_away"}, True, False, "success: wall down",
-         True),
-        ({"is_success": True, "wall_state": "loose"}, True, False,
+        ("BeachballSail-v0", {"is_success": True, "capsized": False}, True, False,
+         "success: reached the mark", True),
+        ("BeachballSail-v0", {"is_success": False, "capsized": True}, True, False, "capsized",
+         False),
+        ("BeachballSail-v0", {"is_success": False, "capsized": False}, False, True, "timed out",
+         False),
+        ("BeachballThrow-v0", {"is_success": True, "throws_left": 1}, True, False,
+         "success: hit", True),
+        ("BeachballThrow-v0", {"is_success": False, "throws_left": 0, "hit_screen": True}, True,
+         False, "missed screen", False),
+        ("BeachballTopple-v0", {"is_success": True, "wall_state": "fallen_away"}, True, False,
+         "success: wall down", True),
+        ("BeachballTopple-v0", {"is_success": True, "wall_state": "loose"}, True, False,
          "success: wall down (broke loose)", True),
-        ({"is_success": False, "wall_state": "fallen_toward"}, True, False,
+        ("BeachballTopple-v0", {"is_success": False, "wall_state": "fallen_toward"}, True, False,
          "failed: wall fell toward you", False),
-        ({"is_success": False, "wall_state": "standing", "throws_left": 0}, True, False,
-         "failed: out of throws, wall standing", False),
-        ({"is_success": False, "capsized": False}, False, False, "cut short (--max-steps)", None),
+        ("BeachballTopple-v0", {"is_success": False, "wall_state": "standing", "throws_left": 0},
+         True, False, "failed: out of throws, wall standing", False),
+        ("BeachballSail-v0", {"is_success": False, "capsized": False}, False, False,
+         "cut short (--max-steps)", None),
     ],
 )  # fmt: skip
-def test_episode_outcome(info, terminated, truncated, outcome, success) -> None:
-    assert record.episode_outcome(info, terminated, truncated) == (outcome, success)
+def test_episode_outcome(env_id, info, terminated, truncated, outcome, success) -> None:
+    """Each family's spec says how an episode ended (the caption of a recording's end)."""
+    from bbgym.spec import spec_of
+
+    assert spec_of(env_id).episode_outcome(None, info, terminated, truncated) == (
+        outcome,
+        success,
+    )
 
 
 def run_episode(env_id: str, title: bool, max_steps: int) -> tuple[ListSink, dict]:

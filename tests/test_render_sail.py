@@ -17,8 +17,8 @@ pytest.importorskip("pygame")
 
 from gymnasium.error import DependencyNotInstalled  # noqa: E402
 
-from bbgym.render import sail_view  # noqa: E402
-from bbgym.render.sail_view import (  # noqa: E402
+from bbgym.envs.sail import view as sail_view  # noqa: E402
+from bbgym.envs.sail.view import (  # noqa: E402
     CREW_COLOR,
     MARK_COLOR,
     SAIL_FILL_COLOR,
@@ -184,7 +184,7 @@ def test_missing_pygame_raises_dependency_not_installed(monkeypatch: pytest.Monk
 
 def test_module_import_does_not_import_pygame() -> None:
     code = (
-        "import sys, bbgym.render.sail_view as m; "
+        "import sys, bbgym.envs.sail.view as m; "
         "assert m.SailScene; sys.exit(1 if 'pygame' in sys.modules else 0)"
     )
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}

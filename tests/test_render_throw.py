@@ -15,11 +15,13 @@ import pytest
 
 pytest.importorskip("pygame")
 
-from bbgym.render import ThrowRenderer, ThrowScene, ThrowScreen  # noqa: E402
-from bbgym.render.throw_view import (  # noqa: E402
+from bbgym.envs.throw.view import (  # noqa: E402  # noqa: E402
     GORE_COLORS,
     SCREEN_COLOR,
     TARGET_COLOR,
+    ThrowRenderer,
+    ThrowScene,
+    ThrowScreen,
     beach_ball_image,
     panel_rects,
     quat_from_axis_angle,
@@ -231,7 +233,7 @@ def test_human_mode_with_dummy_display() -> None:
 
 def test_module_import_does_not_import_pygame() -> None:
     code = (
-        "import sys, bbgym.render.throw_view as m; "
+        "import sys, bbgym.envs.throw.view as m; "
         "assert m.ThrowScene; sys.exit(1 if 'pygame' in sys.modules else 0)"
     )
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
@@ -255,7 +257,7 @@ def test_quaternion_helpers() -> None:
 
 
 def test_flying_ball_readout_shows_elapsed_time_not_the_final_results() -> None:
-    from bbgym.render.throw_view import in_flight, readout_text
+    from bbgym.envs.throw.view import in_flight, readout_text
 
     scene = make_scene(flight_time_s=1.37, apex_height_m=3.81, miss_distance_m=0.42, hit=True)
     k = 10  # of 60 points, 0.05 s apart
@@ -277,7 +279,7 @@ def test_flying_ball_readout_shows_elapsed_time_not_the_final_results() -> None:
 
 @pytest.mark.parametrize("frame_index", [None, 59, 500])
 def test_landing_frame_readout_shows_the_final_results(frame_index: int | None) -> None:
-    from bbgym.render.throw_view import in_flight, readout_text
+    from bbgym.envs.throw.view import in_flight, readout_text
 
     scene = make_scene(flight_time_s=1.37, apex_height_m=3.81, frame_index=frame_index)
     assert not in_flight(scene)
@@ -314,8 +316,8 @@ def test_readout_text_is_what_the_panel_draws(renderer: ThrowRenderer) -> None:
 def test_top_view_scale_bar_is_metres_times_pixels_per_metre(
     renderer: ThrowRenderer, target: tuple[float, float]
 ) -> None:
+    from bbgym.envs.throw.view import TOP_SCALE_BAR_MAX_PX
     from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
-    from bbgym.render.throw_view import TOP_SCALE_BAR_MAX_PX
 
     scene = make_scene(target_m=target, landing_m=None, previous_landings_m=())
     img = renderer.render(scene)

@@ -15,9 +15,10 @@ import pytest
 
 pytest.importorskip("pygame")
 
-from bbgym.render import ToppleRenderer, ToppleScene  # noqa: E402
-from bbgym.render.topple_view import (  # noqa: E402
+from bbgym.envs.topple.view import (  # noqa: E402  # noqa: E402
     WALL_COLOR,
+    ToppleRenderer,
+    ToppleScene,
     attached_pose,
     frame_state,
     loose_pose,
@@ -280,7 +281,7 @@ def test_human_mode_with_dummy_display() -> None:
 
 def test_module_import_does_not_import_pygame() -> None:
     code = (
-        "import sys, bbgym.render.topple_view as m; "
+        "import sys, bbgym.envs.topple.view as m; "
         "assert m.ToppleScene; sys.exit(1 if 'pygame' in sys.modules else 0)"
     )
     env = {**os.environ, "PYTHONPATH": str(REPO_ROOT)}
@@ -293,7 +294,7 @@ def test_module_import_does_not_import_pygame() -> None:
 
 def banner_band(img: np.ndarray) -> np.ndarray:
     """Where the banners go: the top of the side view."""
-    from bbgym.render.topple_view import BANNER_TOP_PX
+    from bbgym.envs.topple.view import BANNER_TOP_PX
 
     side, _, _ = panel_rects(WIDTH, HEIGHT)
     x, y, w, _ = side
@@ -312,7 +313,7 @@ def fallen_away_scene(**overrides: object) -> ToppleScene:
 
 
 def test_banner_says_the_wall_still_stands_when_out_of_throws() -> None:
-    from bbgym.render.topple_view import banner
+    from bbgym.envs.topple.view import banner
 
     shown = banner(failed_scene())
     assert shown is not None and not shown.success
@@ -326,7 +327,7 @@ def test_banner_says_the_wall_still_stands_when_out_of_throws() -> None:
 
 
 def test_banner_for_each_way_the_episode_ends() -> None:
-    from bbgym.render.topple_view import banner
+    from bbgym.envs.topple.view import banner
 
     away = banner(fallen_away_scene())
     assert away is not None and away.success and away.text == "WALL DOWN!"
@@ -344,7 +345,7 @@ def test_banner_for_each_way_the_episode_ends() -> None:
 def test_failed_final_frame_has_a_red_banner_where_a_success_has_a_green_one(
     renderer: ToppleRenderer,
 ) -> None:
-    from bbgym.render.topple_view import FAILURE_BANNER_COLOR, SUCCESS_BANNER_COLOR
+    from bbgym.envs.topple.view import FAILURE_BANNER_COLOR, SUCCESS_BANNER_COLOR
 
     failed = renderer.render(failed_scene())
     going_on = renderer.render(make_scene(throws_left=1))
@@ -367,8 +368,8 @@ def test_failed_final_frame_has_a_red_banner_where_a_success_has_a_green_one(
 def test_inset_scale_bar_is_metres_times_pixels_per_metre(
     renderer: ToppleRenderer, distance: float
 ) -> None:
+    from bbgym.envs.topple.view import INSET_SCALE_BAR_MAX_PX, top_view_map
     from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
-    from bbgym.render.topple_view import INSET_SCALE_BAR_MAX_PX, top_view_map
 
     scene = make_scene(wall_distance_m=distance, hit_point_m=None)
     img = renderer.render(scene)

@@ -18,7 +18,7 @@ pytest.importorskip("ray.rllib")
 
 import bbgym  # noqa: E402,F401
 from bbgym import rllib  # noqa: E402
-from bbgym.config import CONFIG_DIR, PRESET_FILES  # noqa: E402
+from bbgym.config import preset_files  # noqa: E402
 from bbgym.envs.core import CoreVectorEnv  # noqa: E402
 from bbgym.envs.sail import BeachballSailVectorEnv  # noqa: E402
 
@@ -105,7 +105,7 @@ def test_env_runner_steps_the_native_vector_env(cluster, plain_id):
     )
     assert config.gym_env_vectorize_mode == gym.VectorizeMode.VECTOR_ENTRY_POINT
     if plain_id:  # a hand-written config naming the plain id, through Tune's registry
-        assert rllib.register_envs() == list(PRESET_FILES)
+        assert rllib.register_envs() == list(preset_files())
         config.environment(env=ENV)
     algo = config.build_algo()
     try:
@@ -136,7 +136,7 @@ def test_config_follows_the_preset():
     assert curve.env_config["screen"] is True
     assert curve.env_config["target_distance_range"] == (7.0, 10.0)
     assert curve.env_config["gusts"] is False and curve.lr == 3e-4
-    topple = CONFIG_DIR / PRESET_FILES["BeachballTopple-v0"]
+    topple = preset_files()["BeachballTopple-v0"]
     with pytest.raises(ValueError, match="is a preset of BeachballTopple-v0"):
         rllib.ppo_config("BeachballCurve-v0", preset=topple)
     # BeachballSail-v1's own preset trains SAC; its PPO preset is there by name.

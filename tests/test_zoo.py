@@ -19,7 +19,7 @@ import pytest
 import yaml
 
 from bbgym import zoo
-from bbgym.config import CONFIG_DIR, PRESET_FILES, LinearSchedule, load_preset, load_training
+from bbgym.config import CONFIG_DIR, LinearSchedule, load_preset, load_training, preset_files
 from bbgym.zoo import ZOO_FILE, ZOO_FILES, zoo_hyperparams
 
 ENV_IDS = [
@@ -79,7 +79,7 @@ def test_write_zoo_file(tmp_path, capsys):
 
 
 def test_a_preset_change_makes_the_shipped_file_stale(tmp_path, monkeypatch):
-    for name in set(PRESET_FILES.values()):
+    for name in {path.name for path in preset_files().values()}:
         shutil.copy(CONFIG_DIR / name, tmp_path / name)
     preset = tmp_path / "beachball_sail.yaml"
     preset.write_text(preset.read_text().replace("n_steps: 128", "n_steps: 64"))
@@ -95,7 +95,7 @@ def test_a_preset_change_makes_the_shipped_file_stale(tmp_path, monkeypatch):
 def test_mapping_of_the_preset(env_id):
     import gymnasium as gym
 
-    path = CONFIG_DIR / PRESET_FILES[env_id]
+    path = preset_files()[env_id]
     params = zoo_hyperparams(ALGO_OF[env_id])[env_id]
     section, train = load_training(path)
     assert train["algo"] == ALGO_OF[env_id]

@@ -1,17 +1,19 @@
 """The ``bbgym`` command (also ``python -m bbgym``): one console entry point with a
 subcommand for each job.
 
-    bbgym train --env BeachballSail-v0          train PPO from the env's preset
-    bbgym evaluate --env BeachballSail-v0       compare policies over seeded episodes
-    bbgym baseline --env BeachballSail-v0       train, evaluate, plot and record in one run
-    bbgym record --env BeachballThrow-v0 --policy scripted    an animation of an episode
-    bbgym play --env BeachballSail-v0           play from the keyboard
+    bbgym train --env ENV_ID                    train PPO or SAC from the env's preset
+    bbgym evaluate --env ENV_ID                 compare policies over seeded episodes
+    bbgym baseline --env ENV_ID                 train, evaluate, plot and record in one run
+    bbgym record --env ENV_ID --policy scripted an animation of an episode
+    bbgym play --env ENV_ID                     play from the keyboard
     bbgym polar                                 the dinghy's polar diagram
     bbgym bench                                 steps per second against CartPole
     bbgym demo                                  one scripted sailing episode, as a GIF
     bbgym fuzz                                  fuzz every env through its public API
 
-``bbgym <command> --help`` lists each command's options with their defaults. Every command
+``ENV_ID`` is any id an env family registers (``bbgym --help`` lists them; the families'
+specs, :mod:`bbgym.spec`, declare them). ``bbgym <command> --help`` lists each command's
+options with their defaults. Every command
 module has ``add_arguments(parser)`` and ``run(args)``; the argument parsing stays light
 (no torch, pygame or matplotlib import) so ``--help`` works on a core install, and a
 command that needs an extra says which one.
@@ -33,7 +35,7 @@ COMMANDS: dict[str, str] = {
     "play": "play an env from the keyboard (pygame window)",
     "polar": "compute and plot the dinghy's polar diagram from the physics",
     "bench": "steps per second and memory of every env, as ratios to CartPole",
-    "demo": "sail one scripted episode of BeachballSail-v0; save a GIF and its statistics",
+    "demo": "one scripted episode of an env (default: the first sailing one), as a GIF",
     "fuzz": "fuzz every env through its public API (random valid arguments and actions)",
 }
 """Subcommand -> one-line help; the module ``bbgym.cli.<name>`` implements it."""
@@ -67,30 +69,19 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefau
 
 
 def bbgym_env_ids() -> list[str]:
-    """The env ids bbgym registers."""
-    import gymnasium as gym
-
+    """The env ids bbgym's families register, in their specs' order."""
     import bbgym  # noqa: F401  (registers the ids)
+    from bbgym.spec import env_ids
 
-    return sorted(
-        env_id
-        for env_id, spec in gym.registry.items()
-        if isinstance(spec.entry_point, str) and spec.entry_point.startswith("bbgym.")
-    )
+    return env_ids()
 
 
 def env_id(text: str) -> str:
-    """An argparse ``type``: a registered env id, or an error that lists bbgym's."""
-    import gymnasium as gym
-
-    import bbgym  # noqa: F401  (registers the ids)
-
-    try:
-        gym.spec(text)
-    except gym.error.Error as err:
+    """An argparse ``type``: an env id a bbgym family registers, or an error listing them."""
+    if text not in bbgym_env_ids():
         raise argparse.ArgumentTypeError(
-            f"unknown env id {text!r} ({err}); bbgym's ids: {', '.join(bbgym_env_ids())}"
-        ) from None
+            f"unknown env id {text!r}; bbgym's ids: {', '.join(bbgym_env_ids())}"
+        )
     return text
 
 

@@ -1,12 +1,12 @@
 """Train the preset's algorithm (PPO or SAC) on a bbgym env over several seeds, evaluate it
 beside random and scripted play, write a run folder.
 
-    bbgym baseline --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N]
+    bbgym baseline --env ENV_ID [--preset NAME] [--timesteps N]
         [--seed 0] [--seeds 5] [--jobs 1] [--episodes 100] [--torch-threads 1]
         [--out runs/baseline/<env>] [--no-train]
 
-The main job (``make run``) is this command on BeachballSail-v0 with the default preset
-and one training seed. Steps, each reported as it goes:
+The main job (``make run``, see the Makefile) is this command on the sailing env with its
+shipped preset and one training seed. Steps, each reported as it goes:
 
 1. train as ``bbgym train`` does (the preset's ``algo``, its section and ``train``), once per
    training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>`` (``--jobs`` trainings
@@ -42,11 +42,13 @@ from typing import Any
 
 import numpy as np
 
+import bbgym  # noqa: F401  (registers the ids)
 from bbgym.cli import UsageError, env_id, evaluate, positive_int, record, require, train
+from bbgym.spec import base_ids, spec_of
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--env", default="BeachballSail-v0", type=env_id, help="env id")
+    parser.add_argument("--env", default=base_ids()[0], type=env_id, help="a bbgym env id")
     parser.add_argument(
         "--preset", default=None,
         help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
@@ -254,7 +256,7 @@ def run(args: argparse.Namespace) -> int:
         result["policy"] = f"{algo} seed {seed}"
         result["training_seed"] = seed
         per_seed.append(result)
-    if args.env.startswith("BeachballSail"):
+    if spec_of(args.env).timed_by_oracle:
         for result in [*results.values(), *per_seed]:
             result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
     results[algo] = evaluate.over_seeds(per_seed, algo)

@@ -41,11 +41,19 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym.cli import env_id as env_id_type
 from bbgym.cli import positive_float, positive_int, require
+from bbgym.spec import base_ids, spec_of
 
-BBGYM_ENVS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
-THROW_ENVS = ("BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
 REFERENCE = "CartPole-v1"
+
+
+def per_second(env_id: str) -> str:
+    """The unit of a row's rate where an env step is not a plain step (``" throws/s"``)."""
+    if env_id == REFERENCE:
+        return ""
+    unit = spec_of(env_id).step_unit
+    return "" if unit == "steps" else f" {unit}/s"
 
 
 def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
@@ -239,7 +247,7 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
         "|---|---|---:|---:|",
     ]
     for r in result["rows"]:
-        unit = " throws/s" if r["env"] in THROW_ENVS and r["kind"] != "PPO 8 envs" else ""
+        unit = per_second(r["env"]) if r["kind"] != "PPO 8 envs" else ""
         lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {r['ratio']:.4f} |")
     if result.get("backend_rows"):
         lines += [
@@ -249,7 +257,7 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
             "|---|---|---:|---:|---:|---:|",
         ]
         for r in result["backend_rows"]:
-            unit = " throws/s" if r["env"] in THROW_ENVS else ""
+            unit = per_second(r["env"])
             extra = (f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r
                      else " | ")  # fmt: skip
             lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
@@ -282,8 +290,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--backends", action="store_true", help="add the torch backend rows")
     parser.add_argument("--torch-threads", type=positive_int, default=2,
                         help="torch's thread count")  # fmt: skip
-    parser.add_argument("--envs", nargs="+", default=list(BBGYM_ENVS), choices=BBGYM_ENVS,
-                        help="the envs to time")  # fmt: skip
+    parser.add_argument("--envs", nargs="+", type=env_id_type, default=base_ids(),
+                        help="the envs to time (default: every family's base tasks)")  # fmt: skip
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
 

@@ -1,23 +1,26 @@
 """Evaluate policies on a bbgym env over the same seeded episodes; write a results table.
 
-    bbgym evaluate --env BeachballSail-v0 [--policies random,scripted]
-        [--model runs/ppo/BeachballSail-v0-seed0/best_model.zip] [--episodes 100] [--seed 0]
+    bbgym evaluate --env ENV_ID [--policies random,scripted]
+        [--model runs/ppo/ENV_ID-seed0/best_model.zip] [--episodes 100] [--seed 0]
         [--out runs/eval]
 
 Every policy meets the same scenarios (episode ``k`` is reset with ``seed + k``). Reports
 the success rate with a 95% Wilson interval, the mean return, the mean episode length
-(steps; throws for the ball envs) and, for sailing, the mean time to the mark of the
-successful episodes. Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
+(steps; throws for the ball envs), the failure breakdown (how each failed episode ended,
+by the env family's :attr:`~bbgym.spec.EnvSpec.outcome`) and, where the env keeps time
+(``elapsed_time`` in its info), the mean time to the mark of the successful episodes.
+Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
 
-Policies: ``random`` (uniform actions), ``scripted`` (the env's scripted agent from
-``bbgym.agents``: the VMG autopilot for sailing, the throw solver, the topple agent), ``simple``
-(sailing only: the simple helmsman), ``planner`` (the ball envs: the privileged
-planners of :mod:`bbgym.agents.planner`, which read the true wind and the env's random
-stream and search through the physics; the success rate is the winnable fraction they
-prove), ``ppo`` and ``sac`` (a stable-baselines3 PPO or SAC model saved at ``--model``).
-For sailing, each policy's time to the mark is also compared with the autopilot's on the
-episodes both finished ("time / oracle time"; the autopilot is run for it if it is not
-among the policies).
+Policies: ``random`` (uniform actions), ``ppo`` and ``sac`` (a stable-baselines3 PPO or SAC
+model saved at ``--model``), and the env family's own (:attr:`bbgym.spec.EnvSpec.policies`):
+``scripted`` (its scripted agent from ``bbgym.agents``: the VMG autopilot for sailing, the
+throw solver, the topple agent), ``planner`` (the ball envs: the privileged planners of
+:mod:`bbgym.agents.planner`, which read the true wind and the env's random stream and
+search through the physics; the success rate is the winnable fraction they prove) and
+``simple`` (sailing: the simple helmsman). Where the family is ``timed_by_oracle``
+(sailing), each policy's time to the mark is also compared with the scripted policy's on
+the episodes both finished ("time / oracle time"; the scripted policy is run for it if it
+is not among the policies).
 """
 
 from __future__ import annotations
@@ -36,11 +39,14 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym.cli import UsageError, env_id, positive_int, require
+from bbgym.spec import env_id_of, spec_of
 
 Policy = Callable[[np.ndarray], np.ndarray]
 LEARNT = ("ppo", "sac")
 """Policies that are a saved stable-baselines3 model (``--model``), named by its algorithm."""
 POLICIES = ("random", "scripted", "simple", "planner", *LEARNT)
+"""Every policy name ``--policies`` takes; an env family has some of the non-learning ones
+(``scripted`` always)."""
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -54,42 +60,13 @@ def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, flo
 
 
 def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> Any:
-    """A callable ``obs -> action`` (with an optional ``reset()``)."""
-    env_id = env.spec.id if env.spec else ""
+    """A callable ``obs -> action`` (with an optional ``reset()``): ``random``, a saved
+    stable-baselines3 model (``ppo``, ``sac``), or one of the env family's own policies
+    (:attr:`bbgym.spec.EnvSpec.policies`: ``scripted``, ``planner``, ...)."""
     if name == "random":
         space = env.action_space
         space.seed(seed)
         return lambda obs: space.sample()
-    if name == "simple":
-        if not env_id.startswith("BeachballSail"):
-            raise ValueError(f"the simple helmsman sails; {env_id!r} is not a sailing env")
-        from bbgym.agents import SimpleSailController
-
-        return SimpleSailController(dinghy=env.unwrapped.task.params)
-    if name == "scripted":
-        if env_id.startswith("BeachballSail"):
-            from bbgym.agents import VMGAutopilot
-
-            return VMGAutopilot.for_env(env)
-        if env_id.startswith(("BeachballThrow", "BeachballCurve")):
-            from bbgym.agents.throw_agent import ThrowSolverAgent
-
-            return ThrowSolverAgent(env.unwrapped.task)
-        if env_id.startswith("BeachballTopple"):
-            from bbgym.agents.throw_agent import ToppleAgent
-
-            return ToppleAgent()
-        raise ValueError(f"no scripted policy for {env_id!r}")
-    if name == "planner":
-        if env_id.startswith("BeachballTopple"):
-            from bbgym.agents.planner import TopplePlanner
-
-            return TopplePlanner(env)
-        if not env_id.startswith(("BeachballThrow", "BeachballCurve")):
-            raise ValueError(f"the privileged planners play the ball envs, not {env_id!r}")
-        from bbgym.agents.planner import ThrowPlanner
-
-        return ThrowPlanner(env)
     if name in LEARNT:
         if model_path is None:
             raise ValueError(f"--policies {name} needs --model")
@@ -100,68 +77,16 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
 
         model = load_model(model_path, name)
         return lambda obs: model.predict(obs, deterministic=True)[0]
-    raise ValueError(f"unknown policy {name!r}; known: {', '.join(POLICIES)}")
-
-
-def episode_outcome(
-    info: dict[str, Any], terminated: bool, truncated: bool
-) -> tuple[str, bool | None]:
-    """How an episode ended, from its last ``info``: (text, success; None when it was cut
-    short, neither terminated nor truncated)."""
-    state = info.get("wall_state")
-    if bool(info.get("is_success", False)):
-        if state is not None:
-            return ("success: wall down" + (" (broke loose)" if state == "loose" else ""), True)
-        if "capsized" in info:
-            return "success: reached the mark", True
-        return "success: hit", True
-    if terminated:
-        if bool(info.get("capsized", False)):
-            return "capsized", False
-        if state == "fallen_toward":
-            return "failed: wall fell toward you", False
-        if state is not None:
-            return "failed: out of throws, wall standing", False
-        if "throws_left" in info:
-            return "missed", False
-        return "failed", False
-    if truncated:
-        return "timed out", False
-    return "cut short (--max-steps)", None
-
-
-def miss_direction(env: gym.Env, info: dict[str, Any]) -> str:
-    """Where the last throw of a ball env missed its target: ``screen`` (it hit the screen),
-    else the larger of its along-line error (``long`` / ``short``, along the line from the
-    thrower to the target) and its cross-line error (``left`` / ``right``, seen from the
-    thrower). Reads the target from the env's state (a report, not a policy input)."""
-    if bool(info.get("hit_screen", False)):
-        return "screen"
-    k = int(info.get("trajectory_length", 0))
-    if k == 0:
-        return "no throw"
-    land_x, land_y = (float(v) for v in np.asarray(info["trajectory"])[k - 1, :2])
-    scenario = env.unwrapped.state.scenario
-    target_x, target_y = float(scenario.target_x), float(scenario.target_y)
-    distance = math.hypot(target_x, target_y)
-    along_x, along_y = target_x / distance, target_y / distance
-    long_error = land_x * along_x + land_y * along_y - distance
-    left_error = along_x * land_y - along_y * land_x  # counterclockwise of the line
-    if abs(long_error) >= abs(left_error):
-        return "long" if long_error > 0 else "short"
-    return "left" if left_error > 0 else "right"
+    if name not in POLICIES:
+        raise ValueError(f"unknown policy {name!r}; known: {', '.join(POLICIES)}")
+    return spec_of(env_id_of(env)).policy(name, env)
 
 
 def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated: bool) -> str:
-    """An episode's outcome for the failure breakdown: ``success``, or how it failed
-    (``capsized``, ``timed out``, ``missed long/short/left/right/screen``, ``failed: wall
-    fell toward you``, ``failed: out of throws, wall standing``)."""
-    text, success = episode_outcome(info, terminated, truncated)
-    if success:
-        return "success"
-    if text == "missed":
-        return f"missed {miss_direction(env, info)}"
-    return text
+    """An episode's row in the failure breakdown: ``success``, or how it failed (the env
+    family's :meth:`~bbgym.spec.EnvSpec.outcome_kind`: ``capsized``, ``timed out``,
+    ``missed long``, ...)."""
+    return spec_of(env_id_of(env)).outcome_kind(env, info, terminated, truncated)
 
 
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
@@ -354,7 +279,7 @@ def parse_policies(text: str) -> list[str]:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument(
         "--policies", type=parse_policies, default="random,scripted",
         help=f"comma-separated, of: {', '.join(POLICIES)}",
@@ -376,7 +301,7 @@ def run(args: argparse.Namespace) -> int:
         results = [evaluate(args.env, name, args.episodes, args.seed, args.model) for name in names]
     except ValueError as err:
         raise UsageError(str(err)) from None
-    if args.env.startswith("BeachballSail"):
+    if spec_of(args.env).timed_by_oracle:
         by_name = dict(zip(names, results, strict=True))
         oracle = by_name.get("scripted") or evaluate(
             args.env, "scripted", args.episodes, args.seed, None

@@ -1,12 +1,12 @@
 """Play an env from the keyboard (gymnasium.utils.play, in a pygame window).
 
-    bbgym play --env BeachballSail-v0 [--seed 0] [--fps 20] [--zoom 1.0]
+    bbgym play --env ENV_ID [--seed 0] [--fps 20] [--zoom 1.0]
 
-BeachballSail-v0 (one env step per frame, 0.25 s, so 20 fps is 5x real time):
+Sailing (one env step per frame, 0.25 s, so 20 fps is 5x real time):
   LEFT / RIGHT   rudder hard over while held: turn to port / to starboard (0 when released)
   UP / DOWN      sheet in / ease out, 0.05 a frame; the sheet stays where you leave it
 
-BeachballThrow-v0, BeachballCurve-v0, BeachballTopple-v0 (aim first, then throw):
+Throwing, curving and toppling (aim first, then throw):
   UP / DOWN      elevation +/- 1 deg a frame
   LEFT / RIGHT   azimuth +/- 1 deg a frame (left: counterclockwise)
   W / S          launch speed +/- 0.2 m/s a frame (Topple: under 0.5 m/s throwing waits)
@@ -15,7 +15,7 @@ BeachballThrow-v0, BeachballCurve-v0, BeachballTopple-v0 (aim first, then throw)
   SPACE          throw (once per press); the flight is played back, then where it landed
 
 ESC or closing the window quits; a finished episode starts the next one. Needs pygame (the
-``render`` extra); the key mapping is :mod:`bbgym.keyboard`.
+``render`` extra); each env family's spec names its key mapping (:mod:`bbgym.keyboard`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument("--seed", type=int, default=None, help="seed of the first episode")
     parser.add_argument("--fps", type=positive_int, default=20,
                         help="frames (sail: env steps) a second")  # fmt: skip

@@ -1,6 +1,6 @@
 """An animation (GIF or MP4) of an episode of any policy.
 
-    bbgym record --env BeachballSail-v0 --policy scripted [--model path.zip]
+    bbgym record --env ENV_ID --policy scripted [--model path.zip]
         [--seed 0] [--out runs/record/<env>-<policy>-seed<seed>.gif] [--fps 20]
         [--frame-skip 1] [--max-steps M] [--hold 1.0]
 
@@ -39,7 +39,8 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
-from bbgym.cli.evaluate import LEARNT, POLICIES, episode_outcome, make_policy
+from bbgym.cli.evaluate import LEARNT, POLICIES, make_policy
+from bbgym.spec import env_id_of, spec_of
 
 FORMATS = (".gif", ".mp4")
 DEFAULT_FPS = 20.0
@@ -174,7 +175,7 @@ def record_episode(
 ) -> dict[str, Any]:
     """Run one episode of ``policy`` on ``env`` (``render_mode="rgb_array"``) from
     ``reset(seed=seed)`` and feed its frames to ``sink``; return its statistics (with the
-    ``outcome`` of :func:`episode_outcome`).
+    ``outcome`` of its family's :meth:`~bbgym.spec.EnvSpec.episode_outcome`).
 
     Frames: the start, then per step the in-flight frames of a ball env
     (``env.unwrapped.render_flight()``) and ``env.render()``. Every ``frame_skip``-th frame
@@ -232,7 +233,7 @@ def record_episode(
                 emit(frame, progress(steps, before), key=False)
         emit(env.render(), progress(steps, total), key=flights)
     assert last is not None
-    outcome, success = episode_outcome(info, terminated, truncated)
+    outcome, success = spec_of(env_id_of(env)).episode_outcome(env, info, terminated, truncated)
     color = {True: SUCCESS_COLOR, False: FAILURE_COLOR}.get(success, NEUTRAL_COLOR)
     final = f"final return {total:+.2f} \N{MIDDLE DOT} {outcome}"
     sink(captioned(last[0], final, color), hold_periods)  # the last frame: kept and held
@@ -251,7 +252,7 @@ def record_episode(
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
-    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument("--policy", required=True, choices=POLICIES, help="the policy to record")
     parser.add_argument("--model", type=Path, default=None, help="saved PPO or SAC model (.zip)")
     parser.add_argument("--seed", type=int, default=0, help="episode seed")

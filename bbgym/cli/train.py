@@ -1,8 +1,8 @@
 """Train PPO or SAC on a bbgym env from its preset.
 
-    bbgym train --env BeachballSail-v0 [--preset beachball_sail] [--timesteps N] [--seed 0]
-        [--out runs/<algo>/BeachballSail-v0-seed0] [--resume]
-    bbgym train --env BeachballSail-v0 --engine rllib [--num-env-runners 2] [--iterations 10]
+    bbgym train --env ENV_ID [--preset NAME] [--timesteps N] [--seed 0]
+        [--out runs/<algo>/ENV_ID-seed0] [--resume]
+    bbgym train --env ENV_ID --engine rllib [--num-env-runners 2] [--iterations 10]
         [--address auto]
 
 The preset (the env's shipped one, or ``--preset`` naming another by env id, name or file)
@@ -51,7 +51,7 @@ REPLAY_BUFFER_FILE = "replay_buffer.pkl"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--env", required=True, type=env_id, help="env id, e.g. BeachballSail-v0")
+    parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument(
         "--preset", default=None,
         help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",

@@ -1,13 +1,14 @@
-"""Gymnasium environments: one module per task, each with its single and vector env."""
+"""Gymnasium environments: one folder per env family, each with its spec.
 
-from bbgym.envs.sail import BeachballSailEnv, BeachballSailVectorEnv
-from bbgym.envs.throw import BeachballThrowEnv, BeachballThrowVectorEnv
+Importing this package imports every family, and each family's ``spec`` module registers
+its ids (:func:`bbgym.spec.register_spec`). A new family is a new folder here and one
+name in the import below (``docs/new-env.md``).
+"""
+
+from bbgym.envs import sail, throw, topple
 from bbgym.envs.video import RecordFlightVideo
 
-__all__ = [
-    "BeachballSailEnv",
-    "BeachballSailVectorEnv",
-    "BeachballThrowEnv",
-    "BeachballThrowVectorEnv",
-    "RecordFlightVideo",
-]
+FAMILIES = (sail, throw, topple)
+"""The shipped families, in the order the command and the docs list them."""
+
+__all__ = ["FAMILIES", "RecordFlightVideo"]

@@ -14,12 +14,12 @@ Conventions (shared with the physics):
 * the wall (panel and foot) is one rigid body. Its body frame has its origin at the middle of
   the foot's bottom face, ``u`` across the panel (+x when upright) and ``v`` up along it; a loose
   panel's (x, z) is the centre of the panel rectangle, body point (0, height/2);
-* ball orientation: unit quaternion (w, x, y, z), as in :mod:`bbgym.render.throw_view`.
+* ball orientation: unit quaternion (w, x, y, z), as in :mod:`bbgym.envs.throw.view`.
 
 Layout: the upper part is a SIDE VIEW looking north (+x to the right, z up) at a fixed scale
 that depends only on the wall distance; below it, the readout (left) and a TOP-VIEW inset
 (right, x east to the right, y north up, with a scale bar). The beach ball, thrower, windsock
-and wind compass come from :mod:`bbgym.render.throw_view`. How an episode ends goes on a big
+and wind compass come from :mod:`bbgym.envs.throw.view`. How an episode ends goes on a big
 banner across the side view (:func:`banner`): "WALL DOWN!" or "BROKE LOOSE!" (success), or
 "FAILED: wall fell toward you" / "FAILED: out of throws" (the wall still stands after the
 last throw).
@@ -35,8 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbgym.render.base import CAPTION_BAND_PX, Color, PygameRenderer, Vec2, blend
-from bbgym.render.throw_view import (
+from bbgym.envs.throw.view import (
     BALL_MIN_RADIUS_PX,
     DIM_TEXT_COLOR,
     GROUND_LINE_COLOR,
@@ -57,6 +56,7 @@ from bbgym.render.throw_view import (
     draw_wind_compass,
     view_axes,
 )
+from bbgym.render.base import CAPTION_BAND_PX, Color, PygameRenderer, Vec2, blend
 
 WallState = str  # "standing" | "fallen_away" | "fallen_toward" | "loose"
 WALL_STATES = ("standing", "fallen_away", "fallen_toward", "loose")

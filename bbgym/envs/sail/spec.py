@@ -1,0 +1,121 @@
+"""The sailing family's spec: BeachballSail-v0 and -v1 (see :mod:`bbgym.spec`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.wind import GustParams
+from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
+
+MAX_EPISODE_STEPS = 1200
+"""300 s at 0.25 s a step: enough to beat 100 m upwind in light air."""
+
+
+def _scripted(env: Any) -> Any:
+    from bbgym.agents import VMGAutopilot
+
+    return VMGAutopilot.for_env(env)
+
+
+def _simple(env: Any) -> Any:
+    from bbgym.agents import SimpleSailController
+
+    return SimpleSailController(dinghy=env.unwrapped.task.params)
+
+
+def _outcome(env: Any, info: dict[str, Any], terminated: bool, truncated: bool) -> tuple:
+    if bool(info.get("is_success", False)):
+        return "success: reached the mark", True
+    if terminated:
+        return ("capsized", False) if bool(info.get("capsized", False)) else ("failed", False)
+    return "timed out", False
+
+
+def _keyboard(env: Any, seed: int | None) -> Any:
+    from bbgym.keyboard import SailKeys
+
+    return SailKeys(env, seed)
+
+
+def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
+    """Every argument over its accepted interval, the step sizes and mark distances over
+    their cheap ends (:data:`bbgym.fuzz.COST_CAPS`)."""
+    from bbgym.envs.sail import task
+    from bbgym.fuzz import COST_CAPS, draw_flag, draw_int, draw_pair, sample_params
+    from bbgym.physics.sailing import SAIL_MODELS
+    from bbgym.physics.validation import interval
+
+    sim_dt = draw("sim_dt", COST_CAPS["sail_sim_dt"], True)
+    substeps = draw_int(draw, "substeps", 1, int(COST_CAPS["sail_substeps"].high))
+    mark_radius = draw("mark_radius", task.MARK_RADIUS_M, True)
+    far = interval(mark_radius, mark_radius + COST_CAPS["mark_distance"].high, low_open=True)
+    kwargs = {
+        "sail_model": SAIL_MODELS[draw_int(draw, "sail_model", 0, len(SAIL_MODELS) - 1)],
+        "dinghy": sample_params(draw, DinghyParams, "dinghy"),
+        "gust_params": sample_params(draw, GustParams, "gust_params"),
+        "wind_speed_range": draw_pair(draw, "wind_speed_range", task.WIND_SPEED_MPS),
+        "gusts": draw_flag(draw, "gusts"),
+        "mark_radius": mark_radius,
+        "mark_distance_range": draw_pair(draw, "mark_distance_range", far),
+        "initial_speed_range": draw_pair(draw, "initial_speed_range", task.INITIAL_SPEED_MPS),
+        "sim_dt": sim_dt,
+        "ctrl_dt": sim_dt * substeps,
+    }
+    for name in ("progress_weight", "arrival_bonus", "capsize_penalty", "time_penalty"):
+        kwargs[name] = draw(name, task.REWARD_WEIGHT, False)
+    return kwargs
+
+
+def _sample_options(sail_task: Any, draw: Any) -> dict[str, Any] | None:
+    from bbgym.envs.sail import task
+    from bbgym.fuzz import COST_CAPS, draw_flag, draw_vector
+    from bbgym.physics.validation import interval
+
+    options: dict[str, Any] = {}
+
+    def maybe(key: str) -> bool:
+        return draw_flag(draw, f"options.has_{key}")
+
+    if maybe("gusts"):
+        options["gusts"] = draw_flag(draw, "options['gusts']")
+    for key, accepted in (("wind_speed", task.WIND_SPEED_MPS), ("speed", task.INITIAL_SPEED_MPS)):
+        if maybe(key):
+            options[key] = draw(f"options[{key!r}]", accepted, False)
+    for key in ("wind_from", "heading"):
+        if maybe(key):
+            options[key] = draw(f"options[{key!r}]", interval(-10.0, 10.0), False)
+    if maybe("mark"):
+        lo = sail_task.mark_distance.low
+        near = interval(lo, lo + COST_CAPS["mark_distance"].high, low_open=True)
+        options["mark"] = draw_vector(draw, "mark", near)
+    return options or None
+
+
+SPEC = register_spec(
+    EnvSpec(
+        family="sail",
+        env_class="BeachballSailEnv",
+        vector_env_class="BeachballSailVectorEnv",
+        max_episode_steps=MAX_EPISODE_STEPS,
+        summary="sail a dinghy to a mark anywhere on the water (beat, tack, jibe) upright",
+        actions="rudder, sheet",
+        versions=(
+            Version("BeachballSail-v0", "the first version", preset="beachball_sail", base=True),
+            # Time costs enough to race: 0.1 a step, against 0.01, and a capsize 30, more than
+            # the discounted cost of the time left in any episode.
+            Version(
+                "BeachballSail-v1",
+                "v0's physics; time costs 0.1 a step, a capsize 30",
+                kwargs={"time_penalty": 0.1, "capsize_penalty": 30.0},
+                preset="beachball_sail_v1",
+            ),
+        ),
+        param_groups={"dinghy": DinghyParams, "gust_params": GustParams},
+        policies={"scripted": _scripted, "simple": _simple},
+        timed_by_oracle=True,
+        outcome=_outcome,
+        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.4, episode_steps=300),
+        keyboard=_keyboard,
+    )
+)

@@ -1,0 +1,206 @@
+"""What an env family declares, and the one registry of them.
+
+An env family (``bbgym/envs/<family>/``) describes itself in one :class:`EnvSpec`: its env
+ids and what each version changes, its Gymnasium classes, its task core and parameter
+groups, its presets, its policies (scripted, planner, ...), its fuzz sampler, how its
+episodes end for the failure breakdown, and its keyboard controls. Registration with
+Gymnasium, the ``bbgym`` command, fuzzing, presets, RL Zoo files, bench and evaluation
+loop over the registered specs, so no module outside a family's folder names one of its
+env ids. ``docs/new-env.md`` is the checklist for adding a family.
+
+A spec declares; it does not import its family's heavy parts: policies, samplers and the
+like are callables that import what they need when called.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from gymnasium.envs.registration import register, registry
+
+Policy = Callable[[Any], Any]
+"""``policy(obs) -> action``; it may also have ``reset()``, called at each episode's start."""
+PolicyFactory = Callable[[Any], Policy]
+"""``factory(env) -> policy`` for a single env made by ``gym.make`` (wrapped)."""
+
+
+@dataclass(frozen=True)
+class Version:
+    """One registered env id of a family."""
+
+    env_id: str
+    """The Gymnasium id, ``"Name-vN"``."""
+    changes: str
+    """What this version changes against the family's first (one sentence, for the docs)."""
+    kwargs: Mapping[str, Any] = field(default_factory=dict)
+    """The keyword arguments it is registered with (on top of the task's defaults)."""
+    preset: str | Path | None = None
+    """Its training preset: a shipped file's name in ``bbgym/configs`` (``"beachball_sail"``)
+    or a path. A preset of the family's base task gets ``kwargs`` on top."""
+    base: bool = False
+    """Whether it is a base task whose arguments the fuzzer draws freely (the others are
+    fixed points of the same arguments) and which ``bbgym bench`` times by default."""
+
+
+@dataclass(frozen=True)
+class FuzzSpec:
+    """How :mod:`bbgym.fuzz` draws a family's arguments and options."""
+
+    sample_kwargs: Callable[[Version, Any], dict[str, Any]]
+    """``sample_kwargs(version, draw)``: constructor arguments over their accepted
+    intervals (``draw`` is a :data:`bbgym.fuzz.Draw`)."""
+    sample_options: Callable[[Any, Any], dict[str, Any] | None]
+    """``sample_options(task, draw)``: ``reset`` options for a task made with some kwargs."""
+    step_share: float = 1.0
+    """Relative share of a fuzz run's env steps (a cheap step gets more)."""
+    episode_steps: int = 8
+    """Steps per drawn configuration."""
+
+
+@dataclass(frozen=True)
+class EnvSpec:
+    """An env family: everything the package's shared machinery needs to know of it."""
+
+    family: str
+    """The folder's name under ``bbgym/envs/`` (``"sail"``); the classes live in
+    ``bbgym.envs.<family>``."""
+    env_class: str
+    """The single env's class name in ``bbgym.envs.<family>``."""
+    vector_env_class: str
+    """The native vector env's class name in ``bbgym.envs.<family>``."""
+    max_episode_steps: int
+    versions: tuple[Version, ...]
+    summary: str
+    """What the task is, in one line (``bbgym --help``, the docs)."""
+    actions: str
+    """What the actions are, in a few words (the docs' table)."""
+    param_groups: Mapping[str, type] = field(default_factory=dict)
+    """Constructor arguments that take a parameter dataclass (``"dinghy": DinghyParams``):
+    the fuzzer draws and checks every field of each."""
+    integer_arguments: tuple[str, ...] = ()
+    """Constructor arguments that take an int (the rest of the numbers are floats)."""
+    policies: Mapping[str, PolicyFactory] = field(default_factory=dict)
+    """Non-learning policies by name: ``scripted`` (the family's scripted agent), and where
+    it has them ``planner`` (privileged: it may read the true state) and others."""
+    timed_by_oracle: bool = False
+    """Whether ``bbgym evaluate`` compares each policy's time with the scripted policy's
+    (``time / oracle``; the env's info has ``elapsed_time``)."""
+    outcome: Callable[[Any, dict[str, Any], bool, bool], tuple[str, bool]] | None = None
+    """``outcome(env, info, terminated, truncated) -> (text, success)`` of an episode that
+    ended: the text captions a recording, and a failure's text is its row in the failure
+    breakdown (``"capsized"``, ``"missed long"``); by default success, timed out or failed."""
+    fuzz: FuzzSpec | None = None
+    keyboard: Callable[[Any, int | None], Any] | None = None
+    """``keyboard(env, seed)``: the env wrapped for ``bbgym play``."""
+    step_unit: str = "steps"
+    """What an env step is, for throughput figures (``"throws"`` for a ball env)."""
+
+    @property
+    def module(self) -> str:
+        return f"bbgym.envs.{self.family}"
+
+    @property
+    def ids(self) -> tuple[str, ...]:
+        return tuple(v.env_id for v in self.versions)
+
+    def version(self, env_id: str) -> Version:
+        for v in self.versions:
+            if v.env_id == env_id:
+                return v
+        raise KeyError(env_id)
+
+    def policy(self, name: str, env: Any) -> Policy:
+        """The named non-learning policy for ``env``; ``ValueError`` if the family has none."""
+        if name not in self.policies:
+            raise ValueError(
+                f"{env_id_of(env)!r} has no {name!r} policy; it has: "
+                f"{', '.join(sorted(self.policies)) or 'none'}"
+            )
+        return self.policies[name](env)
+
+    def episode_outcome(self, env: Any, info: dict[str, Any], terminated: bool,
+                        truncated: bool) -> tuple[str, bool | None]:  # fmt: skip
+        """``(text, success)`` of an episode from its last step; ``success`` is None for an
+        episode cut short (neither terminated nor truncated)."""
+        if not (terminated or truncated):
+            return "cut short (--max-steps)", None
+        if self.outcome is not None:
+            return self.outcome(env, info, terminated, truncated)
+        if bool(info.get("is_success", False)):
+            return "success", True
+        return ("failed", False) if terminated else ("timed out", False)
+
+    def outcome_kind(self, env: Any, info: dict[str, Any], terminated: bool,
+                     truncated: bool) -> str:  # fmt: skip
+        """An episode's row in the failure breakdown: ``success``, or how it failed."""
+        text, success = self.episode_outcome(env, info, terminated, truncated)
+        return "success" if success else text
+
+
+_SPECS: dict[str, EnvSpec] = {}
+_BY_ID: dict[str, EnvSpec] = {}
+
+
+def register_spec(spec: EnvSpec) -> EnvSpec:
+    """Add ``spec`` to the registry and register each of its ids with Gymnasium (single
+    and native vector entry points). Registering the same family again replaces it."""
+    for version in spec.versions:
+        owner = _BY_ID.get(version.env_id)
+        if owner is not None and owner.family != spec.family:
+            raise ValueError(f"{version.env_id} is already registered by {owner.family!r}")
+    old = _SPECS.pop(spec.family, None)
+    if old is not None:
+        for env_id in old.ids:
+            _BY_ID.pop(env_id, None)
+    _SPECS[spec.family] = spec
+    for version in spec.versions:
+        _BY_ID[version.env_id] = spec
+        registry.pop(version.env_id, None)
+        register(
+            id=version.env_id,
+            entry_point=f"{spec.module}:{spec.env_class}",
+            vector_entry_point=f"{spec.module}:{spec.vector_env_class}",
+            max_episode_steps=spec.max_episode_steps,
+            kwargs=dict(version.kwargs),
+        )
+    return spec
+
+
+def unregister_spec(family: str) -> None:
+    """Remove a family and its ids (from Gymnasium's registry too)."""
+    spec = _SPECS.pop(family)
+    for env_id in spec.ids:
+        _BY_ID.pop(env_id, None)
+        registry.pop(env_id, None)
+
+
+def specs() -> Iterator[EnvSpec]:
+    """The registered families, in registration order."""
+    return iter(list(_SPECS.values()))
+
+
+def spec_of(env_id: str) -> EnvSpec:
+    """The family of a registered bbgym id; ``ValueError`` naming the known ids if none."""
+    try:
+        return _BY_ID[env_id]
+    except KeyError:
+        raise ValueError(f"unknown env id {env_id!r}; known: {', '.join(env_ids())}") from None
+
+
+def env_ids() -> list[str]:
+    """Every registered bbgym id."""
+    return list(_BY_ID)
+
+
+def base_ids() -> list[str]:
+    """The ids of the base tasks (:attr:`Version.base`): what fuzzing and bench cover."""
+    return [v.env_id for s in _SPECS.values() for v in s.versions if v.base]
+
+
+def env_id_of(env: Any) -> str:
+    """The id an env was made with (``""`` for one made without ``gym.make``)."""
+    spec = getattr(env, "spec", None)
+    return spec.id if spec is not None else ""
