@@ -5,14 +5,14 @@ this module imports it inside its functions only.
 
     from bbgym.rllib import train
 
-    summary = train("BeachballSail-v0", iterations=50, num_env_runners=4, out="runs/rllib")
+    summary = train(env_id, iterations=50, num_env_runners=4, out="runs/rllib")
 
 Every env runner steps one of bbgym's native vector envs: RLlib's ``SingleAgentEnvRunner``
 builds its envs with ``gym.make_vec(config.env, num_envs=..., vectorization_mode=
 config.gym_env_vectorize_mode, **config.env_config)``, and :func:`ppo_config` sets that mode
-to ``VectorizeMode.VECTOR_ENTRY_POINT``, so the registered ``vector_entry_point``
-(``bbgym.envs.sail:BeachballSailVectorEnv``, ...) is what runs, not a ``SyncVectorEnv`` of
-single envs. The env runners are separate processes, possibly on other machines, which
+to ``VectorizeMode.VECTOR_ENTRY_POINT``, so the registered ``vector_entry_point`` (the
+family's :attr:`~bbgym.spec.EnvSpec.vector_env_class`) is what runs, not a
+``SyncVectorEnv`` of single envs. The env runners are separate processes, possibly on other machines, which
 have not imported bbgym: :func:`ppo_config` names the env ``"bbgym:<env id>"``, the
 ``module:id`` form with which Gymnasium itself imports ``bbgym`` (and so registers its ids)
 in whatever process makes the env. That needs no Ray state, so a checkpoint restored by a
@@ -83,7 +83,7 @@ def _make_env(env_id: str, env_config: Mapping[str, Any]) -> gym.Env | gym.vecto
 def register_envs() -> list[str]:
     """Register bbgym's env ids with Ray Tune's env registry and return them.
 
-    Only needed for configs written by hand as ``config.environment("BeachballSail-v0")``
+    Only needed for configs written by hand as ``config.environment(env_id)``
     (:func:`ppo_config` uses ``"bbgym:<id>"``, which needs nothing). RLlib's env runner looks
     a string env up in that registry first, which Ray stores in the cluster (so every worker,
     on every node, sees it); the creator is :func:`_make_env`, whose import in the worker

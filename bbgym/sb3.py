@@ -3,7 +3,7 @@
     from stable_baselines3 import PPO
     from bbgym.sb3 import make_sb3_vec_env
 
-    model = PPO("MlpPolicy", make_sb3_vec_env("BeachballSail-v0", n_envs=8, seed=0))
+    model = PPO("MlpPolicy", make_sb3_vec_env(env_id, n_envs=8, seed=0))
 
 SB3's ``VecEnv`` resets an env on the very step that ends its episode and puts the last
 observation in ``info["terminal_observation"]``; Gymnasium's native vector envs reset on

@@ -97,10 +97,16 @@ class EnvSpec:
     """``keyboard(env, seed)``: the env wrapped for ``bbgym play``."""
     step_unit: str = "steps"
     """What an env step is, for throughput figures (``"throws"`` for a ball env)."""
+    demo: Callable[[int | None, int], tuple[str, str, dict[str, Any], list[Any]]] | None = None
+    """``demo(seed, frame_skip) -> (caption, statistics table, statistics, frames)``: one
+    scripted episode for ``bbgym demo`` (``seed`` None: the family's showcase seed)."""
+    classes_module: str | None = None
+    """The module that holds the two classes, if not ``bbgym.envs.<family>`` (a family
+    declared outside the package, such as the test suite's)."""
 
     @property
     def module(self) -> str:
-        return f"bbgym.envs.{self.family}"
+        return self.classes_module or f"bbgym.envs.{self.family}"
 
     @property
     def ids(self) -> tuple[str, ...]:

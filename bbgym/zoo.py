@@ -1,9 +1,9 @@
 """RL Baselines3 Zoo hyperparameters of the bbgym envs, generated from the presets.
 
-    python -m rl_zoo3.train --algo ppo --env BeachballSail-v0 --gym-packages bbgym \\
+    python -m rl_zoo3.train --algo ppo --env ENV_ID --gym-packages bbgym \\
         --conf-file "$(python -m bbgym.zoo --path)"
 
-    python -m rl_zoo3.train --algo sac --env BeachballSail-v1 --gym-packages bbgym \\
+    python -m rl_zoo3.train --algo sac --env ENV_ID --gym-packages bbgym \\
         --conf-file "$(python -m bbgym.zoo --path --algo sac)"
 
 The shipped files ``bbgym/configs/ppo.yml`` and ``sac.yml`` (the repository's
@@ -21,7 +21,7 @@ the algorithm's arguments (``lin_<x>`` schedules are RL Zoo's notation already),
 ``train.n_envs`` gives ``n_envs``, ``train.total_timesteps`` gives ``n_timesteps``,
 ``train.normalize_reward`` gives ``normalize`` (rewards only, as RL Zoo's string), and
 ``env`` (with ``max_episode_steps`` and the env id's registered arguments, such as
-BeachballCurve-v0's screen) gives ``env_kwargs``. The preset's evaluation and checkpoint
+the Curve version's screen) gives ``env_kwargs``. The preset's evaluation and checkpoint
 periods have no key in RL Zoo's file: they are its command-line flags,
 :func:`zoo_train_flags`.
 """
@@ -91,7 +91,7 @@ def env_hyperparams(env_id: str) -> dict[str, Any]:
     _, train = load_training(env_id)  # fills the defaults of the train section
     with open(preset_path(env_id), encoding="utf-8") as f:
         section = dict(yaml.safe_load(f).get(train["algo"]) or {})  # schedules stay "lin_<x>"
-    # BeachballCurve-v0's kwargs are the throw preset's plus its registered ones.
+    # A version that shares its base's preset: the preset's kwargs plus its registered ones.
     _, env_kwargs = load_preset(env_id)
     out: dict[str, Any] = {
         "n_envs": int(train["n_envs"]),
@@ -158,7 +158,7 @@ def zoo_text(algo: str = "ppo") -> str:
     """The text of ``ZOO_FILES[algo]``: :data:`HEADER`, then per env id a comment with the
     preset's flags (:func:`zoo_train_flags`) and its YAML block."""
     hyperparams = zoo_hyperparams(algo)
-    example = next(iter(hyperparams), "BeachballSail-v0")
+    example = next(iter(hyperparams), "ENV_ID")
     blocks = [HEADER.format(ALGO=algo.upper(), algo=algo, env_id=example)]
     for env_id, params in hyperparams.items():
         block = yaml.dump(

@@ -28,7 +28,7 @@ class RecordFlightVideo(RecordVideo):
 
     Example::
 
-        env = gym.make("BeachballThrow-v0", render_mode="rgb_array_list")
+        env = gym.make("bbgym:<a throwing env id>", render_mode="rgb_array_list")
         env = RecordFlightVideo(env, "videos", episode_trigger=lambda e: e % 100 == 0)
     """
 

@@ -38,6 +38,12 @@ def _keyboard(env: Any, seed: int | None) -> Any:
     return SailKeys(env, seed)
 
 
+def _demo(seed: int | None, frame_skip: int) -> tuple:
+    from bbgym.envs.sail.demo import demo
+
+    return demo(seed, frame_skip)
+
+
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     """Every argument over its accepted interval, the step sizes and mark distances over
     their cheap ends (:data:`bbgym.fuzz.COST_CAPS`)."""
@@ -117,5 +123,6 @@ SPEC = register_spec(
         outcome=_outcome,
         fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.4, episode_steps=300),
         keyboard=_keyboard,
+        demo=_demo,
     )
 )
