@@ -12,11 +12,12 @@ builds its envs with ``gym.make_vec(config.env, num_envs=..., vectorization_mode
 config.gym_env_vectorize_mode, **config.env_config)``, and :func:`ppo_config` sets that mode
 to ``VectorizeMode.VECTOR_ENTRY_POINT``, so the registered ``vector_entry_point`` (the
 family's :attr:`~bbgym.spec.EnvSpec.vector_env_class`) is what runs, not a
-``SyncVectorEnv`` of single envs. The env runners are separate processes, possibly on other machines, which
-have not imported bbgym: :func:`ppo_config` names the env ``"bbgym:<env id>"``, the
-``module:id`` form with which Gymnasium itself imports ``bbgym`` (and so registers its ids)
-in whatever process makes the env. That needs no Ray state, so a checkpoint restored by a
-fresh driver, on a fresh cluster, finds its envs too. (:func:`register_envs` covers
+``SyncVectorEnv`` of single envs. The env runners are separate processes, possibly on
+other machines, which have not imported bbgym: :func:`ppo_config` names the env
+``"bbgym:<env id>"``, the ``module:id`` form with which Gymnasium itself imports
+``bbgym`` (and so registers its ids) in whatever process makes the env. That needs no
+Ray state, so a checkpoint restored by a fresh driver, on a fresh cluster, finds its envs
+too. (:func:`register_envs` covers
 configs written by hand with the plain ids.)
 """
 
