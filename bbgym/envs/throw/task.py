@@ -274,7 +274,8 @@ class ThrowTask(TaskCore):
         )  # fmt: skip
         self.target_distance_range = check_range(
             "target_distance_range", target_distance_range, self.target_distance,
-            why="a target lies beyond target_radius, its ring within field_radius",
+            why=f"a target lies beyond target_radius = {self.target_radius:g} m, its ring "
+            f"within field_radius = {self.field_radius:g} m",
         )  # fmt: skip
         self.target_bearing_range = check_range(
             "target_bearing_range", target_bearing_range, BEARING_RAD
@@ -292,7 +293,10 @@ class ThrowTask(TaskCore):
         self.max_speed = check_number("max_speed", max_speed, LAUNCH_SPEED_MPS)
         self.max_spin = check_number("max_spin", max_spin, LAUNCH_SPIN_RPS)
         self.launch_height = check_number(
-            "launch_height", launch_height, interval(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M)
+            "launch_height",
+            launch_height,
+            interval(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M),
+            why=f"at least ball.radius_m = {self.ball.radius_m:g} m",
         )
         self.screen_height = check_number("screen_height", screen_height, SCREEN_SIZE_M)
         self.screen_half_width = check_number("screen_half_width", screen_half_width, SCREEN_SIZE_M)

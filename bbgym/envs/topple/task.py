@@ -228,7 +228,8 @@ class ToppleTask(TaskCore):
         self.wall_distance = span(self.wall.half_base_m + 1.0, WALL_DISTANCE_MAX_M)
         self.wall_distance_range = check_range(
             "wall_distance_range", wall_distance_range, self.wall_distance,
-            why="the wall's foot stands at least 1 m from the thrower",
+            why=f"the wall's foot, half of wall.base_depth_m = {self.wall.base_depth_m:g} m, "
+            "stands at least 1 m from the thrower",
         )  # fmt: skip
         self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
         self.wind_from_range = check_range("wind_from_range", wind_from_range, WIND_FROM_RAD)
@@ -244,12 +245,22 @@ class ToppleTask(TaskCore):
         self.max_speed = check_number("max_speed", max_speed, LAUNCH_SPEED_MPS)
         self.max_spin = check_number("max_spin", max_spin, LAUNCH_SPIN_RPS)
         self.launch_height = check_number(
-            "launch_height", launch_height, span(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M)
+            "launch_height",
+            launch_height,
+            span(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M),
+            why=f"at least ball.radius_m = {self.ball.radius_m:g} m",
         )
-        self.wait_speed = check_number("wait_speed", wait_speed, span(0.0, self.max_speed))
+        self.wait_speed = check_number(
+            "wait_speed", wait_speed, span(0.0, self.max_speed),
+            why=f"at most max_speed = {self.max_speed:g} m/s",
+        )  # fmt: skip
         self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
         self.interval = check_number("interval", interval, INTERVAL_S)
-        self.gust_dt = check_number("gust_dt", gust_dt, span(0.0, self.interval, low_open=True))
+        self.gust_dt = check_number(
+            "gust_dt", gust_dt, span(0.0, self.interval, low_open=True),
+            why=f"at most interval = {self.interval:g} s: pass a longer interval or a shorter "
+            "gust_dt",
+        )  # fmt: skip
         self.n_substeps = check_multiple("interval", self.interval, "sim_dt", self.sim_dt)
         self.gust_every = check_multiple("gust_dt", self.gust_dt, "sim_dt", self.sim_dt)
         self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
