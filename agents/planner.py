@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import gymnasium as gym
 import numpy as np
 
-from bbgym.envs.core import tree_map
+from bbgym.envs.functional import tree_map
 from bbgym.envs.topple import ToppleTask
 from bbgym.physics.backend import floats
 from bbgym.physics.wall import FALLEN_AWAY, FALLEN_TOWARD, LOOSE

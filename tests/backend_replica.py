@@ -1,5 +1,5 @@
 """The torch backend's step run on NumPy, for the backend equivalence tests: the same
-``FusedStep`` functions, keys and counters as the compiled step, so torch float64 must
+``VectorStep`` functions, keys and counters as the compiled step, so torch float64 must
 match it to rounding."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import gymnasium as gym
 import numpy as np
 
 from bbgym import backends
-from bbgym.envs.core import FusedStep, InitialNoise
+from bbgym.envs.functional import VectorStep, counter_initial_noise
 
 
 def make_torch(
@@ -35,23 +35,17 @@ def replica_run(
     """(obs, reward, terminated, truncated[, extra(state, info)]) per step of ``actions``
     (``(steps, num_envs, ...)``), from a reset with ``seed``."""
     task = make_torch(env_id, num_envs, **kwargs).unwrapped
-    fused = FusedStep(task.task, task.max_episode_steps, np, np.float64)
+    step = VectorStep(task.task, task.max_episode_steps, np, np.float64)
     task = task.task
     keys = np.array([backends.env_keys(seed + i, 1, np)[0] for i in range(num_envs)])
     counter = np.zeros(num_envs, dtype=np.int64)
-    n_uniform, n_normal = task.initial_noise_counts
-    noise = InitialNoise(
-        backends.uniforms(keys, counter, 1, n_uniform, np.float64, np),
-        backends.normals(keys, counter, 2, n_normal, np.float64, np),
-        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, np.float64, np),
-    )
-    state = task.initial(noise, {}, np)
+    state = task.initial(counter_initial_noise(task, keys, counter, np.float64, np), {}, np)
     counter = counter + 1
     steps = np.zeros(num_envs, dtype=np.int64)
     restarting = np.zeros(num_envs, dtype=bool)
     out = []
     for a in actions:
-        state, obs, reward, term, trunc, info, counter, steps = fused(
+        state, obs, reward, term, trunc, info, counter, steps = step(
             state, a.astype(np.float64), keys, counter, steps, restarting
         )
         restarting = term | trunc

@@ -16,7 +16,8 @@ import numpy as np
 from gymnasium import spaces
 
 from bbgym.envs.common import check_box_action, check_option_keys, option_path
-from bbgym.envs.core import CoreEnv, CoreVectorEnv, InitialNoise, TaskCore
+from bbgym.envs.core import CoreEnv, CoreVectorEnv
+from bbgym.envs.functional import InitialNoise, TaskCore
 from bbgym.physics.validation import check_number, interval
 from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec, unregister_spec
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from bbgym import backends
-from bbgym.envs.core import FusedStep, InitialNoise, tree_map
+from bbgym.envs.functional import InitialNoise, VectorStep, tree_map
 from bbgym.envs.sail import SailTask
 from bbgym.physics import sailing
 from bbgym.physics.sailing import DinghyParams, dinghy_at_rest
@@ -124,8 +124,8 @@ def test_sail_task_core(xp) -> None:
     steps = np.arange(N, dtype=np.int64) * 100
     restarting = rng.uniform(size=N) < 0.3
     dtype = xp.float64
-    ref_out = FusedStep(task, 1000, np, np.float64)(ref1, action, keys, counter, steps,
+    ref_out = VectorStep(task, 1000, np, np.float64)(ref1, action, keys, counter, steps,
                                                      restarting)  # fmt: skip
-    got_out = FusedStep(task, 1000, xp, dtype)(got1, *to_xp((action, keys, counter, steps,
+    got_out = VectorStep(task, 1000, xp, dtype)(got1, *to_xp((action, keys, counter, steps,
                                                              restarting), xp))  # fmt: skip
     same(ref_out, got_out)

@@ -12,7 +12,7 @@ import pytest
 
 import bbgym  # noqa: F401
 from bbgym import backends
-from bbgym.envs.core import InitialNoise
+from bbgym.envs.functional import InitialNoise
 from bbgym.envs.topple import ToppleTask
 
 torch = pytest.importorskip("torch")

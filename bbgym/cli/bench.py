@@ -117,7 +117,7 @@ def time_backend(
     state_bytes = 0
     state = getattr(env.unwrapped, "state", None)
     if state is not None:
-        from bbgym.envs.core import tree_map
+        from bbgym.envs.functional import tree_map
 
         leaves: list = []
         tree_map(leaves.append, state)

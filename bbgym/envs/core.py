@@ -1,32 +1,13 @@
-"""The functional core of a task and the two thin adapters every env is made of.
-
-A task core is a set of pure functions over a batch of immutable states (NamedTuples of
-arrays, nested), in the shape of Gymnasium's ``FuncEnv`` and gymnax:
-
-=====================================  ==================================================
-``initial(noise, options, xp)``        a fresh state per env from its random draws
-``transition(state, action, noise,     the state one env step later, and what happened
-xp) -> (state, events)``               (the physics; the step's reward terms are part of
-                                       the new state)
-``measure(state, xp)``                 the physical quantities observation and info share
-``observation(state, m, xp)``          the observation's columns (unclipped)
-``reward(state, xp)``                  the last transition's reward
-``terminal(state, xp)``                whether the episode has ended
-``info(state, m, xp)``                 what a researcher plots, as arrays
-=====================================  ==================================================
-
-Every function takes the array namespace ``xp`` and keeps the contract of
-:mod:`bbgym.physics.backend`, so the same source runs one env on Python floats
-(:class:`CoreEnv`), a batch on NumPy, and a batch on torch compiled for the CPU or a GPU
-(:class:`CoreVectorEnv`). A partial reset is one :func:`tree_select`. The randomness is
-passed in: the NumPy adapters draw it from each env's ``numpy.random.Generator`` (so
-sub-env ``i`` equals the single env seeded ``seed + i``), the torch backend from the
-counter-based generator of :mod:`bbgym.backends` inside the compiled step.
+"""The two thin adapters every env is made of: :class:`CoreEnv`, a ``gymnasium.Env`` on
+Python floats, and :class:`CoreVectorEnv`, a native ``gymnasium.vector.VectorEnv`` on NumPy
+or compiled torch. Both run a task core of :mod:`bbgym.envs.functional`; the vector step's
+autoreset is :func:`~bbgym.envs.functional.settle` and
+:func:`~bbgym.envs.functional.restart`, the same functions on every backend.
 """
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -45,111 +26,17 @@ from bbgym.envs.common import (
     vector_seeds,
     without_renderer,
 )
+from bbgym.envs.functional import (
+    InitialNoise,
+    VectorStep,
+    columns_to_observation,
+    counter_initial_noise,
+    element,
+    restart,
+    settle,
+    tree_map,
+)
 from bbgym.physics.backend import floats
-
-
-class InitialNoise(NamedTuple):
-    """The draws :meth:`initial` turns into a fresh state: sequences of ``uniform[k]`` in
-    [0, 1) and ``normal[k]`` standard normal, each of the batch's shape (or floats for one
-    env; step noise too is a sequence of such arrays), drawn
-    in that order from the env's generator; then ``stream[k]``, standard normals from the
-    env's pair stream (2 per pair, see ``initial_stream_pairs``)."""
-
-    uniform: Any
-    normal: Any
-    stream: Any = ()
-
-
-class TaskCore:
-    """The protocol of a task core (see the module docstring); :class:`SailTask` and the
-    ball tasks implement it. Class attributes say what randomness the core needs:"""
-
-    initial_noise_counts: tuple[int, int] = (0, 0)
-    """Uniform and normal draws per env for :meth:`initial`."""
-    initial_stream_pairs: int = 0
-    """Pairs of normals from the env's pair stream for :meth:`initial` (after the draws)."""
-    step_noise_pairs: int = 0
-    """Pairs of normals a transition may use per env: 1 is drawn only for the envs of
-    :meth:`step_noise_mask`; more are a window of which the transition uses the first
-    ``events.noise_used[i]`` (the rest stay in the stream)."""
-    stops_early: bool = False
-    """Whether the chunks of a transition may all be idle before the last (then
-    :meth:`all_done` is checked between chunks)."""
-
-    def step_noise_mask(self, state: Any, xp: Any) -> Any:
-        """Which envs may draw step noise (an env's stream must not depend on the others)."""
-        raise NotImplementedError
-
-    def transition(self, state: Any, action: Any, noise: Any, xp: Any,
-                   record: bool = False) -> tuple[Any, Any]:  # fmt: skip
-        """:meth:`begin`, ``chunks`` times :meth:`chunk` (stopping early once
-        :meth:`all_done` where ``stops_early``), then :meth:`end`. ``noise`` is a sequence
-        of ``2 * step_noise_pairs`` arrays (or floats); ``record`` asks for the samples a
-        renderer draws (in ``events``)."""
-        carry = self.begin(state, action, noise, xp, record)
-        for _ in range(self.chunks):
-            if self.stops_early and bool(xp.all(self.all_done(carry, xp))):
-                break
-            carry = self.chunk(carry, xp)
-        return self.end(state, carry, xp)
-
-    chunks: int = 1
-
-    def begin(self, state: Any, action: Any, noise: Any, xp: Any, record: bool) -> Any:
-        raise NotImplementedError
-
-    def chunk(self, carry: Any, xp: Any) -> Any:
-        raise NotImplementedError
-
-    def all_done(self, carry: Any, xp: Any) -> Any:
-        raise NotImplementedError
-
-    def end(self, state: Any, carry: Any, xp: Any) -> tuple[Any, Any]:
-        raise NotImplementedError
-
-
-def tree_select(mask: Any, new: Any, old: Any, xp: Any) -> Any:
-    """``new`` where ``mask`` (per env) and ``old`` elsewhere, leaf by leaf through nested
-    NamedTuples and dicts; a leaf with more axes than the mask broadcasts it."""
-    if isinstance(old, (tuple, list)):
-        items = [tree_select(mask, a, b, xp) for a, b in zip(new, old, strict=True)]
-        return type(old)(*items) if hasattr(old, "_fields") else type(old)(items)
-    if isinstance(old, dict):
-        return {k: tree_select(mask, new[k], old[k], xp) for k in old}
-    if xp is floats:
-        return new if mask else old
-    if new is old:
-        return old
-    m = mask
-    for _ in range(len(old.shape) - len(mask.shape)):
-        m = m[..., None]
-    return xp.where(m, new, old)
-
-
-def tree_map(fn: Any, tree: Any) -> Any:
-    """``fn`` applied to every leaf of nested NamedTuples and dicts."""
-    if isinstance(tree, (tuple, list)):
-        items = [tree_map(fn, t) for t in tree]
-        return type(tree)(*items) if hasattr(tree, "_fields") else type(tree)(items)
-    if isinstance(tree, dict):
-        return {k: tree_map(fn, v) for k, v in tree.items()}
-    return fn(tree)
-
-
-def element(tree: Any, i: int) -> Any:
-    """Env ``i`` of a batched state as Python scalars (for drawing and for tests)."""
-
-    def pick(leaf: Any) -> Any:
-        value = np.asarray(backends.to_numpy(leaf))[i]
-        return value.item() if value.ndim == 0 else value
-
-    return tree_map(pick, tree)
-
-
-def columns_to_observation(columns: tuple, xp: Any) -> Any:
-    """Stack observation columns into ``(batch, size)`` float32, clipped to [-1, 1]."""
-    obs = xp.clip(xp.stack(columns, axis=1), -1.0, 1.0)
-    return xp.astype(obs, xp.float32)
 
 
 class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
@@ -367,7 +254,7 @@ class CoreVectorEnv(VectorEnv):
         self._autoreset: Any = None
         self._keys: Any = None
         self._counter: Any = None
-        self._fused: Any = None
+        self._compiled_step: Any = None
         self._any_restarting: bool | None = None
         self._renderer: Any = None
         self._collected: list[list[Any]] = []  # rgb_array_list: per drawn sub-env
@@ -395,9 +282,22 @@ class CoreVectorEnv(VectorEnv):
         # sequences of per-env rows: what a core indexes (noise.uniform[k])
         return InitialNoise(list(uniform), list(normal), [row for pair in stream for row in pair])
 
-    def _reset_numpy(self, mask: np.ndarray, options: dict[str, Any]) -> None:
-        fresh = self.task.initial(self._initial_noise(mask), options, np)
-        self.state = fresh if self.state is None else tree_select(mask, fresh, self.state, np)
+    def _restart(self, mask: np.ndarray, options: dict[str, Any]) -> None:
+        """Fresh episodes for the envs in ``mask`` (:func:`restart`), each from its own
+        random stream: a generator per env on NumPy, the counter-based one on torch."""
+        if self.backend.name == "numpy":
+            self.state = restart(
+                self.task, self.state, mask, self._initial_noise(mask), options, np
+            )
+            return
+        xp, m = self.xp, self._tensor(mask)
+        noise = counter_initial_noise(self.task, self._keys, self._counter,
+                                      self.backend.float_dtype, xp)  # fmt: skip
+        state = restart(self.task, self.state, m, noise, options, xp)
+        # Distinct tensors per leaf: the compiled step's guards would otherwise see the
+        # fields a fresh state shares (zeros) as aliases, and recompile once they part.
+        self.state = tree_map(lambda t: t.clone(), state)
+        self._counter = self._counter + xp.astype(m, xp.int64)
 
     # -- the torch path -----------------------------------------------------------------------
     def _tensor(self, x: Any, dtype: Any = None) -> Any:
@@ -405,34 +305,16 @@ class CoreVectorEnv(VectorEnv):
 
         return torch.as_tensor(x, dtype=dtype, device=self.backend.device)
 
-    def _reset_torch(self, mask: np.ndarray, options: dict[str, Any]) -> None:
-        xp, dtype = self.xp, self.backend.float_dtype
-        m = self._tensor(mask)
-        n_uniform, n_normal = self.task.initial_noise_counts
-        noise = InitialNoise(
-            backends.uniforms(self._keys, self._counter, 1, n_uniform, dtype, xp),
-            backends.normals(self._keys, self._counter, 2, n_normal, dtype, xp),
-            backends.normals(
-                self._keys, self._counter, 3, 2 * self.task.initial_stream_pairs, dtype, xp
-            ),  # fmt: skip
-        )
-        fresh = self.task.initial(noise, options, xp)
-        state = fresh if self.state is None else tree_select(m, fresh, self.state, xp)
-        # Distinct tensors per leaf: the compiled step's guards would otherwise see the
-        # fields a fresh state shares (zeros) as aliases, and recompile once they part.
-        self.state = tree_map(lambda t: t.clone(), state)
-        self._counter = self._counter + xp.astype(m, xp.int64)
-
-    def _make_fused(self) -> Any:
-        """The step's three parts, compiled (see :class:`FusedStep`)."""
-        fused = FusedStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype)
+    def _make_compiled_step(self) -> Any:
+        """The step's parts, each compiled (see :class:`VectorStep`)."""
+        step = VectorStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype)
         parts = tuple(
             backends.compiled(f, self.backend)
-            for f in (fused.begin, fused.chunk, fused.end, fused.restart, fused.observe)
+            for f in (step.begin, step.chunk, step.end, step.restart, step.observe)
         )
 
         def run(*args: Any, any_restarting: bool | None = None) -> tuple:
-            return fused(*args, parts=parts, any_restarting=any_restarting)
+            return step(*args, parts=parts, any_restarting=any_restarting)
 
         return run
 
@@ -450,12 +332,11 @@ class CoreVectorEnv(VectorEnv):
             if self.backend.name == "torch":
                 self._seed_torch(seeds)
         self.state = None if self.backend.name == "torch" and seed is not None else self.state
+        self._restart(everyone, options)
         if self.backend.name == "numpy":
-            self._reset_numpy(everyone, options)
             self._steps = np.zeros(self.num_envs, dtype=np.int64)
             self._autoreset = np.zeros(self.num_envs, dtype=bool)
         else:
-            self._reset_torch(everyone, options)
             self._steps = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
             self._autoreset = self._tensor(np.zeros(self.num_envs, dtype=bool))
             self._any_restarting = False
@@ -495,23 +376,18 @@ class CoreVectorEnv(VectorEnv):
             noise = tuple(self.streams.peek(mask, pairs).reshape(2 * pairs, self.num_envs))
         else:
             noise = ()
-        state, self.events = self.task.transition(self.state, a, noise, np, record=self.records)
+        self.state, self.events = self.task.transition(
+            self.state, a, noise, np, record=self.records
+        )
         if pairs > 1:
             self.streams.advance(np.where(active, self.events.noise_used, 0))
-        reward = self.task.reward(state, np)
-        terminated = self.task.terminal(state, np)
-        self._steps = self._steps + 1
+        reward, terminated, truncated, self._steps = settle(
+            self.task, self.state, restarting, self._steps, self.max_episode_steps, np
+        )
         if restarting.any():
             # Next-step autoreset: the finished envs start anew and ignore this action.
-            self.state = state
-            self._reset_numpy(restarting, {})
-            state = self.state
-            self._steps = np.where(restarting, 0, self._steps)
-            reward = np.where(restarting, 0.0, reward)
-            terminated = terminated & active
+            self._restart(restarting, {})
             self._on_reset(restarting)
-        self.state = state
-        truncated = (self._steps >= self.max_episode_steps) & ~terminated
         self._autoreset = terminated | truncated
         self._on_step(a)
         if self.render_mode == LIST_MODE:
@@ -540,13 +416,13 @@ class CoreVectorEnv(VectorEnv):
             a = self._tensor(self.task.check_action(actions, self.num_envs),
                              self.backend.float_dtype)  # fmt: skip
         any_restarting = self._any_restarting
-        if self._fused is None:
-            self._fused = self._make_fused()
+        if self._compiled_step is None:
+            self._compiled_step = self._make_compiled_step()
             # The first step runs the restart part too (where no env restarts it changes
             # nothing), so every part compiles now rather than when the first episode ends.
             any_restarting = True
         restarting = self._autoreset
-        out = self._fused(self.state, a, self._keys, self._counter, self._steps, restarting,
+        out = self._compiled_step(self.state, a, self._keys, self._counter, self._steps, restarting,
                           any_restarting=any_restarting)  # fmt: skip
         self.state, obs, reward, terminated, truncated, info, self._counter, self._steps = out
         self._autoreset = terminated | truncated
@@ -572,16 +448,11 @@ class CoreVectorEnv(VectorEnv):
         ``step``."""
         mask = np.asarray(mask, dtype=bool)
         if mask.any():
-            if self.backend.name == "numpy":
-                self._reset_numpy(mask, {})
-                self._steps = np.where(mask, 0, self._steps)
-                self._autoreset = self._autoreset & ~mask
-            else:
-                self._reset_torch(mask, {})
-                m = self._tensor(mask)
-                self._steps = self.xp.where(m, 0, self._steps)
-                self._autoreset = self._autoreset & ~m
-                self._any_restarting = None
+            self._restart(mask, {})
+            m = mask if self.backend.name == "numpy" else self._tensor(mask)
+            self._steps = self.xp.where(m, 0, self._steps)
+            self._autoreset = self._autoreset & self.xp.logical_not(m)
+            self._any_restarting = None
             self._on_reset(mask)
             if self.render_mode == LIST_MODE and self._collected:
                 for i in np.flatnonzero(mask[: self._drawn_envs]):
@@ -647,7 +518,7 @@ class CoreVectorEnv(VectorEnv):
 
     def __getstate__(self) -> dict[str, Any]:
         state = without_renderer(self.__dict__)
-        state["_fused"] = None  # a compiled function does not pickle: made again on use
+        state["_compiled_step"] = None  # a compiled function does not pickle: made on use
         return state
 
     def close_extras(self, **kwargs: Any) -> None:
@@ -655,88 +526,3 @@ class CoreVectorEnv(VectorEnv):
         if getattr(self, "_renderer", None) is not None:
             self._renderer.close()
             self._renderer = None
-
-
-class FusedStep:
-    """One vector step with next-step autoreset as pure functions of arrays: what the torch
-    backend compiles. A task's transition is :meth:`begin`, ``chunks`` times
-    :meth:`chunk` (a fixed number of physics substeps) and :meth:`end`; then
-    :meth:`restart` (where some env restarts) and :meth:`observe`. The parts are compiled
-    separately: a graph holds one chunk rather than the unrolled loop, and no graph is
-    large (inductor's code generation grows faster than the graph: an unrolled sailing
-    step with its autoreset took over 200 s to compile, these parts take well under 60).
-    A task whose chunks may all be idle early (``stops_early``: every ball landed) is
-    checked between chunks (one device sync each). The random numbers come from the
-    counter-based generator (stream 0: the step's noise, 1 and 2: a fresh episode's
-    draws), so the same functions run, with the same results, on NumPy or any array-API
-    namespace.
-    """
-
-    def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any) -> None:
-        self.task, self.max_episode_steps, self.xp, self.dtype = task, max_episode_steps, xp, dtype
-
-    def begin(self, state: Any, action: Any, keys: Any, counter: Any) -> Any:
-        task, xp, dtype = self.task, self.xp, self.dtype
-        n = 2 * task.step_noise_pairs
-        noise = backends.normals(keys, counter, 0, n, dtype, xp) if n else ()
-        return task.begin(state, action, noise, xp, False)
-
-    def chunk(self, carry: Any) -> Any:
-        return self.task.chunk(carry, self.xp)
-
-    def end(self, state: Any, carry: Any, counter: Any, steps: Any, restarting: Any) -> tuple:
-        """The transition's end, its reward and the episode ends (restarting envs report
-        reward 0 and no end: they start anew this step)."""
-        task, xp = self.task, self.xp
-        moved, _ = task.end(state, carry, xp)
-        reward = xp.where(restarting, 0.0, task.reward(moved, xp))
-        terminated = task.terminal(moved, xp) & xp.logical_not(restarting)
-        steps = xp.where(restarting, 0, steps + 1)
-        truncated = (steps >= self.max_episode_steps) & xp.logical_not(terminated)
-        return moved, reward, terminated, truncated, counter + 1, steps
-
-    def restart(self, moved: Any, restarting: Any, keys: Any, counter: Any) -> Any:
-        """Fresh episodes where ``restarting`` (run only on steps where some env restarts,
-        so the common step's graph holds no :meth:`initial`)."""
-        task, xp, dtype = self.task, self.xp, self.dtype
-        n_uniform, n_normal = task.initial_noise_counts
-        noise = InitialNoise(
-            backends.uniforms(keys, counter, 1, n_uniform, dtype, xp),
-            backends.normals(keys, counter, 2, n_normal, dtype, xp),
-            backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, dtype, xp),
-        )
-        return tree_select(restarting, task.initial(noise, {}, xp), moved, xp)
-
-    def observe(self, state: Any) -> tuple:
-        """Observation and info of the new state."""
-        task, xp = self.task, self.xp
-        m = task.measure(state, xp)
-        return columns_to_observation(task.observation(state, m, xp), xp), task.info(state, m, xp)
-
-    def __call__(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
-                 restarting: Any, parts: tuple | None = None,
-                 any_restarting: bool | None = None) -> tuple:  # fmt: skip
-        """Returns ``(state, obs, reward, terminated, truncated, info, counter, steps)``.
-        ``any_restarting``, if the caller knows it, saves a device sync."""
-        begin, chunk, end, restart, observe = parts or (
-            self.begin,
-            self.chunk,
-            self.end,
-            self.restart,
-            self.observe,
-        )
-        carry = begin(state, action, keys, counter)
-        task = self.task
-        for _ in range(task.chunks):
-            if task.stops_early and bool(self.xp.all(task.all_done(carry, self.xp))):
-                break
-            carry = chunk(carry)
-        moved, reward, terminated, truncated, new_counter, steps = end(
-            state, carry, counter, steps, restarting
-        )
-        if any_restarting is None:
-            any_restarting = bool(self.xp.any(restarting))  # a device sync
-        if any_restarting:
-            moved = restart(moved, restarting, keys, counter)
-        obs, info = observe(moved)
-        return moved, obs, reward, terminated, truncated, info, new_counter, steps

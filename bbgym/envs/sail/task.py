@@ -16,7 +16,7 @@ from bbgym.envs.common import (
     check_option_keys,
     option_path,
 )
-from bbgym.envs.core import InitialNoise, TaskCore
+from bbgym.envs.functional import InitialNoise, TaskCore
 from bbgym.physics.backend import Array, floats
 from bbgym.physics.common import wrap_angle
 from bbgym.physics.sailing import (

@@ -17,7 +17,7 @@ from bbgym.envs.common import (
     mean_wind,
     option_path,
 )
-from bbgym.envs.core import InitialNoise, TaskCore
+from bbgym.envs.functional import InitialNoise, TaskCore
 from bbgym.physics.backend import Array, floats
 from bbgym.physics.ball import (
     FLIGHT_SUBSTEPS_MAX,

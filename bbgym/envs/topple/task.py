@@ -21,7 +21,7 @@ from bbgym.envs.common import (
     mean_wind,
     option_path,
 )
-from bbgym.envs.core import InitialNoise, TaskCore
+from bbgym.envs.functional import InitialNoise, TaskCore
 from bbgym.envs.throw.task import (
     BALL_GUSTS,
     BALL_SIM_DT_S,

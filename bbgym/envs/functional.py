@@ -1,0 +1,249 @@
+"""The functional core of a task, and the vector step with its autoreset, as pure functions.
+
+A task core is a set of pure functions over a batch of immutable states (NamedTuples of
+arrays, nested), in the shape of Gymnasium's ``FuncEnv`` and gymnax:
+
+=====================================  ==================================================
+``initial(noise, options, xp)``        a fresh state per env from its random draws
+``transition(state, action, noise,     the state one env step later, and what happened
+xp) -> (state, events)``               (the physics; the step's reward terms are part of
+                                       the new state)
+``measure(state, xp)``                 the physical quantities observation and info share
+``observation(state, m, xp)``          the observation's columns (unclipped)
+``reward(state, xp)``                  the last transition's reward
+``terminal(state, xp)``                whether the episode has ended
+``info(state, m, xp)``                 what a researcher plots, as arrays
+=====================================  ==================================================
+
+Every function takes the array namespace ``xp`` and keeps the contract of
+:mod:`bbgym.physics.backend`, so the same source runs one env on Python floats
+(:class:`CoreEnv`), a batch on NumPy, and a batch on torch compiled for the CPU or a GPU
+(:class:`CoreVectorEnv`). A partial reset is one :func:`tree_select`. The randomness is
+passed in: the NumPy adapters draw it from each env's ``numpy.random.Generator`` (so
+sub-env ``i`` equals the single env seeded ``seed + i``), the torch backend from the
+counter-based generator of :mod:`bbgym.backends` inside the compiled step.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from bbgym import backends
+from bbgym.physics.backend import floats
+
+
+class InitialNoise(NamedTuple):
+    """The draws :meth:`initial` turns into a fresh state: sequences of ``uniform[k]`` in
+    [0, 1) and ``normal[k]`` standard normal, each of the batch's shape (or floats for one
+    env; step noise too is a sequence of such arrays), drawn
+    in that order from the env's generator; then ``stream[k]``, standard normals from the
+    env's pair stream (2 per pair, see ``initial_stream_pairs``)."""
+
+    uniform: Any
+    normal: Any
+    stream: Any = ()
+
+
+class TaskCore:
+    """The protocol of a task core (see the module docstring); :class:`SailTask` and the
+    ball tasks implement it. Class attributes say what randomness the core needs:"""
+
+    initial_noise_counts: tuple[int, int] = (0, 0)
+    """Uniform and normal draws per env for :meth:`initial`."""
+    initial_stream_pairs: int = 0
+    """Pairs of normals from the env's pair stream for :meth:`initial` (after the draws)."""
+    step_noise_pairs: int = 0
+    """Pairs of normals a transition may use per env: 1 is drawn only for the envs of
+    :meth:`step_noise_mask`; more are a window of which the transition uses the first
+    ``events.noise_used[i]`` (the rest stay in the stream)."""
+    stops_early: bool = False
+    """Whether the chunks of a transition may all be idle before the last (then
+    :meth:`all_done` is checked between chunks)."""
+
+    def step_noise_mask(self, state: Any, xp: Any) -> Any:
+        """Which envs may draw step noise (an env's stream must not depend on the others)."""
+        raise NotImplementedError
+
+    def transition(self, state: Any, action: Any, noise: Any, xp: Any,
+                   record: bool = False) -> tuple[Any, Any]:  # fmt: skip
+        """:meth:`begin`, ``chunks`` times :meth:`chunk` (stopping early once
+        :meth:`all_done` where ``stops_early``), then :meth:`end`. ``noise`` is a sequence
+        of ``2 * step_noise_pairs`` arrays (or floats); ``record`` asks for the samples a
+        renderer draws (in ``events``)."""
+        carry = self.begin(state, action, noise, xp, record)
+        for _ in range(self.chunks):
+            if self.stops_early and bool(xp.all(self.all_done(carry, xp))):
+                break
+            carry = self.chunk(carry, xp)
+        return self.end(state, carry, xp)
+
+    chunks: int = 1
+
+    def begin(self, state: Any, action: Any, noise: Any, xp: Any, record: bool) -> Any:
+        raise NotImplementedError
+
+    def chunk(self, carry: Any, xp: Any) -> Any:
+        raise NotImplementedError
+
+    def all_done(self, carry: Any, xp: Any) -> Any:
+        raise NotImplementedError
+
+    def end(self, state: Any, carry: Any, xp: Any) -> tuple[Any, Any]:
+        raise NotImplementedError
+
+
+def tree_select(mask: Any, new: Any, old: Any, xp: Any) -> Any:
+    """``new`` where ``mask`` (per env) and ``old`` elsewhere, leaf by leaf through nested
+    NamedTuples and dicts; a leaf with more axes than the mask broadcasts it."""
+    if isinstance(old, (tuple, list)):
+        items = [tree_select(mask, a, b, xp) for a, b in zip(new, old, strict=True)]
+        return type(old)(*items) if hasattr(old, "_fields") else type(old)(items)
+    if isinstance(old, dict):
+        return {k: tree_select(mask, new[k], old[k], xp) for k in old}
+    if xp is floats:
+        return new if mask else old
+    if new is old:
+        return old
+    m = mask
+    for _ in range(len(old.shape) - len(mask.shape)):
+        m = m[..., None]
+    return xp.where(m, new, old)
+
+
+def tree_map(fn: Any, tree: Any) -> Any:
+    """``fn`` applied to every leaf of nested NamedTuples and dicts."""
+    if isinstance(tree, (tuple, list)):
+        items = [tree_map(fn, t) for t in tree]
+        return type(tree)(*items) if hasattr(tree, "_fields") else type(tree)(items)
+    if isinstance(tree, dict):
+        return {k: tree_map(fn, v) for k, v in tree.items()}
+    return fn(tree)
+
+
+def element(tree: Any, i: int) -> Any:
+    """Env ``i`` of a batched state as Python scalars (for drawing and for tests)."""
+
+    def pick(leaf: Any) -> Any:
+        value = np.asarray(backends.to_numpy(leaf))[i]
+        return value.item() if value.ndim == 0 else value
+
+    return tree_map(pick, tree)
+
+
+def columns_to_observation(columns: tuple, xp: Any) -> Any:
+    """Stack observation columns into ``(batch, size)`` float32, clipped to [-1, 1]."""
+    obs = xp.clip(xp.stack(columns, axis=1), -1.0, 1.0)
+    return xp.astype(obs, xp.float32)
+
+
+def settle(task: Any, moved: Any, restarting: Any, steps: Any, max_episode_steps: int,
+           xp: Any) -> tuple[Any, Any, Any, Any]:  # fmt: skip
+    """Next-step autoreset's bookkeeping of a vector step, on any backend: the one place
+    that decides what a step reports. ``moved`` is every env's state after the transition;
+    the envs ``restarting`` (their episode ended on the previous step) start anew on this
+    one, so they report reward 0, no termination and a step count of 0 (their transition
+    is discarded: :func:`restart` replaces their state). Returns ``(reward, terminated,
+    truncated, steps)``; an episode is truncated when its ``max_episode_steps``-th step did
+    not terminate it."""
+    reward = xp.where(restarting, 0.0, task.reward(moved, xp))
+    terminated = task.terminal(moved, xp) & xp.logical_not(restarting)
+    steps = xp.where(restarting, 0, steps + 1)
+    truncated = (steps >= max_episode_steps) & xp.logical_not(terminated)
+    return reward, terminated, truncated, steps
+
+
+def restart(task: Any, state: Any, mask: Any, noise: InitialNoise, options: Any, xp: Any) -> Any:
+    """Fresh episodes (from ``noise``, pinned by ``options``) for the envs in ``mask``, the
+    others' state kept: a reset, an autoreset and an adapter's early restart are all this.
+    ``state`` None (nothing to keep) gives every env a fresh episode."""
+    fresh = task.initial(noise, options, xp)
+    return fresh if state is None else tree_select(mask, fresh, state, xp)
+
+
+def counter_initial_noise(task: Any, keys: Any, counter: Any, dtype: Any, xp: Any) -> InitialNoise:
+    """The draws of a fresh episode from the counter-based generator of
+    :mod:`bbgym.backends` (streams 1-3 of each env's key at its counter), as the torch
+    backend draws them inside its compiled step."""
+    n_uniform, n_normal = task.initial_noise_counts
+    return InitialNoise(
+        backends.uniforms(keys, counter, 1, n_uniform, dtype, xp),
+        backends.normals(keys, counter, 2, n_normal, dtype, xp),
+        backends.normals(keys, counter, 3, 2 * task.initial_stream_pairs, dtype, xp),
+    )
+
+
+class VectorStep:
+    """One vector step with next-step autoreset as pure functions of arrays, in parts: what
+    the torch backend compiles (each part separately) and what the backend equivalence
+    tests replay on NumPy. A task's transition is :meth:`begin`, ``chunks`` times
+    :meth:`chunk` (a fixed number of physics substeps) and :meth:`end` (the transition's
+    end and :func:`settle`); then :meth:`restart` (only where some env restarts) and
+    :meth:`observe`. The parts are compiled separately: a graph holds one chunk rather than
+    the unrolled loop, and no graph is large (inductor's code generation grows faster than
+    the graph: an unrolled sailing step with its autoreset took over 200 s to compile,
+    these parts take well under 60). A task whose chunks may all be idle early
+    (``stops_early``: every ball landed) is checked between chunks (one device sync each).
+    The random numbers come from the counter-based generator (stream 0: the step's noise,
+    1-3: a fresh episode's draws, :func:`counter_initial_noise`), so the same functions
+    run, with the same results, on NumPy or any array-API namespace.
+    """
+
+    def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any) -> None:
+        self.task, self.max_episode_steps, self.xp, self.dtype = task, max_episode_steps, xp, dtype
+
+    def begin(self, state: Any, action: Any, keys: Any, counter: Any) -> Any:
+        task, xp, dtype = self.task, self.xp, self.dtype
+        n = 2 * task.step_noise_pairs
+        noise = backends.normals(keys, counter, 0, n, dtype, xp) if n else ()
+        return task.begin(state, action, noise, xp, False)
+
+    def chunk(self, carry: Any) -> Any:
+        return self.task.chunk(carry, self.xp)
+
+    def end(self, state: Any, carry: Any, counter: Any, steps: Any, restarting: Any) -> tuple:
+        """The transition's end and what the step reports (:func:`settle`)."""
+        moved, _ = self.task.end(state, carry, self.xp)
+        reward, terminated, truncated, steps = settle(
+            self.task, moved, restarting, steps, self.max_episode_steps, self.xp
+        )
+        return moved, reward, terminated, truncated, counter + 1, steps
+
+    def restart(self, moved: Any, restarting: Any, keys: Any, counter: Any) -> Any:
+        """Fresh episodes where ``restarting`` (run only on steps where some env restarts,
+        so the common step's graph holds no :meth:`initial`)."""
+        noise = counter_initial_noise(self.task, keys, counter, self.dtype, self.xp)
+        return restart(self.task, moved, restarting, noise, {}, self.xp)
+
+    def observe(self, state: Any) -> tuple:
+        """Observation and info of the new state."""
+        task, xp = self.task, self.xp
+        m = task.measure(state, xp)
+        return columns_to_observation(task.observation(state, m, xp), xp), task.info(state, m, xp)
+
+    def __call__(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
+                 restarting: Any, parts: tuple | None = None,
+                 any_restarting: bool | None = None) -> tuple:  # fmt: skip
+        """Returns ``(state, obs, reward, terminated, truncated, info, counter, steps)``.
+        ``parts`` are the compiled :meth:`begin`, :meth:`chunk`, :meth:`end`,
+        :meth:`restart`, :meth:`observe` (default: these, eager); ``any_restarting``, if
+        the caller knows it, saves a device sync."""
+        begin, chunk, end, restart_, observe = parts or (
+            self.begin, self.chunk, self.end, self.restart, self.observe,
+        )  # fmt: skip
+        carry = begin(state, action, keys, counter)
+        task = self.task
+        for _ in range(task.chunks):
+            if task.stops_early and bool(self.xp.all(task.all_done(carry, self.xp))):
+                break
+            carry = chunk(carry)
+        moved, reward, terminated, truncated, new_counter, steps = end(
+            state, carry, counter, steps, restarting
+        )
+        if any_restarting is None:
+            any_restarting = bool(self.xp.any(restarting))  # a device sync
+        if any_restarting:
+            moved = restart_(moved, restarting, keys, counter)
+        obs, info = observe(moved)
+        return moved, obs, reward, terminated, truncated, info, new_counter, steps
