@@ -26,8 +26,7 @@ from bbgym.envs.sail.view import (  # noqa: E402
     SailRenderer,
     SailScene,
 )
-from bbgym.envs.throw.view import (  # noqa: E402  # noqa: E402
-    BALL_MARKER_COLOR,
+from bbgym.envs.throw.view import (  # noqa: E402
     TARGET_COLOR,
     ThrowRenderer,
     ThrowScene,
@@ -48,6 +47,9 @@ from bbgym.render.base import (  # noqa: E402
     clip_polygon,
     clip_segment,
     safe_box,
+)
+from bbgym.render.beach import (  # noqa: E402
+    BALL_MARKER_COLOR,
 )
 
 W, H = 640, 480

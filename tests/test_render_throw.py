@@ -15,21 +15,23 @@ import pytest
 
 pytest.importorskip("pygame")
 
-from bbgym.envs.throw.view import (  # noqa: E402  # noqa: E402
-    GORE_COLORS,
+from bbgym.envs.throw.view import (  # noqa: E402
     SCREEN_COLOR,
     TARGET_COLOR,
     ThrowRenderer,
     ThrowScene,
     ThrowScreen,
-    beach_ball_image,
     panel_rects,
-    quat_from_axis_angle,
-    quat_rotate,
-    quat_to_matrix,
     side_view_map,
     top_view_map,
     view_axes,
+)
+from bbgym.render.beach import (  # noqa: E402
+    GORE_COLORS,
+    beach_ball_image,
+    quat_from_axis_angle,
+    quat_rotate,
+    quat_to_matrix,
 )
 
 WIDTH, HEIGHT = 640, 480

@@ -15,11 +15,13 @@ import pytest
 
 pytest.importorskip("pygame")
 
-from bbgym.envs.topple.view import (  # noqa: E402  # noqa: E402
+from bbgym.envs.topple.frame import (  # noqa: E402
+    attached_pose,
+)
+from bbgym.envs.topple.view import (  # noqa: E402
     WALL_COLOR,
     ToppleRenderer,
     ToppleScene,
-    attached_pose,
     frame_state,
     loose_pose,
     panel_rects,
@@ -345,7 +347,10 @@ def test_banner_for_each_way_the_episode_ends() -> None:
 def test_failed_final_frame_has_a_red_banner_where_a_success_has_a_green_one(
     renderer: ToppleRenderer,
 ) -> None:
-    from bbgym.envs.topple.view import FAILURE_BANNER_COLOR, SUCCESS_BANNER_COLOR
+    from bbgym.envs.topple.frame import (
+        FAILURE_BANNER_COLOR,
+        SUCCESS_BANNER_COLOR,
+    )
 
     failed = renderer.render(failed_scene())
     going_on = renderer.render(make_scene(throws_left=1))

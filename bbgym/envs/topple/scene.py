@@ -33,7 +33,7 @@ def make_renderer(env: Any) -> Any:
 def describe_scene(task: ToppleTask, state: ToppleState, record: dict[str, Any]) -> Any:
     """Drawing description of one env's state, as floats, and its last step's samples (one
     env's :func:`step_records`; no physics in the renderer)."""
-    from bbgym.envs.topple.view import ToppleScene
+    from bbgym.envs.topple.frame import ToppleScene
 
     record = recorded_rows(record)
     sc, wall = state.scenario, state.wall
