@@ -1,8 +1,10 @@
 """Keyboard control of the envs for ``gymnasium.utils.play`` (``bbgym play``; needs pygame,
 the ``render`` extra).
 
-Both action spaces are continuous, so a small wrapper defined here turns the keys held in
-each frame into an action, keeping state between frames. The keys are listed by
+Both action spaces are continuous, so a small wrapper turns the keys held in each frame
+into an action, keeping state between frames: :class:`KeyboardWrapper` here, and each env
+family's own in its folder (``bbgym.envs.sail.keys``, ``bbgym.envs.throw.keys``), which its
+spec names (:attr:`bbgym.spec.EnvSpec.keyboard`). The keys are listed by
 ``bbgym play --help`` (:mod:`bbgym.cli.play`). A finished episode starts the next one; the
 seed given seeds the first episode (the next ones follow from it).
 """
@@ -14,7 +16,6 @@ import os
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 import itertools
-import math
 import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -26,45 +27,6 @@ from gymnasium import spaces
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym.spec import spec_of
-
-SHEET_STEP = 0.05
-"""Sheet change per frame while UP or DOWN is held (full range -1..1 in 40 frames)."""
-INITIAL_SHEET = 0.0
-
-# Throw aim: initial values, change per frame and limits.
-INITIAL_SPEED_MPS, INITIAL_ELEVATION_DEG = 10.0, 35.0
-SPEED_STEP_MPS, ANGLE_STEP_DEG, SPIN_STEP_RPS = 0.2, 1.0, 2.0
-ELEVATION_RANGE_DEG = (-30.0, 90.0)
-
-# Sail command [rudder, sheet change]: rudder +1 turns to port; sheet -1 hauls in.
-SAIL_KEYS: dict[int, tuple[float, ...]] = {
-    pygame.K_LEFT: (1.0, 0.0),
-    pygame.K_RIGHT: (-1.0, 0.0),
-    pygame.K_UP: (0.0, -1.0),
-    pygame.K_DOWN: (0.0, 1.0),
-}
-
-# Throw command: [speed, elevation, azimuth, side spin, back spin] changes, and throw.
-SPEED, ELEVATION, AZIMUTH, SIDE_SPIN, BACK_SPIN, THROW = range(6)
-
-
-def _unit(index: int, sign: float = 1.0) -> tuple[float, ...]:
-    return tuple(sign if k == index else 0.0 for k in range(6))
-
-
-THROW_KEYS: dict[int, tuple[float, ...]] = {
-    pygame.K_w: _unit(SPEED),
-    pygame.K_s: _unit(SPEED, -1.0),
-    pygame.K_UP: _unit(ELEVATION),
-    pygame.K_DOWN: _unit(ELEVATION, -1.0),
-    pygame.K_LEFT: _unit(AZIMUTH),
-    pygame.K_RIGHT: _unit(AZIMUTH, -1.0),
-    pygame.K_a: _unit(SIDE_SPIN),
-    pygame.K_d: _unit(SIDE_SPIN, -1.0),
-    pygame.K_e: _unit(BACK_SPIN),
-    pygame.K_q: _unit(BACK_SPIN, -1.0),
-    pygame.K_SPACE: _unit(THROW),
-}
 
 
 def combine_keys(effects: Mapping[int, tuple[float, ...]]) -> dict[tuple[int, ...], np.ndarray]:
@@ -79,7 +41,7 @@ def combine_keys(effects: Mapping[int, tuple[float, ...]]) -> dict[tuple[int, ..
     return table
 
 
-def _status(text: str) -> None:
+def show_status(text: str) -> None:
     """Show ``text`` on the console line and, when a window is open, in its title."""
     print(f"\r{text}   ", end="", flush=True)
     if pygame.display.get_init() and pygame.display.get_surface() is not None:
@@ -107,149 +69,6 @@ class KeyboardWrapper(gym.Wrapper):
             seed = self._first_seed
         self._first_seed = None
         return self.env.reset(seed=seed, options=options)
-
-
-class SailKeys(KeyboardWrapper):
-    """A sailing env from the keys. Command ``[rudder, sheet change]``: the rudder is
-    passed on as it is; the sheet moves by ``sheet_step`` times the change per step and
-    stays there (the ``sheet`` attribute, set to ``initial_sheet`` at every reset)."""
-
-    key_effects = SAIL_KEYS
-
-    def __init__(
-        self,
-        env: gym.Env,
-        seed: int | None = None,
-        sheet_step: float = SHEET_STEP,
-        initial_sheet: float = INITIAL_SHEET,
-    ) -> None:
-        super().__init__(env, seed)
-        self.sheet_step, self.initial_sheet = sheet_step, initial_sheet
-        self.sheet = initial_sheet
-
-    def reset(self, **kwargs: Any) -> Any:
-        self.sheet = self.initial_sheet
-        return super().reset(**kwargs)
-
-    def action(self, command: np.ndarray) -> np.ndarray:
-        """The env action for ``command``; moves the sheet."""
-        rudder = float(np.clip(command[0], -1.0, 1.0))
-        sheet = float(np.clip(self.sheet + self.sheet_step * command[1], -1.0, 1.0))
-        if sheet != self.sheet:
-            _status(f"sheet {sheet:+.2f} (-1 in, +1 out)")
-        self.sheet = sheet
-        return np.array([rudder, sheet], dtype=np.float32)
-
-    def step(self, command: np.ndarray) -> Any:
-        return self.env.step(self.action(command))
-
-
-class ThrowKeys(KeyboardWrapper):
-    """A ball env (Throw, Curve, Topple) from the keys. The wrapper holds an aim (launch
-    speed, elevation, azimuth, side spin, back spin) that commands change without stepping
-    the env (such a step returns the last observation and info, reward 0, not done); a
-    throw command steps the env once with :meth:`throw_action` (again only after the
-    command was released). ``render()`` then plays the flight back frame by frame
-    (``render_flight()``) and, after the last throw of an episode, holds where it landed
-    for one second at ``render_fps``."""
-
-    key_effects = THROW_KEYS
-
-    def __init__(self, env: gym.Env, seed: int | None = None) -> None:
-        super().__init__(env, seed)
-        task = env.unwrapped.task
-        self.max_speed, self.max_spin = float(task.max_speed), float(task.max_spin)
-        self.speed, self.elevation_deg = INITIAL_SPEED_MPS, INITIAL_ELEVATION_DEG
-        self.azimuth_deg = 0.0
-        self.side_spin, self.back_spin = 0.0, 0.0
-        self.throws = 0
-        self._held = False
-        self._frames: list[np.ndarray] = []
-        self._last: tuple[Any, dict[str, Any]] = (None, {})
-
-    def reset(self, **kwargs: Any) -> Any:
-        obs, info = super().reset(**kwargs)
-        self._last = (obs, info)
-        self._held = False
-        self.speed, self.elevation_deg = INITIAL_SPEED_MPS, INITIAL_ELEVATION_DEG
-        self.side_spin, self.back_spin = 0.0, 0.0
-        target = info.get("target")
-        self.azimuth_deg = (
-            math.degrees(math.atan2(float(target[1]), float(target[0])))
-            if target is not None
-            else 0.0
-        )
-        self._show_aim()
-        return obs, info
-
-    def aim(self) -> dict[str, float]:
-        return {
-            "speed": self.speed,
-            "elevation_deg": self.elevation_deg,
-            "azimuth_deg": self.azimuth_deg,
-            "side_spin": self.side_spin,
-            "back_spin": self.back_spin,
-        }
-
-    def _show_aim(self) -> None:
-        _status(
-            f"speed {self.speed:4.1f} m/s, elevation {self.elevation_deg:+5.1f} deg, "
-            f"azimuth {self.azimuth_deg:+6.1f} deg, side spin {self.side_spin:+5.1f}, "
-            f"back spin {self.back_spin:+5.1f} rad/s"
-        )
-
-    def throw_action(self) -> np.ndarray:
-        """The env action of the current aim: launch velocity / ``max_speed``, spin /
-        ``max_spin`` (side spin about +z, back spin about the horizontal axis to the
-        thrower's right, so that it lifts the ball)."""
-        el, az = math.radians(self.elevation_deg), math.radians(self.azimuth_deg)
-        velocity = self.speed * np.array(
-            [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)]
-        )
-        spin = np.array(
-            [self.back_spin * math.sin(az), -self.back_spin * math.cos(az), self.side_spin]
-        )
-        action = np.concatenate([velocity / self.max_speed, spin / self.max_spin])
-        return np.clip(action, -1.0, 1.0).astype(np.float32)
-
-    def step(self, command: np.ndarray) -> Any:
-        c = np.asarray(command, dtype=np.float64)
-        before = self.aim()
-        self.speed = float(np.clip(self.speed + SPEED_STEP_MPS * c[SPEED], 0.0, self.max_speed))
-        self.elevation_deg = float(
-            np.clip(self.elevation_deg + ANGLE_STEP_DEG * c[ELEVATION], *ELEVATION_RANGE_DEG)
-        )
-        azimuth = self.azimuth_deg + ANGLE_STEP_DEG * c[AZIMUTH]
-        self.azimuth_deg = float((azimuth + 180.0) % 360.0 - 180.0)
-        spin = self.max_spin
-        self.side_spin = float(np.clip(self.side_spin + SPIN_STEP_RPS * c[SIDE_SPIN], -spin, spin))
-        self.back_spin = float(np.clip(self.back_spin + SPIN_STEP_RPS * c[BACK_SPIN], -spin, spin))
-        if self.aim() != before:
-            self._show_aim()
-        pressed = bool(c[THROW] > 0.5)
-        throw = pressed and not self._held and not self._frames
-        self._held = pressed
-        if not throw:
-            obs, info = self._last
-            return obs, 0.0, False, False, info
-        obs, reward, terminated, truncated, info = self.env.step(self.throw_action())
-        self.throws += 1
-        self._last = (obs, info)
-        print(
-            f"\nthrow {self.throws}: reward {reward:+.2f}"
-            + (", success!" if info.get("is_success") else "")
-        )
-        if self.env.render_mode == "rgb_array":
-            render_flight = getattr(self.env.unwrapped, "render_flight", None)
-            self._frames = list(render_flight()) if render_flight else []
-            if terminated or truncated:  # the next reset comes at once: hold the landing
-                self._frames += [self.env.render()] * int(self.metadata.get("render_fps", 20))
-        return obs, reward, terminated, truncated, info
-
-    def render(self) -> Any:
-        if self._frames:
-            return self._frames.pop(0)
-        return self.env.render()
 
 
 def make_play_env(env_id: str, seed: int | None = None) -> KeyboardWrapper:

@@ -23,6 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 from bbgym import cli  # noqa: E402
 from bbgym import keyboard as play  # noqa: E402
 from bbgym.cli import record  # noqa: E402
+from bbgym.envs.sail import keys as sail_keys  # noqa: E402
+from bbgym.envs.throw import keys as throw_keys  # noqa: E402
 
 # The simple helmsman (the autopilot takes seconds to build).
 SAIL_POLICY = "simple"
@@ -218,7 +220,7 @@ def combo(*keys: int) -> tuple[int, ...]:
 
 
 def test_sail_keys_to_action():
-    table = play.combine_keys(play.SAIL_KEYS)
+    table = play.combine_keys(sail_keys.SAIL_KEYS)
     assert len(table) == 15  # every non-empty combination of the four arrows
     space = gym.make("BeachballSail-v0").action_space
     assert all(a in space and a.dtype == np.float32 for a in table.values())
@@ -237,7 +239,7 @@ def test_sail_keys_to_action():
 
 
 def test_throw_keys_to_action():
-    table = play.combine_keys(play.THROW_KEYS)
+    table = play.combine_keys(throw_keys.THROW_KEYS)
     assert len(table) == 2**11 - 1
     np.testing.assert_array_equal(table[(K.K_SPACE,)], [0, 0, 0, 0, 0, 1])
     np.testing.assert_array_equal(table[combo(K.K_w, K.K_UP)], [1, 1, 0, 0, 0, 0])
@@ -247,7 +249,7 @@ def test_throw_keys_to_action():
 
 def test_sail_wrapper_holds_the_sheet(capsys):
     inner = Recorder(gym.make("BeachballSail-v0"))
-    env = play.SailKeys(inner, seed=0)
+    env = sail_keys.SailKeys(inner, seed=0)
     table = env.get_keys_to_action()
     env.reset()
     up, left, down = table[(K.K_UP,)], table[(K.K_LEFT,)], table[(K.K_DOWN,)]
@@ -262,7 +264,7 @@ def test_sail_wrapper_holds_the_sheet(capsys):
         env.step(down)
     assert env.sheet == 1.0 and inner.actions[-1][1] == 1.0  # clipped at fully out
     env.reset()
-    assert env.sheet == play.INITIAL_SHEET
+    assert env.sheet == sail_keys.INITIAL_SHEET
     assert "sheet +1.00" in capsys.readouterr().out
 
 
@@ -270,14 +272,14 @@ def test_wrapper_seeds_the_first_episode_only():
     reference = gym.make("BeachballSail-v0")
     first, _ = reference.reset(seed=7)
     second, _ = reference.reset()
-    env = play.SailKeys(gym.make("BeachballSail-v0"), seed=7)
+    env = sail_keys.SailKeys(gym.make("BeachballSail-v0"), seed=7)
     np.testing.assert_array_equal(env.reset()[0], first)
     np.testing.assert_array_equal(env.reset()[0], second)
 
 
 def test_throw_wrapper_aims_and_throws_only_on_space(capsys):
     inner = Recorder(gym.make("BeachballThrow-v0", render_mode="rgb_array"))
-    env = play.ThrowKeys(inner, seed=2)
+    env = throw_keys.ThrowKeys(inner, seed=2)
     table = env.get_keys_to_action()
     obs, info = env.reset()
     target = info["target"]
@@ -327,7 +329,7 @@ def test_throw_wrapper_aims_and_throws_only_on_space(capsys):
 
 def test_throw_wrapper_throws_once_per_press():
     inner = Recorder(gym.make("BeachballThrow-v0"))  # no rendering: no flight to wait for
-    env = play.ThrowKeys(inner, seed=0)
+    env = throw_keys.ThrowKeys(inner, seed=0)
     space = env.get_keys_to_action()[(K.K_SPACE,)]
     env.reset()
     for command in [space, space, space, env.noop, space, space, env.noop, env.noop]:
@@ -336,7 +338,7 @@ def test_throw_wrapper_throws_once_per_press():
 
 
 def test_throw_wrapper_no_throw_while_the_flight_plays():
-    env = play.ThrowKeys(Recorder(gym.make("BeachballTopple-v0", render_mode="rgb_array")))
+    env = throw_keys.ThrowKeys(Recorder(gym.make("BeachballTopple-v0", render_mode="rgb_array")))
     space = env.get_keys_to_action()[(K.K_SPACE,)]
     env.reset(seed=0)
     assert env.azimuth_deg == 0.0  # toward the wall, along +x
@@ -376,7 +378,7 @@ def key(kind, code):
 
 def test_gymnasium_play_drives_the_sail_wrapper():
     inner = Recorder(gym.make("BeachballSail-v0", render_mode="rgb_array"))
-    env = play.SailKeys(inner, seed=0)
+    env = sail_keys.SailKeys(inner, seed=0)
     script = {
         1: [key(pygame.KEYDOWN, K.K_UP)],
         4: [key(pygame.KEYUP, K.K_UP), key(pygame.KEYDOWN, K.K_LEFT)],
@@ -393,7 +395,7 @@ def test_gymnasium_play_drives_the_sail_wrapper():
 
 def test_gymnasium_play_drives_the_throw_wrapper():
     inner = Recorder(gym.make("BeachballThrow-v0", render_mode="rgb_array"))
-    env = play.ThrowKeys(inner, seed=0)
+    env = throw_keys.ThrowKeys(inner, seed=0)
     script = {
         1: [key(pygame.KEYDOWN, K.K_DOWN)],
         3: [key(pygame.KEYUP, K.K_DOWN), key(pygame.KEYDOWN, K.K_SPACE)],

@@ -33,7 +33,7 @@ def _outcome(env: Any, info: dict[str, Any], terminated: bool, truncated: bool) 
 
 
 def _keyboard(env: Any, seed: int | None) -> Any:
-    from bbgym.keyboard import SailKeys
+    from bbgym.envs.sail.keys import SailKeys
 
     return SailKeys(env, seed)
 

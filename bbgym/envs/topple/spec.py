@@ -37,7 +37,7 @@ def _outcome(env: Any, info: dict[str, Any], terminated: bool, truncated: bool) 
 
 
 def _keyboard(env: Any, seed: int | None) -> Any:
-    from bbgym.keyboard import ThrowKeys
+    from bbgym.envs.throw.keys import ThrowKeys
 
     return ThrowKeys(env, seed)
 
