@@ -95,6 +95,10 @@ class EnvSpec:
     fuzz: FuzzSpec | None = None
     keyboard: Callable[[Any, int | None], Any] | None = None
     """``keyboard(env, seed)``: the env wrapped for ``bbgym play``."""
+    argument_table: tuple[tuple[str, str], ...] = ()
+    """The accepted values of the constructor's arguments and the reset options, as
+    ``(arguments, accepted)`` rows of the documentation's table (the parameter groups'
+    fields have their own rows, from their dataclasses' intervals)."""
     step_unit: str = "steps"
     """What an env step is, for throughput figures (``"throws"`` for a ball env)."""
     demo: Callable[[int | None, int], tuple[str, str, dict[str, Any], list[Any]]] | None = None

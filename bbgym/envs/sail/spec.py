@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from bbgym.envs.sail.task import ARGUMENT_TABLE
 from bbgym.physics.sailing import DinghyParams
 from bbgym.physics.wind import GustParams
 from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
@@ -121,6 +122,7 @@ SPEC = register_spec(
         policies={"scripted": _scripted, "simple": _simple},
         timed_by_oracle=True,
         outcome=_outcome,
+        argument_table=ARGUMENT_TABLE,
         fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.4, episode_steps=300),
         keyboard=_keyboard,
         demo=_demo,

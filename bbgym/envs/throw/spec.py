@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from bbgym.envs.throw.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wind import GustParams
 from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
@@ -177,6 +178,7 @@ SPEC = register_spec(
         integer_arguments=("throws_per_episode",),
         policies={"scripted": _scripted, "planner": _planner},
         outcome=_outcome,
+        argument_table=ARGUMENT_TABLE,
         fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=12),
         keyboard=_keyboard,
         step_unit="throws",

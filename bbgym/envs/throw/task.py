@@ -260,6 +260,11 @@ class ThrowTask(TaskCore):
         miss_scale: float = 2.0,
         hit_bonus: float = 5.0,
     ) -> None:
+        """Validate every argument (the env's docstring says what each means) and derive the
+        step's fixed sizes. One function on purpose: it checks the arguments in the
+        signature's order, each against its accepted interval or the one an earlier
+        argument sets (a target beyond ``target_radius``), so the first bad argument is the
+        one reported."""
         self.ball = build_params(BallParams, "ball", ball)
         self.throws_per_episode = check_integer(
             "throws_per_episode", throws_per_episode, THROWS_PER_EPISODE

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from bbgym.envs.topple.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wall import WallParams
 from bbgym.physics.wind import GustParams
@@ -122,6 +123,7 @@ SPEC = register_spec(
         integer_arguments=("throws_per_episode",),
         policies={"scripted": _scripted, "planner": _planner},
         outcome=_outcome,
+        argument_table=ARGUMENT_TABLE,
         fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=8),
         keyboard=_keyboard,
         step_unit="throws",

@@ -218,6 +218,11 @@ class ToppleTask(TaskCore):
         throw_cost: float = 0.2,
         lean_weight: float = 1.0,
     ) -> None:
+        """Validate every argument (the env's docstring says what each means) and derive the
+        interval's fixed sizes and the compiled and host chunking. One function on purpose:
+        it checks the arguments in order, each against its accepted interval or the one an
+        earlier argument sets (``gust_dt`` at most ``interval``), so the first bad argument
+        is the one reported."""
         self.wall = build_params(WallParams, "wall", wall)
         self.ball = build_params(BallParams, "ball", ball)
         self.throws_per_episode = check_integer(
