@@ -33,6 +33,9 @@ from bbgym.envs.throw.task import (
     WIND_SPEED_MPS,
     WINDSOCK_NOISE_MPS,
 )
+
+# (validation.interval by its module: the constructor's argument `interval` shadows the name)
+from bbgym.physics import validation
 from bbgym.physics.backend import Array, floats
 from bbgym.physics.ball import BallParams, ball_at
 from bbgym.physics.toppling import (
@@ -53,7 +56,6 @@ from bbgym.physics.validation import (
     check_pair,
     check_range,
 )
-from bbgym.physics.validation import interval as span
 from bbgym.physics.wall import (
     FALLEN_AWAY,
     FALLEN_TOWARD,
@@ -71,8 +73,8 @@ COMPILED_CHUNK_SUBSTEPS = 1
 """Substeps per :meth:`ToppleTask.chunk`, the part of the step that torch compiles."""
 # Accepted intervals (README, "Validation and errors"); the rest are shared with the throw envs.
 WALL_DISTANCE_MAX_M = 50.0
-INTERVAL_S = span(0.0, 60.0, low_open=True)
-WIND_FROM_RAD = span(-2.0 * math.pi, 2.0 * math.pi)
+INTERVAL_S = validation.interval(0.0, 60.0, low_open=True)
+WIND_FROM_RAD = validation.interval(-2.0 * math.pi, 2.0 * math.pi)
 ARGUMENT_TABLE = (
     ("`wall`, `ball`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
     ("`throws_per_episode`", f"int in {THROWS_PER_EPISODE}"),
@@ -230,7 +232,7 @@ class ToppleTask(TaskCore):
         )
         # The wall stands clear of the thrower: one interval for the constructor's range and
         # the reset option alike.
-        self.wall_distance = span(self.wall.half_base_m + 1.0, WALL_DISTANCE_MAX_M)
+        self.wall_distance = validation.interval(self.wall.half_base_m + 1.0, WALL_DISTANCE_MAX_M)
         self.wall_distance_range = check_range(
             "wall_distance_range", wall_distance_range, self.wall_distance,
             why=f"the wall's foot, half of wall.base_depth_m = {self.wall.base_depth_m:g} m, "
@@ -252,17 +254,17 @@ class ToppleTask(TaskCore):
         self.launch_height = check_number(
             "launch_height",
             launch_height,
-            span(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M),
+            validation.interval(self.ball.radius_m, LAUNCH_HEIGHT_MAX_M),
             why=f"at least ball.radius_m = {self.ball.radius_m:g} m",
         )
         self.wait_speed = check_number(
-            "wait_speed", wait_speed, span(0.0, self.max_speed),
+            "wait_speed", wait_speed, validation.interval(0.0, self.max_speed),
             why=f"at most max_speed = {self.max_speed:g} m/s",
         )  # fmt: skip
         self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
         self.interval = check_number("interval", interval, INTERVAL_S)
         self.gust_dt = check_number(
-            "gust_dt", gust_dt, span(0.0, self.interval, low_open=True),
+            "gust_dt", gust_dt, validation.interval(0.0, self.interval, low_open=True),
             why=f"at most interval = {self.interval:g} s: pass a longer interval or a shorter "
             "gust_dt",
         )  # fmt: skip
