@@ -70,6 +70,11 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         self._renderer: Any = None
         self._animate = False
         self._collected: list[Any] = []  # rgb_array_list: scenes not yet rendered
+        self._init_host_state()
+
+    def _init_host_state(self) -> None:
+        """Hook: set up what the env keeps on the host beside its state (a wake to draw,
+        the last records), once the task and spaces exist."""
 
     @property
     def started(self) -> bool:
@@ -188,6 +193,25 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
             self._renderer = None
 
 
+class FlightFrames:
+    """For a :class:`CoreEnv` whose step is a flight (a throw, an interval): the frames of
+    the last step's flight, as human mode plays them and ``rgb_array_list`` collects them."""
+
+    def render_flight(self) -> list[np.ndarray]:
+        """The frames of the last step's flight, one per recorded sample (every 0.05 s, so
+        ``render_fps`` plays it in real time), without the end frame that ``render()``
+        returns; ``[]`` before the first step. These are the frames human mode shows after
+        a step, and those ``rgb_array_list`` collects before a step's end. In ``rgb_array``
+        and ``rgb_array_list`` mode: a list of ``(H, W, 3)`` uint8 arrays
+        (``rgb_array_list``'s collected frames stay as they are); in ``human`` mode the
+        flight is shown again and the list is empty."""
+        renderer = ensure_renderer(self)
+        if renderer is None:
+            return []
+        frames = [renderer.render(s) for s in self._flight_scenes(self._scene())]
+        return [f for f in frames if f is not None]
+
+
 class CoreVectorEnv(VectorEnv):
     """A native vector env over a task core: ``num_envs`` envs in one batch.
 
@@ -258,6 +282,11 @@ class CoreVectorEnv(VectorEnv):
         self._any_restarting: bool | None = None
         self._renderer: Any = None
         self._collected: list[list[Any]] = []  # rgb_array_list: per drawn sub-env
+        self._init_host_state()
+
+    def _init_host_state(self) -> None:
+        """Hook: set up what the env keeps on the host beside its batched state (the drawn
+        sub-envs' wakes, the last records), once the task, spaces and backend exist."""
 
     @property
     def started(self) -> bool:

@@ -138,6 +138,14 @@ def columns_to_observation(columns: tuple, xp: Any) -> Any:
     return xp.astype(obs, xp.float32)
 
 
+def stack_pair(x: Any, y: Any, xp: Any) -> Any:
+    """An ``(x, y)`` pair per env for ``info``: a ``(2,)`` NumPy array for one env (Python
+    floats), ``(batch, 2)`` for a batch."""
+    if xp is floats:
+        return np.array((x, y))
+    return xp.stack((x, y), axis=1)
+
+
 def settle(task: Any, moved: Any, restarting: Any, steps: Any, max_episode_steps: int,
            xp: Any) -> tuple[Any, Any, Any, Any]:  # fmt: skip
     """Next-step autoreset's bookkeeping of a vector step, on any backend: the one place

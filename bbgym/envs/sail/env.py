@@ -168,8 +168,7 @@ class BeachballSailEnv(CoreEnv):
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 4}
     task_class = SailTask
 
-    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        super().__init__(render_mode, **kwargs)
+    def _init_host_state(self) -> None:
         self._wake: deque[tuple[float, float]] = deque(maxlen=120)
         self._last_action = np.zeros(2)
 
@@ -205,17 +204,10 @@ class BeachballSailVectorEnv(CoreVectorEnv):
     task_class = SailTask
     default_max_episode_steps = 1200
 
-    def __init__(
-        self,
-        num_envs: int = 1,
-        render_mode: str | None = None,
-        max_episode_steps: int | None = None,
-        **kwargs: Any,
-    ) -> None:
-        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+    def _init_host_state(self) -> None:
         self._wakes = [deque(maxlen=120) for _ in range(self.num_envs)]
         self._last_action = np.zeros((self.num_envs, 2))
-        self._wants_reset_hook = render_mode is not None
+        self._wants_reset_hook = self.render_mode is not None
 
     def _on_reset(self, mask: np.ndarray) -> None:
         for i in np.flatnonzero(mask)[:4]:

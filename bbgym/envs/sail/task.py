@@ -16,7 +16,7 @@ from bbgym.envs.common import (
     check_option_keys,
     option_path,
 )
-from bbgym.envs.functional import InitialNoise, TaskCore
+from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 from bbgym.physics.backend import Array, floats
 from bbgym.physics.common import wrap_angle
 from bbgym.physics.sailing import (
@@ -398,16 +398,9 @@ class SailTask(TaskCore):
     def info(self, state: SailState, m: dict, xp: Any) -> dict[str, Any]:
         """Physical quantities: Python scalars for one env, arrays ``(batch,)`` for a batch."""
         boat, sc = state.boat, state.scenario
-        if xp is floats:
-            pair: Any = np.array
-        else:
-
-            def pair(xy: tuple) -> Any:
-                return xp.stack(xy, axis=1)
-
         return {
-            "position": pair((boat.x_m, boat.y_m)),
-            "velocity": pair((boat.vx_mps, boat.vy_mps)),
+            "position": stack_pair(boat.x_m, boat.y_m, xp),
+            "velocity": stack_pair(boat.vx_mps, boat.vy_mps, xp),
             "boat_speed": m["boat_speed"],
             "heading": wrap_angle(boat.heading_rad, xp),
             "true_wind_angle": m["true_wind_angle"],
@@ -419,7 +412,7 @@ class SailTask(TaskCore):
             "boom_angle": boat.boom_rad,
             "vmg_to_mark": m["vmg_to_mark"],
             "distance_to_mark": m["distance_to_mark"],
-            "mark": pair((sc.mark_x_m, sc.mark_y_m)),
+            "mark": stack_pair(sc.mark_x_m, sc.mark_y_m, xp),
             "jibes": state.jibes,
             "jibe_severity": state.last_jibe_severity,
             "max_jibe_severity": state.max_jibe_severity,

@@ -9,10 +9,7 @@ from typing import Any
 import numpy as np
 
 from bbgym import backends
-from bbgym.envs.common import (
-    ensure_renderer,
-)
-from bbgym.envs.core import CoreEnv, CoreVectorEnv
+from bbgym.envs.core import CoreEnv, CoreVectorEnv, FlightFrames
 from bbgym.envs.throw.records import FlightRecords, flight_records
 from bbgym.envs.throw.scene import describe_scene, flight_scenes, make_renderer
 from bbgym.envs.throw.task import ThrowTask
@@ -55,7 +52,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballThrowEnv(CoreEnv):
+class BeachballThrowEnv(FlightFrames, CoreEnv):
     """Throw a beach ball through a gusty wind into a ring on the ground.
 
     ## Description
@@ -176,8 +173,7 @@ class BeachballThrowEnv(CoreEnv):
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}
     task_class = ThrowTask
 
-    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        super().__init__(render_mode, **kwargs)
+    def _init_host_state(self) -> None:
         self._landings: list[tuple[float, float]] = []
         self._records = flight_records(None, False, self.task.record_capacity)
 
@@ -202,20 +198,6 @@ class BeachballThrowEnv(CoreEnv):
         # One recorded point per frame at render_fps = 1 / 0.05 s: real time.
         return flight_scenes(scene)
 
-    def render_flight(self) -> list[np.ndarray]:
-        """The frames of the last throw's flight, one per recorded point (every 0.05 s, so
-        ``render_fps`` plays it in real time), without the landing frame that ``render()``
-        returns; ``[]`` before the first throw. These are the frames human mode shows
-        after a step, and those ``rgb_array_list`` collects before a landing's. In
-        ``rgb_array`` and ``rgb_array_list`` mode: a list of ``(H, W, 3)`` uint8 arrays
-        (``rgb_array_list``'s collected frames stay as they are); in ``human`` mode the
-        flight is shown again and the list is empty."""
-        renderer = ensure_renderer(self)
-        if renderer is None:
-            return []
-        frames = [renderer.render(s) for s in flight_scenes(self._scene())]
-        return [f for f in frames if f is not None]
-
 
 class BeachballThrowVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballThrowEnv`: all throws fly in one batch.
@@ -233,14 +215,7 @@ class BeachballThrowVectorEnv(CoreVectorEnv):
     task_class = ThrowTask
     default_max_episode_steps = 100
 
-    def __init__(
-        self,
-        num_envs: int = 1,
-        render_mode: str | None = None,
-        max_episode_steps: int | None = None,
-        **kwargs: Any,
-    ) -> None:
-        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+    def _init_host_state(self) -> None:
         self._records: FlightRecords | None = None
 
     def _on_reset(self, mask: np.ndarray) -> None:

@@ -17,7 +17,7 @@ from bbgym.envs.common import (
     mean_wind,
     option_path,
 )
-from bbgym.envs.functional import InitialNoise, TaskCore
+from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 from bbgym.physics.backend import Array, floats
 from bbgym.physics.ball import (
     FLIGHT_SUBSTEPS_MAX,
@@ -580,25 +580,18 @@ class ThrowTask(TaskCore):
         """The last throw and the scenario: Python scalars (pairs as NumPy arrays) for
         one env, arrays ``(batch,)`` or ``(batch, 2)`` for a batch."""
         sc = state.scenario
-        if xp is floats:
-            pair: Any = np.array
-        else:
-
-            def pair(xy: tuple) -> Any:
-                return xp.stack(xy, axis=1)
-
         return {
             "thrown": state.thrown,
-            "landing_point": pair((state.landing_x, state.landing_y)),
+            "landing_point": stack_pair(state.landing_x, state.landing_y, xp),
             "miss_distance": state.miss_distance,
             "flight_time": state.flight_time,
             "apex_height": state.apex_height,
             "spin_parameter": state.spin_parameter,
             "hit_screen": state.hit_screen,
-            "wind": pair((state.wind_x, state.wind_y)),
+            "wind": stack_pair(state.wind_x, state.wind_y, xp),
             "is_success": state.is_success,
             "reward_terms": {k: getattr(state, k) for k in REWARD_TERMS},
             "throws_left": state.throws_left,
-            "target": pair((sc.target_x, sc.target_y)),
-            "windsock": pair((state.sock_x, state.sock_y)),
+            "target": stack_pair(sc.target_x, sc.target_y, xp),
+            "windsock": stack_pair(state.sock_x, state.sock_y, xp),
         }

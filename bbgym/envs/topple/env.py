@@ -9,10 +9,7 @@ from typing import Any
 import numpy as np
 
 from bbgym import backends
-from bbgym.envs.common import (
-    ensure_renderer,
-)
-from bbgym.envs.core import CoreEnv, CoreVectorEnv
+from bbgym.envs.core import CoreEnv, CoreVectorEnv, FlightFrames
 from bbgym.envs.topple.records import env_record, step_records
 from bbgym.envs.topple.scene import describe_scene, flight_scenes, make_renderer
 from bbgym.envs.topple.task import ToppleTask
@@ -54,7 +51,7 @@ _DOC_ARGS = """
 """
 
 
-class BeachballToppleEnv(CoreEnv):
+class BeachballToppleEnv(FlightFrames, CoreEnv):
     """Bring down a wall standing in gusty wind by throwing beach balls at it.
 
     ## Description
@@ -178,8 +175,7 @@ class BeachballToppleEnv(CoreEnv):
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}
     task_class = ToppleTask
 
-    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        super().__init__(render_mode, **kwargs)
+    def _init_host_state(self) -> None:
         self._record_cache: tuple[Any, dict[str, Any]] | None = None
 
     def _on_reset(self) -> None:
@@ -210,20 +206,6 @@ class BeachballToppleEnv(CoreEnv):
         # One sample per frame at render_fps = 1 / 0.05 s: real time.
         return flight_scenes(scene)
 
-    def render_flight(self) -> list[np.ndarray]:
-        """The frames of the last step's interval (the ball's flight, the rocking wall), one
-        per sample (every 0.05 s, so ``render_fps`` plays it in real time), without the end
-        frame that ``render()`` returns; ``[]`` before the first step. These are the frames
-        human mode shows after a step, and those ``rgb_array_list`` collects before a
-        step's end. In ``rgb_array`` and ``rgb_array_list`` mode: a list of ``(H, W, 3)``
-        uint8 arrays (``rgb_array_list``'s collected frames stay as they are); in
-        ``human`` mode the interval is shown again and the list is empty."""
-        renderer = ensure_renderer(self)
-        if renderer is None:
-            return []
-        frames = [renderer.render(s) for s in flight_scenes(self._scene())]
-        return [f for f in frames if f is not None]
-
 
 class BeachballToppleVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballToppleEnv`: all walls and balls in one
@@ -241,14 +223,7 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
     task_class = ToppleTask
     default_max_episode_steps = 100
 
-    def __init__(
-        self,
-        num_envs: int = 1,
-        render_mode: str | None = None,
-        max_episode_steps: int | None = None,
-        **kwargs: Any,
-    ) -> None:
-        super().__init__(num_envs, render_mode, max_episode_steps, **kwargs)
+    def _init_host_state(self) -> None:
         self._fresh = np.ones(self.num_envs, dtype=bool)
         self._fresh_events: Any = None
 

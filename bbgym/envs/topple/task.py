@@ -21,7 +21,7 @@ from bbgym.envs.common import (
     mean_wind,
     option_path,
 )
-from bbgym.envs.functional import InitialNoise, TaskCore
+from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 from bbgym.envs.throw.task import (
     BALL_GUSTS,
     BALL_SIM_DT_S,
@@ -519,10 +519,6 @@ class ToppleTask(TaskCore):
         (``wall_state``, a name, and the samples are added by the env on the host)."""
         wall = state.wall
         status = wall.status
-        if xp is floats:
-            windsock: Any = np.array((m["sock_x"], m["sock_y"]))
-        else:
-            windsock = xp.stack((m["sock_x"], m["sock_y"]), axis=1)
         return {
             "wall_angle": wall.angle,
             "wall_angular_velocity": wall.rate,
@@ -532,5 +528,5 @@ class ToppleTask(TaskCore):
             "throws_left": state.throws_left,
             "is_success": (status == FALLEN_AWAY) | (status == LOOSE),
             "reward_terms": {k: getattr(state, k) for k in REWARD_TERMS},
-            "windsock": windsock,
+            "windsock": stack_pair(m["sock_x"], m["sock_y"], xp),
         }
