@@ -2,9 +2,9 @@
 the ``render`` extra).
 
 Both action spaces are continuous, so a small wrapper turns the keys held in each frame
-into an action, keeping state between frames: :class:`KeyboardWrapper` here, and each env
-family's own in its folder (``bbgym.envs.sail.keys``, ``bbgym.envs.throw.keys``), which its
-spec names (:attr:`bbgym.spec.EnvSpec.keyboard`). The keys are listed by
+into an action, keeping state between frames: :class:`KeyboardWrapper` here, and each
+family's own, which its spec names (:attr:`bbgym.spec.EnvSpec.keyboard`): sailing's in
+``bbgym.envs.sail.keys``, the ball envs' shared ``bbgym.envs.ball_keys``. The keys are listed by
 ``bbgym play --help`` (:mod:`bbgym.cli.play`). A finished episode starts the next one; the
 seed given seeds the first episode (the next ones follow from it).
 """

@@ -36,7 +36,8 @@ def test_preset_builds_the_env():
 
 
 def test_throw_preset_matches_code_defaults():
-    from bbgym.envs.throw.task import BALL_GUSTS, ThrowTask
+    from bbgym.envs.ball import BALL_GUSTS
+    from bbgym.envs.throw.task import ThrowTask
     from bbgym.physics.ball import BallParams
 
     env_id, kwargs = load_preset(CONFIG_DIR / "beachball_throw.yaml")
@@ -53,7 +54,7 @@ def test_throw_preset_matches_code_defaults():
 
 
 def test_topple_preset_matches_code_defaults():
-    from bbgym.envs.throw.task import BALL_GUSTS
+    from bbgym.envs.ball import BALL_GUSTS
     from bbgym.envs.topple import ToppleTask
     from bbgym.physics.ball import BallParams
     from bbgym.physics.wall import WallParams

@@ -23,8 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 from bbgym import cli  # noqa: E402
 from bbgym import keyboard as play  # noqa: E402
 from bbgym.cli import record  # noqa: E402
+from bbgym.envs import ball_keys as throw_keys  # noqa: E402
 from bbgym.envs.sail import keys as sail_keys  # noqa: E402
-from bbgym.envs.throw import keys as throw_keys  # noqa: E402
 
 # The simple helmsman (the autopilot takes seconds to build).
 SAIL_POLICY = "simple"

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from bbgym.envs.ball import sample_ball_kwargs, sample_wind_option
 from bbgym.envs.throw.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wind import GustParams
@@ -61,30 +62,9 @@ def _outcome(env: Any, info: dict[str, Any], terminated: bool, truncated: bool) 
 
 
 def _keyboard(env: Any, seed: int | None) -> Any:
-    from bbgym.envs.throw.keys import ThrowKeys
+    from bbgym.envs.ball_keys import ThrowKeys
 
     return ThrowKeys(env, seed)
-
-
-def sample_ball_kwargs(draw: Any) -> dict[str, Any]:
-    """The arguments every ball task takes (the ball, the wind, the launch), drawn over
-    their accepted intervals."""
-    from bbgym.envs.throw import task
-    from bbgym.fuzz import draw_flag, draw_pair, sample_params
-    from bbgym.physics.validation import interval
-
-    ball = sample_params(draw, BallParams, "ball")
-    radius = ball.get("radius_m", BallParams.radius_m)
-    return {
-        "ball": ball,
-        "wind_speed_range": draw_pair(draw, "wind_speed_range", task.WIND_SPEED_MPS),
-        "gusts": draw_flag(draw, "gusts"),
-        "gust_params": sample_params(draw, GustParams, "gust_params"),
-        "windsock_noise": draw("windsock_noise", task.WINDSOCK_NOISE_MPS, False),
-        "max_speed": draw("max_speed", task.LAUNCH_SPEED_MPS, True),
-        "max_spin": draw("max_spin", task.LAUNCH_SPIN_RPS, True),
-        "launch_height": draw("launch_height", interval(radius, task.LAUNCH_HEIGHT_MAX_M), True),
-    }
 
 
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
@@ -123,17 +103,6 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
         "miss_scale": draw("miss_scale", task.MISS_SCALE_M, True),
         "hit_bonus": draw("hit_bonus", task.REWARD_WEIGHT, False),
     }
-
-
-def sample_wind_option(options: dict[str, Any], draw: Any) -> None:
-    """The reset options every ball task takes: ``gusts`` and ``wind``, each or not."""
-    from bbgym.envs.throw import task
-    from bbgym.fuzz import draw_flag, draw_vector
-
-    if draw_flag(draw, "options.has_gusts"):
-        options["gusts"] = draw_flag(draw, "options['gusts']")
-    if draw_flag(draw, "options.has_wind"):
-        options["wind"] = draw_vector(draw, "wind", task.WIND_SPEED_MPS)
 
 
 def _sample_options(throw_task: Any, draw: Any) -> dict[str, Any] | None:

@@ -11,6 +11,17 @@ from typing import Any, NamedTuple
 import numpy as np
 from gymnasium import spaces
 
+from bbgym.envs.ball import (
+    BALL_GUSTS,
+    BALL_SIM_DT_S,
+    LAUNCH_HEIGHT_MAX_M,
+    LAUNCH_SPEED_MPS,
+    LAUNCH_SPIN_RPS,
+    REWARD_WEIGHT,
+    THROWS_PER_EPISODE,
+    WIND_SPEED_MPS,
+    WINDSOCK_NOISE_MPS,
+)
 from bbgym.envs.common import (
     check_box_action,
     check_option_keys,
@@ -53,29 +64,16 @@ RESET_OPTIONS = ("wind", "target", "gusts", "screen")
 OBS_SIZE = 19
 DISTANCE_SCALE_M = 10.0
 WIND_SCALE_MPS = 5.0
-BALL_GUSTS = GustParams(speed_std=0.25, shift_std_rad=math.radians(15.0), time_constant_s=10.0,
-                        smoothing_s=2.0)  # fmt: skip
-"""Gusts near the ground: stronger and quicker than on open water."""
 
-# Accepted intervals of the ball tasks' arguments and reset options (README, "Validation
-# and errors"); BeachballTopple-v0 uses them too.
-THROWS_PER_EPISODE = interval(1, 100)
-WIND_SPEED_MPS = interval(0.0, 20.0)
-"""Mean wind near the ground: calm to a gale (beyond it nobody throws beach balls)."""
+# Accepted intervals of the throwing task's own arguments and reset options (those every
+# ball task takes are in bbgym.envs.ball).
 TARGET_RADIUS_M = interval(0.0, 10.0, low_open=True)
 FIELD_RADIUS_M = interval(0.0, 1000.0, low_open=True)
 BEARING_RAD = interval(-math.pi, math.pi)
 THROW_INTERVAL_S = interval(0.0, 3600.0, low_open=True)
-WINDSOCK_NOISE_MPS = interval(0.0, 10.0)
-LAUNCH_SPEED_MPS = interval(0.0, 60.0, low_open=True)
-"""Up to a hard-hit football; a beach ball's drag takes most of it within metres."""
-LAUNCH_SPIN_RPS = interval(0.0, 500.0, low_open=True)
-LAUNCH_HEIGHT_MAX_M = 20.0
 SCREEN_SIZE_M = interval(0.0, 100.0, low_open=True)
-BALL_SIM_DT_S = interval(1e-4, 0.05)
 FLIGHT_TIME_MAX_S = 600.0
 MISS_SCALE_M = interval(0.0, 100.0, low_open=True)
-REWARD_WEIGHT = interval(0.0, 1000.0)
 ARGUMENT_TABLE = (
     ("`ball`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
     ("`throws_per_episode`", f"int in {THROWS_PER_EPISODE}"),

@@ -38,14 +38,13 @@ def _outcome(env: Any, info: dict[str, Any], terminated: bool, truncated: bool) 
 
 
 def _keyboard(env: Any, seed: int | None) -> Any:
-    from bbgym.envs.throw.keys import ThrowKeys
+    from bbgym.envs.ball_keys import ThrowKeys
 
     return ThrowKeys(env, seed)
 
 
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
-    from bbgym.envs.throw import task as throw_task
-    from bbgym.envs.throw.spec import sample_ball_kwargs
+    from bbgym.envs.ball import REWARD_WEIGHT, sample_ball_kwargs
     from bbgym.envs.topple import task
     from bbgym.fuzz import COST_CAPS, draw_int, draw_pair, sample_params
     from bbgym.physics.validation import interval
@@ -76,14 +75,14 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
         "gust_dt": gust_every * sim_dt,
         "wait_speed": draw("wait_speed", interval(0.0, max_speed), False),
         **{
-            name: draw(name, throw_task.REWARD_WEIGHT, False)
+            name: draw(name, REWARD_WEIGHT, False)
             for name in ("success_bonus", "failure_penalty", "throw_cost", "lean_weight")
         },
     }
 
 
 def _sample_options(topple_task: Any, draw: Any) -> dict[str, Any] | None:
-    from bbgym.envs.throw.spec import sample_wind_option
+    from bbgym.envs.ball import sample_wind_option
     from bbgym.fuzz import draw_flag
 
     options: dict[str, Any] = {}

@@ -13,16 +13,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from bbgym.envs.common import (
-    FULL_CIRCLE_RAD,
-    check_box_action,
-    check_multiple,
-    check_option_keys,
-    mean_wind,
-    option_path,
-)
-from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
-from bbgym.envs.throw.task import (
+from bbgym.envs.ball import (
     BALL_GUSTS,
     BALL_SIM_DT_S,
     LAUNCH_HEIGHT_MAX_M,
@@ -33,6 +24,15 @@ from bbgym.envs.throw.task import (
     WIND_SPEED_MPS,
     WINDSOCK_NOISE_MPS,
 )
+from bbgym.envs.common import (
+    FULL_CIRCLE_RAD,
+    check_box_action,
+    check_multiple,
+    check_option_keys,
+    mean_wind,
+    option_path,
+)
+from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 
 # (validation.interval by its module: the constructor's argument `interval` shadows the name)
 from bbgym.physics import validation
@@ -71,7 +71,8 @@ OBS_SIZE = 19
 RECORD_DT_S = 0.05
 COMPILED_CHUNK_SUBSTEPS = 1
 """Substeps per :meth:`ToppleTask.chunk`, the part of the step that torch compiles."""
-# Accepted intervals (README, "Validation and errors"); the rest are shared with the throw envs.
+# Accepted intervals of the toppling task's own arguments (those every ball task takes are
+# in bbgym.envs.ball).
 WALL_DISTANCE_MAX_M = 50.0
 INTERVAL_S = validation.interval(0.0, 60.0, low_open=True)
 WIND_FROM_RAD = validation.interval(-2.0 * math.pi, 2.0 * math.pi)

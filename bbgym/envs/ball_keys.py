@@ -1,4 +1,6 @@
-"""The ball envs (Throw, Curve, Topple) from the keyboard (``bbgym play``): aim, then throw."""
+"""The ball envs (Throw, Curve, Topple) from the keyboard (``bbgym play``): aim, then throw.
+
+Shared by the throwing and toppling families (their specs name it)."""
 
 from __future__ import annotations
 
