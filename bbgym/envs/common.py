@@ -6,7 +6,6 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Mapping
-from dataclasses import fields
 from typing import Any
 
 import gymnasium as gym
@@ -75,12 +74,6 @@ def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
     if not np.isfinite(a).all():
         raise ValueError(f"action must be finite, got {action!r}")
     return np.clip(a, -1.0, 1.0)
-
-
-def element(obj: Any, i: int) -> Any:
-    """Element ``i`` of a batch dataclass or NamedTuple, as Python scalars."""
-    names = obj._fields if isinstance(obj, tuple) else [f.name for f in fields(obj)]
-    return type(obj)(**{name: getattr(obj, name)[i].item() for name in names})
 
 
 def vector_seeds(seed: int | list[int | None] | None, num_envs: int) -> list[int | None]:
