@@ -370,6 +370,15 @@ def expand(markdown: str) -> str:
     return MARKER.sub(replace, markdown)
 
 
+SPHINX_ROLE = re.compile(r":(?:func|meth|class|data|attr|mod|obj):<code>~?([^<]*)</code>")
+"""A reST cross-reference role in a docstring, as Markdown renders it (``:func:`x```)."""
+
+
+def on_page_content(html: str, page: Any, config: Any, files: Any) -> str:
+    """MkDocs hook: the docstrings' reST roles (``:func:`~a.b```) shown as plain code."""
+    return SPHINX_ROLE.sub(r"<code>\1</code>", html)
+
+
 def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
     """MkDocs hook (``hooks:`` in docs/mkdocs.yml)."""
     from mkdocs.exceptions import PluginError
