@@ -2,7 +2,8 @@
 #   make run   - the main job: train SAC on BeachballSail-v1 with its shipped preset,
 #                evaluate it beside random play and the VMG autopilot, and write the run
 #                folder runs/main (model, results table, learning curve, animation)
-#   make test  - lint and the test suite
+#   make test  - lint, the test suite and the strict build of the documentation site
+#   make docs  - the documentation site (docs/mkdocs.yml) into runs/site
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
@@ -11,7 +12,7 @@ STAMP := $(VENV)/.installed
 # set-up on a fresh machine is shorter. A full install (make test) covers it too.
 RUN_STAMP := $(VENV)/.installed-run
 
-.PHONY: run test setup demo polar bench clean
+.PHONY: run test docs setup demo polar bench clean
 
 # torch goes in first, pinned to the CPU wheel this project's machines carry: left to
 # resolve `torch` itself, pip would fetch a multi-GB CUDA build.
@@ -21,7 +22,7 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet "$(TORCH)"
-	$(PY) -m pip install --quiet -e ".[dev,train,torch,rllib,zoo]"
+	$(PY) -m pip install --quiet -e ".[dev,train,torch,rllib,zoo,docs]"
 	touch $(STAMP) $(RUN_STAMP)
 
 $(RUN_STAMP): pyproject.toml
@@ -43,6 +44,10 @@ test: $(STAMP)
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	SDL_VIDEODRIVER=dummy $(VENV)/bin/pytest -q
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict -f docs/mkdocs.yml
+
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict -f docs/mkdocs.yml
 
 polar: $(STAMP)
 	$(VENV)/bin/bbgym polar --out runs/polar

@@ -1,6 +1,6 @@
 """Developer tool: steps/s of SB3's ``make_vec_env`` (single envs in a DummyVecEnv) against
 ``bbgym.sb3.make_sb3_vec_env`` (the native vector env), random actions, best of
-``--repeats`` runs with the two interleaved (the README's SB3 table).
+``--repeats`` runs with the two interleaved (the SB3 table of docs/pages/training.md).
 
     python scripts/bench_sb3_vec.py [--repeats 3]
 """

@@ -102,7 +102,7 @@ def test_curve_preset_is_the_registered_v1():
     assert env_preset(env_id)[0] == CONFIG_DIR / "beachball_curve.yaml"
     ppo, train = load_training(env_id)
     assert ppo["learning_rate"](1.0) == pytest.approx(1e-3) and ppo["learning_rate"](0.0) == 0.0
-    # 5.5M throws in batched flights of 1024, 4 epochs an update (README, "Baselines").
+    # 5.5M throws in batched flights of 1024, 4 epochs an update (docs/pages/baselines.md).
     assert (train["total_timesteps"], train["n_envs"], ppo["n_epochs"]) == (5_500_000, 1024, 4)
     # Its SAC preset (chosen by name): the same env, the whole budget in the replay buffer,
     # a sharper policy than SB3's default entropy target (-6 for the 6 action dimensions).

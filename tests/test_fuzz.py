@@ -83,7 +83,7 @@ def test_invalid_numbers_raise_naming_the_argument(env_id):
 
 @pytest.mark.parametrize("cls", [DinghyParams, BallParams, WallParams, GustParams])
 def test_every_physical_constant_declares_its_interval(cls):
-    """The fuzzers and the README's tables read the intervals: none may be missing."""
+    """The fuzzers and the site's tables read the intervals: none may be missing."""
     for f in fields(cls):
         if isinstance(f.default, (int, float)) and not isinstance(f.default, bool):
             accepted = f.metadata.get("interval")

@@ -1,8 +1,8 @@
 """One validation layer for every argument: types, finiteness, intervals, ranges, options.
 
 The regression cases of issue 10 (strings, NumPy scalars, one-element ranges, a string
-read as a range, ranges that the matching reset option refuses) and the rules the README's
-"Validation and errors" section states.
+read as a range, ranges that the matching reset option refuses) and the rules the site's
+"Validation and errors" page (docs/pages/validation.md) states.
 """
 
 from __future__ import annotations
@@ -244,28 +244,72 @@ def test_single_envs_pickle_and_continue_identically(env_id):
     np.testing.assert_array_equal(env.step(action)[0], twin.step(action)[0])
 
 
-def test_readme_lists_every_accepted_interval():
-    """The README's "Validation and errors" tables are the code's intervals."""
-    from pathlib import Path
+def expected_interval_rows() -> list[tuple[str, str]]:
+    """The rows the site's "Validation and errors" page must show, as (start, end) of a
+    table line, taken from the code: every env module's ``ARGUMENT_TABLE`` row and every
+    parameter field that declares an interval (read from the dataclass fields here, not
+    through the page's own generator)."""
+    from dataclasses import fields
 
     from bbgym.envs import sail, throw, topple
     from bbgym.physics.ball import BallParams
     from bbgym.physics.sailing import DinghyParams
-    from bbgym.physics.validation import interval_rows
     from bbgym.physics.wall import WallParams
 
-    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
     rows = [
-        f"| {names} | {accepted} |"
+        (f"| {names} |", f" {accepted} |")
         for m in (sail, throw, topple)
         for names, accepted in m.ARGUMENT_TABLE
     ]
-    for cls, group in (
-        (DinghyParams, "dinghy"),
-        (GustParams, "gust_params"),
-        (BallParams, "ball"),
-        (WallParams, "wall"),
-    ):
-        rows += interval_rows(cls, group)
-    missing = [row for row in rows if row not in readme]
-    assert not missing, missing
+    groups = ((DinghyParams, "dinghy"), (GustParams, "gust_params"), (BallParams, "ball"),
+              (WallParams, "wall"))  # fmt: skip
+    for cls, group in groups:
+        rows += [
+            (f"| `{group}.{f.name}` |", f" {f.metadata['interval']} |")  # default between
+            for f in fields(cls)
+            if f.metadata.get("interval") is not None
+        ]
+    return rows
+
+
+def missing_interval_rows(page: str) -> list[str]:
+    lines = page.splitlines()
+    return [
+        start + " ..." + end
+        for start, end in expected_interval_rows()
+        if not any(line.startswith(start) and line.endswith(end) for line in lines)
+    ]
+
+
+def validation_page() -> str:
+    """docs/pages/validation.md as the site shows it: its table markers expanded by the
+    build's hook (docs/tables.py), from the code."""
+    import importlib.util
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parent.parent / "docs"
+    spec = importlib.util.spec_from_file_location("bbgym_docs_tables", docs / "tables.py")
+    tables = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tables)
+    return tables.expand((docs / "pages" / "validation.md").read_text(encoding="utf-8"))
+
+
+def test_the_site_lists_every_accepted_interval():
+    """The "Validation and errors" page shows the code's intervals, every one of them."""
+    page = validation_page()
+    assert not missing_interval_rows(page), missing_interval_rows(page)
+    assert "<!-- table:" not in page  # every marker expanded
+
+
+def test_a_missing_interval_row_is_noticed():
+    """The check above can fail: drop one argument row or one field row from the page."""
+    page = validation_page().splitlines()
+    for dropped in ("| `sim_dt` |", "| `ball.restitution` |", "| `throws_per_episode` |"):
+        kept = "\n".join(line for line in page if not line.startswith(dropped))
+        assert missing_interval_rows(kept), dropped
+    wrong = "\n".join(
+        line.replace("| [0, 1] |", "| [0, 2] |") if line.startswith("| `ball.restitution`")
+        else line
+        for line in page
+    )  # fmt: skip
+    assert missing_interval_rows(wrong)

@@ -1,0 +1,393 @@
+"""The site's generated tables, and the MkDocs hook that puts them into the pages.
+
+A page asks for a table with a marker on a line of its own; at build time
+:func:`on_page_markdown` replaces each marker by the table, so no page holds a figure
+typed by hand and none can go stale:
+
+    <!-- table: baselines [ENV_PREFIX] -->   docs/results/baselines/*.json (bbgym baseline)
+    <!-- table: speed -->                    docs/results/speed/bench.json (bbgym bench)
+    <!-- table: backends -->                 docs/results/speed/bench-backends-0.3.1.json
+    <!-- table: polar -->                    docs/results/polar/polar.csv (bbgym polar)
+    <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
+    <!-- table: params GROUP -->             the intervals of a physics parameter dataclass
+    <!-- include: CHANGELOG.md -->           a file of docs/, as it is
+
+Every results table names the command that wrote its results file, and says where a file
+was transcribed rather than written by that command (its ``source`` field). A missing or
+malformed results file raises :class:`ResultsError` naming it, which fails the build.
+
+    python docs/tables.py baselines        # print a table (any marker's words)
+"""
+
+from __future__ import annotations
+
+import csv
+import importlib
+import json
+import re
+import sys
+from pathlib import Path
+from typing import Any
+
+DOCS = Path(__file__).resolve().parent
+RESULTS = DOCS / "results"
+
+BASELINE_FILES = (
+    "BeachballSail-v1-sac.json",
+    "BeachballSail-v1-ppo.json",
+    "BeachballSail-v0-ppo.json",
+    "BeachballThrow-v0-ppo.json",
+    "BeachballCurve-v1-ppo.json",
+    "BeachballCurve-v1-sac.json",
+    "BeachballTopple-v1-ppo.json",
+    "main.json",
+)
+"""The baselines' results files, in the order of the table's rows."""
+SPEED_FILE = "speed/bench.json"
+BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
+POLAR_FILE = "polar/polar.json"
+
+PARAM_GROUPS = {
+    # keyword argument: (module, dataclass)
+    "dinghy": ("bbgym.physics.sailing", "DinghyParams"),
+    "gust_params": ("bbgym.physics.wind", "GustParams"),
+    "ball": ("bbgym.physics.ball", "BallParams"),
+    "wall": ("bbgym.physics.wall", "WallParams"),
+}
+"""The physics parameter dataclasses that envs take as mappings, by their argument name."""
+ARGUMENT_FAMILIES = ("sail", "throw", "topple")
+"""The env modules (``bbgym.envs.<family>``) whose ``ARGUMENT_TABLE`` lists their
+arguments and reset options with the accepted intervals."""
+THROW_ENVS = ("BeachballThrow", "BeachballCurve", "BeachballTopple")
+
+MARKER = re.compile(r"^<!-- (table|include): *([^>]*?) *-->$", re.MULTILINE)
+
+
+class ResultsError(ValueError):
+    """A results file is missing or malformed (the message names the file)."""
+
+
+def _name(path: Path) -> str:
+    try:
+        return str(path.relative_to(DOCS.parent))
+    except ValueError:
+        return str(path)
+
+
+def read_json(path: Path) -> Any:
+    """A results file's JSON, or :class:`ResultsError` naming the file."""
+    if not path.is_file():
+        raise ResultsError(f"{_name(path)}: results file missing")
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as err:
+        raise ResultsError(f"{_name(path)}: not valid JSON ({err})") from None
+
+
+def field(data: Any, key: str, path: Path, kind: type | tuple[type, ...] = object) -> Any:
+    """``data[key]``, of type ``kind``, or :class:`ResultsError` naming the file and key."""
+    if not isinstance(data, dict) or key not in data:
+        raise ResultsError(f"{_name(path)}: no {key!r} field")
+    value = data[key]
+    if not isinstance(value, kind):
+        raise ResultsError(f"{_name(path)}: {key!r} is {type(value).__name__}, not as expected")
+    return value
+
+
+def pct(rate: float) -> str:
+    return f"{100 * rate:.0f}%"
+
+
+def rate_cell(row: dict, unit: str = "") -> str:
+    """``98% (93-99%), 1.1 throws`` or ``100% (96-100%), 37.3 s to the mark``."""
+    text = pct(row["success_rate"])
+    if row.get("success_ci95"):
+        low, high = row["success_ci95"]
+        text += f" ({100 * low:.0f}-{100 * high:.0f}%)"
+    if row.get("mean_time_to_mark_s"):
+        text += f", {row['mean_time_to_mark_s']:.1f} s to the mark"
+    elif unit and row.get("mean_length") is not None:
+        text += f", {row['mean_length']:.1f} {unit}"
+    return text
+
+
+def failures(outcomes: dict | None) -> str:
+    failed = {k: v for k, v in (outcomes or {}).items() if k != "success"}
+    return ", ".join(f"{kind} {count}" for kind, count in failed.items()) or "none"
+
+
+def budget(steps: int, unit: str) -> str:
+    if steps >= 1_000_000:
+        return f"{steps / 1e6:g}M {unit}"
+    return f"{steps / 1e3:g}k {unit}"
+
+
+def baseline_row(path: Path) -> tuple[str, str]:
+    """One row of the baselines table from a results file, and its source note."""
+    data = read_json(path)
+    source = field(data, "source", path, str)
+    command = field(data, "command", path, str)
+    summary = field(data, "summary", path, dict)
+    rows = field(data, "results", path, list)
+    env = field(summary, "env", path, str)
+    algo = field(summary, "algo", path, str)
+    by_policy = {r.get("policy"): r for r in rows if isinstance(r, dict)}
+    learnt = [r for r in rows if isinstance(r, dict) and r.get("algo") == algo]
+    for name in ("random", "scripted"):
+        if name not in by_policy:
+            raise ResultsError(f"{_name(path)}: no {name!r} row in 'results'")
+    if not learnt:
+        raise ResultsError(f"{_name(path)}: no row of the learnt policy ({algo}) in 'results'")
+    try:
+        ball = env.startswith(THROW_ENVS)
+        unit = "steps" if env.startswith("BeachballTopple") else "throws" if ball else ""
+        planner = data.get("planner")
+        r = learnt[0]
+        low, high = r["success_ci95"]
+        seeds = r["success_by_seed"]
+        if len(seeds) > 1:
+            mean = (f"{100 * r['success_rate']:.1f}% ({100 * low:.0f}-{100 * high:.0f}%), "
+                    f"worst {pct(r['worst_seed_success_rate'])} (seed {r['worst_seed']}); "
+                    f"seeds {', '.join(f'{100 * s:.0f}' for s in seeds)}%")  # fmt: skip
+        else:
+            mean = f"{rate_cell(r)} (seed {r['training_seeds'][0]})"
+        ratio = r.get("time_vs_oracle")
+        if ratio is not None and len(seeds) > 1:
+            ratio = f"{ratio:.2f} (worst seed {r['worst_time_vs_oracle']:.2f})"
+        elif ratio is not None:
+            ratio = f"{ratio:.2f}"
+        cells = [
+            f"{env}, {algo.upper()}" + (" (`make run`)" if path.stem == "main" else ""),
+            rate_cell(by_policy["random"], unit),
+            rate_cell(by_policy["scripted"], unit),
+            rate_cell(planner, unit) if planner else "-",
+            mean,
+            ratio or "-",
+            failures(r.get("outcomes")),
+            f"{budget(summary['timesteps'], unit or 'steps')}, {summary['n_envs']} envs",
+            data.get("wall_time", "-"),
+            summary.get("bbgym", "-"),
+            f"`{command}`",
+        ]
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    return "| " + " | ".join(cells) + " |", f"`{_name(path)}`: {source}"
+
+
+def baselines_table(env_prefix: str = "", results: Path = RESULTS) -> str:
+    """The baselines table: a row per results file (those of envs starting with
+    ``env_prefix``), and under it where each file came from."""
+    lines = [
+        "| env, algorithm | random | scripted | planner (winnable, at least) | learnt: mean "
+        "(95% interval over seeds), worst seed | time / oracle | failures of the learnt policy "
+        "| budget | training time | bbgym | command |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    notes = []
+    for name in BASELINE_FILES:
+        if not name.startswith(env_prefix):
+            continue
+        row, note = baseline_row(results / "baselines" / name)
+        lines.append(row)
+        notes.append(note)
+        data = read_json(results / "baselines" / name)
+        if data.get("note"):
+            notes[-1] += f" {data['note']}"
+        if data.get("planner_command"):
+            notes[-1] += f" Planner column: `{data['planner_command']}`."
+    if not notes:
+        raise ResultsError(f"no baselines results file for envs {env_prefix!r}")
+    lines += ["", "Results files (each row's command is the one that made it):", ""]
+    lines += [f"- {note}" for note in notes]
+    return "\n".join(lines)
+
+
+def _bench(path: Path) -> tuple[dict, str]:
+    data = read_json(path)
+    command = field(data, "command", path, str)
+    source = field(data, "source", path, str)
+    settings = f" Settings: {data['settings']}." if data.get("settings") else ""
+    return data, f"Generated from `{_name(path)}`, written by `{command}`: {source}.{settings}"
+
+
+def _machine(data: dict) -> str:
+    m = data.get("machine") or {}
+    return (f"Machine: {m.get('platform', '?')}, {m.get('cpu_count', '?')} CPUs, Python "
+            f"{m.get('python', '?')}, NumPy {m.get('numpy', '?')}, Gymnasium "
+            f"{m.get('gymnasium', '?')}, torch {m.get('torch', '-')} on "
+            f"{m.get('torch_threads', '-')} threads.")  # fmt: skip
+
+
+def _unit(row: dict, ppo_is_steps: bool = True) -> str:
+    if row["env"].startswith(THROW_ENVS) and not (ppo_is_steps and row["kind"].startswith("PPO")):
+        return " throws/s"
+    return ""
+
+
+def speed_table(path: Path | None = None) -> str:
+    """``bbgym bench``'s rows and memory table (its ``bench.md``, from ``bench.json``)."""
+    path = path or RESULTS / SPEED_FILE
+    data, note = _bench(path)
+    rows = field(data, "rows", path, list)
+    memory = field(data, "memory_mb", path, dict)
+    try:
+        lines = ["| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
+                 "|---|---|---:|---:|"]  # fmt: skip
+        lines += [f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{_unit(r)} | {r['ratio']:.4f} |"
+                  for r in rows]  # fmt: skip
+        lines += ["", "| env | peak memory of the vector env, N=4096 |", "|---|---:|"]
+        lines += [f"| {env} | {mb:.1f} MB |" for env, mb in memory.items()]
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    return "\n".join([*lines, "", note, _machine(data)])
+
+
+def backends_table(path: Path | None = None) -> str:
+    """The torch backend rows of a ``bbgym bench --backends`` run."""
+    path = path or RESULTS / BACKENDS_FILE
+    data, note = _bench(path)
+    rows = field(data, "backend_rows", path, list)
+    lines = [
+        "| env | N, backend | steps/s | ratio to CartPole-v1 (same N) | first step (compile) "
+        "| state |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    try:
+        for r in rows:
+            extra = f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r else " | "
+            lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{_unit(r)} | "
+                         f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    return "\n".join([*lines, "", note, _machine(data)])
+
+
+def polar_table(path: Path | None = None) -> str:
+    """The polar's figures (best upwind VMG, straight upwind, fastest, leeway) from the
+    CSV of ``bbgym polar``, beside a Laser's and the bands ``tests/test_polar.py`` asserts."""
+    path = path or RESULTS / POLAR_FILE
+    meta = read_json(path)
+    command = field(meta, "command", path, str)
+    source = field(meta, "source", path, str)
+    wind = field(meta, "wind_speed_mps", path, (int, float))
+    csv_path = path.parent / field(meta, "csv", path, str)
+    if not csv_path.is_file():
+        raise ResultsError(f"{_name(csv_path)}: results file missing")
+    try:
+        with csv_path.open(newline="") as f:
+            rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        upwind = [r for r in rows if r["true_wind_angle_deg"] < 90]
+        best = max(upwind, key=lambda r: r["vmg_mps"])
+        head = min(rows, key=lambda r: abs(r["true_wind_angle_deg"]))
+        fast = max(rows, key=lambda r: r["boat_speed_mps"])
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(csv_path)}: malformed polar CSV ({err!r})") from None
+    if not rows:
+        raise ResultsError(f"{_name(csv_path)}: no rows")
+    lines = [
+        "| figure | bbgym | real dinghy (Laser) | band asserted by `tests/test_polar.py` |",
+        "|---|---|---|---|",
+        f"| best upwind VMG | {best['true_wind_angle_deg']:.0f} deg, {best['vmg_mps']:.2f} m/s "
+        "| about 40 deg | 38-48 deg |",
+        f"| straight upwind | VMG {head['vmg_mps']:.2f} m/s | no progress | <= 0 |",
+        f"| fastest point of sail | {fast['true_wind_angle_deg']:.0f} deg, "
+        f"{fast['boat_speed_mps']:.2f} m/s = {fast['boat_speed_mps'] / wind:.2f} x wind "
+        "| about 120 deg, 0.67 x wind | 90-135 deg, 0.55-0.85 |",
+        f"| leeway at best upwind VMG | {best['leeway_deg']:.1f} deg (heel "
+        f"{best['heel_deg']:.0f} deg) | a few degrees | 2-8 deg |",
+    ]
+    return "\n".join(
+        [*lines, "", f"True wind {wind:g} m/s. Generated from `{_name(csv_path)}`, written by "
+         f"`{command}`: {source}."]
+    )  # fmt: skip
+
+
+def argument_rows(family: str) -> list[tuple[str, str]]:
+    """``(names, accepted)`` rows of an env family's arguments and reset options: its
+    module's ``ARGUMENT_TABLE`` (the intervals the validation uses, formatted by it)."""
+    module = importlib.import_module(f"bbgym.envs.{family}")
+    table = getattr(module, "ARGUMENT_TABLE", None)
+    if table is None:
+        raise LookupError(f"bbgym.envs.{family} has no ARGUMENT_TABLE (docs/tables.py reads it)")
+    return [(str(names), str(accepted)) for names, accepted in table]
+
+
+def arguments_table(family: str) -> str:
+    if family not in ARGUMENT_FAMILIES:
+        raise LookupError(f"unknown env family {family!r}; known: {', '.join(ARGUMENT_FAMILIES)}")
+    lines = ["| argument or option | accepted |", "|---|---|"]
+    lines += [f"| {names} | {accepted} |" for names, accepted in argument_rows(family)]
+    return "\n".join(lines)
+
+
+def params_table(group: str) -> str:
+    """``| `group.field` | default | accepted |`` for every field of the group's dataclass
+    that declares an interval (``bbgym.physics.validation.interval_rows``)."""
+    from bbgym.physics.validation import interval_rows
+
+    if group not in PARAM_GROUPS:
+        raise LookupError(f"unknown parameter group {group!r}; known: {', '.join(PARAM_GROUPS)}")
+    module, name = PARAM_GROUPS[group]
+    cls = getattr(importlib.import_module(module), name)
+    lines = ["| field | default | accepted |", "|---|---:|---|"]
+    return "\n".join([*lines, *interval_rows(cls, group)])
+
+
+def table(spec: str) -> str:
+    """The table a marker's words ask for (``"baselines BeachballSail"``)."""
+    kind, _, arg = spec.partition(" ")
+    arg = arg.strip()
+    if kind == "baselines":
+        return baselines_table(arg)
+    if kind == "speed" and not arg:
+        return speed_table()
+    if kind == "backends" and not arg:
+        return backends_table()
+    if kind == "polar" and not arg:
+        return polar_table()
+    if kind == "arguments":
+        return arguments_table(arg)
+    if kind == "params":
+        return params_table(arg)
+    raise LookupError(f"unknown table marker {spec!r}")
+
+
+def include(name: str) -> str:
+    path = (DOCS / name).resolve()
+    if DOCS not in path.parents or not path.is_file():
+        raise LookupError(f"include: no file {name!r} in docs/")
+    text = path.read_text(encoding="utf-8")
+    return re.sub(r"\A# .*\n", "", text)  # the page keeps its own title
+
+
+def expand(markdown: str) -> str:
+    """The page's markdown with every marker replaced by its table or file."""
+
+    def replace(match: re.Match) -> str:
+        kind, spec = match.group(1), match.group(2)
+        return include(spec) if kind == "include" else table(spec)
+
+    return MARKER.sub(replace, markdown)
+
+
+SPHINX_ROLE = re.compile(r":(?:func|meth|class|data|attr|mod|obj):<code>~?([^<]*)</code>")
+"""A reST cross-reference role in a docstring, as Markdown renders it (``:func:`x```)."""
+
+
+def on_page_content(html: str, page: Any, config: Any, files: Any) -> str:
+    """MkDocs hook: the docstrings' reST roles (``:func:`~a.b```) shown as plain code."""
+    return SPHINX_ROLE.sub(r"<code>\1</code>", html)
+
+
+def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
+    """MkDocs hook (``hooks:`` in docs/mkdocs.yml)."""
+    from mkdocs.exceptions import PluginError
+
+    try:
+        return expand(markdown)
+    except (ResultsError, LookupError) as err:
+        raise PluginError(f"docs/tables.py, page {page.file.src_path}: {err}") from None
+
+
+if __name__ == "__main__":
+    print(table(" ".join(sys.argv[1:])))

@@ -1,0 +1,142 @@
+"""The README is a short guide, and the documentation site's tables come from results files
+(docs/results) and the code through docs/tables.py, the MkDocs hook; the site builds
+strictly."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+
+
+def load_tables():
+    spec = importlib.util.spec_from_file_location("bbgym_docs_tables", DOCS / "tables.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+tables = load_tables()
+
+
+def test_the_readme_is_a_short_guide_that_names_the_two_commands():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert len(readme.splitlines()) <= 250
+    for command in ("make run", "make test"):
+        assert f"**`{command}`**" in readme, command
+    for picture in ("sail", "throw", "curve", "topple"):
+        path = f"docs/pages/img/{picture}.png"
+        assert path in readme and (ROOT / path).stat().st_size < 100_000, path
+
+
+def test_every_baselines_file_makes_a_row_naming_its_command_and_source():
+    text = tables.baselines_table()
+    rows = [line for line in text.splitlines() if line.startswith("| Beachball")]
+    assert len(rows) == len(tables.BASELINE_FILES)
+    for name in tables.BASELINE_FILES:
+        data = json.loads((tables.RESULTS / "baselines" / name).read_text())
+        assert f"`{data['command']}`" in text, name
+        assert data["source"] in text, name
+    assert "| BeachballSail-v1, SAC | 2% (1-7%) | 100% (96-100%), 37.3 s to the mark |" in text
+    assert "91.8% (88-96%), worst 87% (seed 1); seeds 95, 87, 95, 90, 92%" in text
+    sail_only = tables.baselines_table("BeachballSail")
+    assert "BeachballSail-v1, SAC" in sail_only and "Curve" not in sail_only
+
+
+def test_speed_and_polar_tables_name_their_commands():
+    speed = tables.speed_table()
+    assert "`bbgym bench --out runs/bench`" in speed
+    assert "| CartPole-v1 | single |" in speed and "| BeachballTopple-v0 | vector N=4096 |" in speed
+    backends = tables.backends_table()
+    assert "`bbgym bench --backends`" in backends and "| N=65536 torch float32 |" in backends
+    polar = tables.polar_table()
+    assert "`bbgym polar --wind-speed 5 --out runs/polar`" in polar
+    assert "| best upwind VMG | 45 deg, 1.51 m/s |" in polar  # the polar test's band: 38-48
+
+
+def copy_results(tmp_path: Path) -> Path:
+    results = tmp_path / "results"
+    shutil.copytree(tables.RESULTS, results)
+    return results
+
+
+def test_a_missing_results_file_fails_naming_it(tmp_path):
+    results = copy_results(tmp_path)
+    (results / "baselines" / "BeachballThrow-v0-ppo.json").unlink()
+    with pytest.raises(tables.ResultsError, match="BeachballThrow-v0-ppo.json: results file"):
+        tables.baselines_table(results=results)
+    (results / "polar" / "polar.csv").unlink()
+    with pytest.raises(tables.ResultsError, match="polar.csv: results file missing"):
+        tables.polar_table(results / "polar" / "polar.json")
+    with pytest.raises(tables.ResultsError, match="bench.json: results file missing"):
+        tables.speed_table(tmp_path / "speed" / "bench.json")
+
+
+def test_a_malformed_results_file_fails_naming_it(tmp_path):
+    results = copy_results(tmp_path)
+    path = results / "baselines" / "BeachballSail-v1-sac.json"
+    path.write_text("{ not json")
+    with pytest.raises(tables.ResultsError, match="BeachballSail-v1-sac.json: not valid JSON"):
+        tables.baselines_table(results=results)
+    data = json.loads((tables.RESULTS / "baselines" / "BeachballSail-v1-sac.json").read_text())
+    del data["source"]
+    path.write_text(json.dumps(data))
+    with pytest.raises(tables.ResultsError, match="BeachballSail-v1-sac.json: no 'source'"):
+        tables.baselines_table(results=results)
+    data = json.loads((tables.RESULTS / "baselines" / "BeachballSail-v1-sac.json").read_text())
+    del data["results"][-1]["success_rate"], data["results"][2]["success_ci95"]
+    path.write_text(json.dumps(data))
+    with pytest.raises(tables.ResultsError, match="BeachballSail-v1-sac.json: malformed"):
+        tables.baselines_table(results=results)
+    bench = results / "speed" / "bench.json"
+    data = json.loads(bench.read_text())
+    data["rows"][0].pop("rate")
+    bench.write_text(json.dumps(data))
+    with pytest.raises(tables.ResultsError, match="bench.json: malformed"):
+        tables.speed_table(bench)
+    csv_path = results / "polar" / "polar.csv"
+    csv_path.write_text("true_wind_angle_deg,boat_speed_mps\n0,fast\n")
+    with pytest.raises(tables.ResultsError, match="polar.csv: malformed"):
+        tables.polar_table(results / "polar" / "polar.json")
+
+
+def test_every_marker_of_every_page_expands_and_an_unknown_one_fails():
+    pages = sorted((DOCS / "pages").rglob("*.md"))
+    for page in pages:
+        text = tables.expand(page.read_text(encoding="utf-8"))
+        assert not tables.MARKER.search(text), page
+    changelog = tables.expand("<!-- include: CHANGELOG.md -->")
+    assert "## 0.1.0" in changelog and "## 0.8.0" in changelog
+    with pytest.raises(LookupError, match="unknown table marker"):
+        tables.expand("<!-- table: nonsense -->")
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("mkdocs") is None or importlib.util.find_spec("mkdocstrings") is None,
+    reason="the docs extra (mkdocs, mkdocstrings) is not installed",
+)
+def test_the_site_builds_strictly(tmp_path):
+    site = tmp_path / "site"
+    build = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(DOCS / "mkdocs.yml"),
+         "--site-dir", str(site)],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+        env={"NO_MKDOCS_2_WARNING": "1", "PATH": "", "HOME": str(tmp_path)},
+    )  # fmt: skip
+    assert build.returncode == 0, build.stderr[-3000:]
+    baselines = (site / "baselines" / "index.html").read_text(encoding="utf-8")
+    assert "bbgym baseline --env BeachballSail-v1 --seeds 5 --jobs 1 --torch-threads 2" in baselines
+    validation = (site / "validation" / "index.html").read_text(encoding="utf-8")
+    assert "dinghy.mass_kg" in validation and "<!-- table:" not in validation
+    api = (site / "api" / "index.html").read_text(encoding="utf-8")
+    assert "BeachballSailEnv" in api and "Version History" in api
+    changelog = (site / "changelog" / "index.html").read_text(encoding="utf-8")
+    assert "0.1.0" in changelog
