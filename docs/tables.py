@@ -22,7 +22,6 @@ malformed results file raises :class:`ResultsError` naming it, which fails the b
 from __future__ import annotations
 
 import csv
-import importlib
 import json
 import re
 import sys
@@ -47,17 +46,6 @@ SPEED_FILE = "speed/bench.json"
 BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
 POLAR_FILE = "polar/polar.json"
 
-PARAM_GROUPS = {
-    # keyword argument: (module, dataclass)
-    "dinghy": ("bbgym.physics.sailing", "DinghyParams"),
-    "gust_params": ("bbgym.physics.wind", "GustParams"),
-    "ball": ("bbgym.physics.ball", "BallParams"),
-    "wall": ("bbgym.physics.wall", "WallParams"),
-}
-"""The physics parameter dataclasses that envs take as mappings, by their argument name."""
-ARGUMENT_FAMILIES = ("sail", "throw", "topple")
-"""The env modules (``bbgym.envs.<family>``) whose ``ARGUMENT_TABLE`` lists their
-arguments and reset options with the accepted intervals."""
 THROW_ENVS = ("BeachballThrow", "BeachballCurve", "BeachballTopple")
 
 MARKER = re.compile(r"^<!-- (table|include): *([^>]*?) *-->$", re.MULTILINE)
@@ -302,19 +290,30 @@ def polar_table(path: Path | None = None) -> str:
     )  # fmt: skip
 
 
+def families() -> dict[str, Any]:
+    """The registered env families' specs by name (:mod:`bbgym.spec`)."""
+    import bbgym  # noqa: F401  (registers the families)
+    from bbgym.spec import specs
+
+    return {spec.family: spec for spec in specs()}
+
+
+def param_groups() -> dict[str, type]:
+    """The physics parameter dataclasses that envs take as mappings, by their argument
+    name, from the families' specs."""
+    return {name: cls for spec in families().values() for name, cls in spec.param_groups.items()}
+
+
 def argument_rows(family: str) -> list[tuple[str, str]]:
     """``(names, accepted)`` rows of an env family's arguments and reset options: its
-    module's ``ARGUMENT_TABLE`` (the intervals the validation uses, formatted by it)."""
-    module = importlib.import_module(f"bbgym.envs.{family}")
-    table = getattr(module, "ARGUMENT_TABLE", None)
-    if table is None:
-        raise LookupError(f"bbgym.envs.{family} has no ARGUMENT_TABLE (docs/tables.py reads it)")
-    return [(str(names), str(accepted)) for names, accepted in table]
+    spec's ``argument_table`` (the intervals the validation uses, formatted by it)."""
+    known = families()
+    if family not in known:
+        raise LookupError(f"unknown env family {family!r}; known: {', '.join(known)}")
+    return [(str(names), str(accepted)) for names, accepted in known[family].argument_table]
 
 
 def arguments_table(family: str) -> str:
-    if family not in ARGUMENT_FAMILIES:
-        raise LookupError(f"unknown env family {family!r}; known: {', '.join(ARGUMENT_FAMILIES)}")
     lines = ["| argument or option | accepted |", "|---|---|"]
     lines += [f"| {names} | {accepted} |" for names, accepted in argument_rows(family)]
     return "\n".join(lines)
@@ -325,10 +324,10 @@ def params_table(group: str) -> str:
     that declares an interval (``bbgym.physics.validation.interval_rows``)."""
     from bbgym.physics.validation import interval_rows
 
-    if group not in PARAM_GROUPS:
-        raise LookupError(f"unknown parameter group {group!r}; known: {', '.join(PARAM_GROUPS)}")
-    module, name = PARAM_GROUPS[group]
-    cls = getattr(importlib.import_module(module), name)
+    groups = param_groups()
+    if group not in groups:
+        raise LookupError(f"unknown parameter group {group!r}; known: {', '.join(groups)}")
+    cls = groups[group]
     lines = ["| field | default | accepted |", "|---|---:|---|"]
     return "\n".join([*lines, *interval_rows(cls, group)])
 

@@ -50,8 +50,9 @@ WIND_SCALE_MPS = 15.0
 BOAT_SPEED_SCALE_MPS = 6.0
 YAW_RATE_SCALE_RPS = 1.5
 HEEL_RATE_SCALE_RPS = 2.0
-# Accepted intervals of the task's arguments and reset options (README, "Validation and
-# errors"). The physics is stable for any boat at any of these (tests/test_sailing_stability.py).
+# Accepted intervals of the task's arguments and reset options (the documentation's
+# "Validation and errors" page shows them). The physics is stable for any boat at any of
+# these (tests/test_sailing_stability.py).
 WIND_SPEED_MPS = interval(0.0, 25.0)
 """True wind, mean of an episode: calm to a full gale (50 knots); gusts add to it."""
 INITIAL_SPEED_MPS = interval(0.0, 15.0)
@@ -77,7 +78,8 @@ ARGUMENT_TABLE = (
     ("`progress_weight`, `arrival_bonus`, `capsize_penalty`, `time_penalty`", f"{REWARD_WEIGHT}"),
     ("`gusts`, `options['gusts']`", "bool"),
 )
-"""The README's table of this env's arguments and options (a test keeps them equal)."""
+"""The rows of the documentation's table of accepted arguments and options (the spec
+carries it; docs/tables.py renders it and tests/test_validation.py checks the page)."""
 # Zoom of the top view: the 4.2 m hull is about 70 px long.
 RENDER_PIXELS_PER_M = 16.0
 

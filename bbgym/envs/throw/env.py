@@ -47,8 +47,8 @@ _DOC_ARGS = """
 
     A value of the wrong type raises ``TypeError``, a non-finite or out-of-interval value
     ``ValueError``, each naming the argument (``dinghy.mass_kg``); an unknown argument or
-    field raises ``TypeError``. The accepted intervals are in the README ("Validation and
-    errors") and in ``ARGUMENT_TABLE`` and the parameter dataclasses.
+    field raises ``TypeError``. The accepted intervals are on the documentation's
+    "Validation and errors" page, from ``ARGUMENT_TABLE`` and the parameter dataclasses.
 """
 
 

@@ -99,7 +99,8 @@ ARGUMENT_TABLE = (
     ("`hit_bonus`", f"{REWARD_WEIGHT}"),
     ("`gusts`, `screen`, `options['gusts']`, `options['screen']`", "bool"),
 )
-"""The README's table of the throw envs' arguments and options (a test keeps them equal)."""
+"""The rows of the documentation's table of accepted arguments and options (the spec
+carries it; docs/tables.py renders it and tests/test_validation.py checks the page)."""
 
 
 CHUNK_SUBSTEPS = 2

@@ -96,7 +96,8 @@ ARGUMENT_TABLE = (
     ("`success_bonus`, `failure_penalty`, `throw_cost`, `lean_weight`", f"{REWARD_WEIGHT}"),
     ("`gusts`, `options['gusts']`", "bool"),
 )
-"""The README's table of this env's arguments and options (a test keeps them equal)."""
+"""The rows of the documentation's table of accepted arguments and options (the spec
+carries it; docs/tables.py renders it and tests/test_validation.py checks the page)."""
 
 
 class ToppleScenario(NamedTuple):
