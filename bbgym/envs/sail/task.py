@@ -12,6 +12,7 @@ import numpy as np
 from gymnasium import spaces
 
 from bbgym.envs.common import (
+    check_box_action,
     check_multiple,
     check_option_keys,
     option_path,
@@ -257,21 +258,8 @@ class SailTask(TaskCore):
         """Validate and clip actions to [-1, 1]: a ``(rudder, sheet)`` tuple of floats for one
         env (``batch == 0``), a float64 ``(batch, 2)`` array for a batch. NaN/inf or a wrong
         shape raise ``ValueError``."""
-        try:
-            a = np.asarray(action, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(f"action must be numeric, got {action!r}") from None
-        expected = (2,) if batch == 0 else (batch, 2)
-        if a.shape != expected:
-            raise ValueError(f"action must have shape {expected}, got {a.shape}")
-        if batch == 0:
-            rudder, sheet = float(a[0]), float(a[1])
-            if not (math.isfinite(rudder) and math.isfinite(sheet)):
-                raise ValueError(f"action must be finite, got {action!r}")
-            return (min(max(rudder, -1.0), 1.0), min(max(sheet, -1.0), 1.0))
-        if not np.isfinite(a).all():
-            raise ValueError(f"action must be finite, got {action!r}")
-        return np.clip(a, -1.0, 1.0)
+        a = check_box_action(action, self.action_space.shape[0], batch)
+        return tuple(a.tolist()) if batch == 0 else a
 
     def step_noise_mask(self, state: SailState, xp: Any) -> Any:
         """Which envs draw a pair of normals this step: those with gusts (so an env's

@@ -401,7 +401,7 @@ class ThrowTask(TaskCore):
     # -- dynamics ---------------------------------------------------------------------------
     def check_action(self, action: Any, batch: int) -> np.ndarray:
         """Actions as float64 ``(6,)`` or ``(batch, 6)``, clipped to [-1, 1]."""
-        return check_box_action(action, 6, batch)
+        return check_box_action(action, self.action_space.shape[0], batch)
 
     def launch(self, action: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Launch velocity and spin ``(..., 3)`` from actions: scaled, norms clipped."""

@@ -371,7 +371,7 @@ class ToppleTask(TaskCore):
         """Validate and clip actions to [-1, 1]: six floats for one env (``batch == 0``), a
         float64 ``(batch, 6)`` array for a batch. NaN/inf or a wrong shape raise
         ``ValueError``."""
-        a = check_box_action(action, 6, batch)
+        a = check_box_action(action, self.action_space.shape[0], batch)
         return tuple(a.tolist()) if batch == 0 else a
 
     def step_noise_mask(self, state: ToppleState, xp: Any) -> Any:
