@@ -23,13 +23,14 @@ configs written by hand with the plain ids.)
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import math
 import os
 import time
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -152,39 +153,83 @@ def ppo_config(
     each env steps per iteration, ``rollout_fragment_length="auto"``, shrinks instead).
     """
     _require_ray()
-    from ray.rllib.algorithms.ppo import PPOConfig
-    from ray.rllib.core.rl_module.default_model_config import DefaultModelConfig
-
     _check_env_id(env_id)
     runners = _positive("num_env_runners", num_env_runners, minimum=0)
-    ppo, train_settings = load_training(env_id if preset is None else preset)
-    if train_settings["algo"] != "ppo":
-        algo = train_settings["algo"]
-        raise ValueError(f"preset: RLlib trains PPO presets; this one trains {algo}")
+    ppo, train_settings = _ppo_preset(env_id, preset)
     envs = _positive(
         "num_envs_per_env_runner",
         train_settings["n_envs"] if num_envs_per_env_runner is None else num_envs_per_env_runner,
     )
     kwargs = {**preset_env_kwargs(env_id, preset), **dict(env_kwargs or {})}
+    params = _ppo_training_params(
+        ppo,
+        train_settings["n_envs"],
+        train_batch_size=train_batch_size,
+        minibatch_size=minibatch_size,
+        num_epochs=num_epochs,
+        lr=lr,
+        gamma=gamma,
+    )
+    params.update(training)
+    if net_arch is None:
+        net_arch = (ppo.get("policy_kwargs") or {}).get("net_arch")
+    return _assemble_ppo_config(
+        env_id,
+        kwargs,
+        num_env_runners=runners,
+        num_envs_per_env_runner=envs,
+        rollout_fragment_length=rollout_fragment_length,
+        params=params,
+        net_arch=net_arch,
+        seed=seed,
+    )
 
-    def initial(value: Any) -> float:
-        return float(getattr(value, "initial", value))  # a LinearSchedule's start
 
+def _ppo_preset(env_id: str, preset: str | Path | None) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The ``ppo`` section and the ``train`` settings of ``env_id``'s preset (or of
+    ``preset``); ``ValueError`` for a preset of another algorithm, which RLlib does not
+    train here."""
+    ppo, train_settings = load_training(env_id if preset is None else preset)
+    if train_settings["algo"] != "ppo":
+        algo = train_settings["algo"]
+        raise ValueError(f"preset: RLlib trains PPO presets; this one trains {algo}")
+    return ppo, train_settings
+
+
+def _initial_value(value: Any) -> float:
+    """A number, or a ``LinearSchedule``'s start (a preset's ``lin_`` value): RLlib takes a
+    constant."""
+    return float(getattr(value, "initial", value))
+
+
+def _ppo_training_params(
+    ppo: Mapping[str, Any],
+    n_envs: int,
+    *,
+    train_batch_size: int | None,
+    minibatch_size: int | None,
+    num_epochs: int | None,
+    lr: float | None,
+    gamma: float | None,
+) -> dict[str, Any]:
+    """``PPOConfig.training``'s arguments: the preset's ``ppo`` section (SB3's names and
+    defaults) mapped to RLlib's, as :func:`ppo_config` lists, where an argument given here
+    does not override it; ``ValueError`` for a batch, minibatch or epoch count that is not
+    a positive int, or a minibatch larger than the batch."""
     batch = train_batch_size
     if batch is None:
-        batch = ppo.get("n_steps", 2048) * train_settings["n_envs"]
+        batch = ppo.get("n_steps", 2048) * n_envs
     batch = _positive("train_batch_size", batch)
     if minibatch_size is None:
         minibatch_size = min(ppo.get("batch_size", 64), batch)
     minibatch = _positive("minibatch_size", minibatch_size)
     if minibatch > batch:
         raise ValueError(f"minibatch_size ({minibatch}) must be <= train_batch_size ({batch})")
-    hidden = net_arch if net_arch is not None else (ppo.get("policy_kwargs") or {}).get("net_arch")
-    params: dict[str, Any] = {
-        "lr": initial(lr if lr is not None else ppo.get("learning_rate", 3e-4)),
+    return {
+        "lr": _initial_value(lr if lr is not None else ppo.get("learning_rate", 3e-4)),
         "gamma": float(gamma if gamma is not None else ppo.get("gamma", 0.99)),
         "lambda_": float(ppo.get("gae_lambda", 0.95)),
-        "clip_param": initial(ppo.get("clip_range", 0.2)),
+        "clip_param": _initial_value(ppo.get("clip_range", 0.2)),
         "entropy_coeff": float(ppo.get("ent_coef", 0.0)),
         "num_epochs": _positive(
             "num_epochs", ppo.get("n_epochs", 10) if num_epochs is None else num_epochs
@@ -195,11 +240,28 @@ def ppo_config(
         "grad_clip_by": "global_norm",
         "use_kl_loss": False,
     }
-    params.update(training)
-    model = DefaultModelConfig(
-        fcnet_hiddens=list(hidden or [64, 64]), fcnet_activation="tanh", vf_share_layers=False
-    )
 
+
+def _assemble_ppo_config(
+    env_id: str,
+    env_config: dict[str, Any],
+    *,
+    num_env_runners: int,
+    num_envs_per_env_runner: int,
+    rollout_fragment_length: int | str,
+    params: dict[str, Any],
+    net_arch: list[int] | None,
+    seed: int | None,
+) -> PPOConfig:
+    """The ``PPOConfig`` of checked arguments: the new API stack, every env runner
+    stepping a native vector env, everything on the CPU; the policy and value networks
+    separate MLPs of ``net_arch`` (default two of 64) with tanh, as SB3's ``MlpPolicy``."""
+    from ray.rllib.algorithms.ppo import PPOConfig
+    from ray.rllib.core.rl_module.default_model_config import DefaultModelConfig
+
+    model = DefaultModelConfig(
+        fcnet_hiddens=list(net_arch or [64, 64]), fcnet_activation="tanh", vf_share_layers=False
+    )
     return (
         PPOConfig()
         .api_stack(enable_rl_module_and_learner=True, enable_env_runner_and_connector_v2=True)
@@ -210,14 +272,14 @@ def ppo_config(
         # Sail steps) would change nothing: off. The episodes keep the sampled actions.
         .environment(
             env=f"bbgym:{env_id}",
-            env_config=kwargs,
+            env_config=env_config,
             is_atari=False,
             normalize_actions=False,
             clip_actions=False,
         )
         .env_runners(
-            num_env_runners=runners,
-            num_envs_per_env_runner=envs,
+            num_env_runners=num_env_runners,
+            num_envs_per_env_runner=num_envs_per_env_runner,
             gym_env_vectorize_mode=gym.VectorizeMode.VECTOR_ENTRY_POINT,
             rollout_fragment_length=rollout_fragment_length,
             num_cpus_per_env_runner=1,
@@ -333,13 +395,6 @@ def train(
     """
     _require_ray()
     import ray
-    import torch
-    from ray.rllib.utils.metrics import (
-        ENV_RUNNER_RESULTS,
-        EPISODE_RETURN_MEAN,
-        NUM_ENV_STEPS_SAMPLED_LIFETIME,
-        NUM_EPISODES_LIFETIME,
-    )
 
     _check_env_id(env_id)
     iterations = _positive("iterations", iterations)
@@ -359,72 +414,172 @@ def train(
     )
     out.mkdir(parents=True, exist_ok=True)
     started = _start_ray(address, num_cpus, num_env_runners, runtime_env, log_to_driver)
-    algo = None
-    threads = torch.get_num_threads()
     try:
-        if learner_threads is not None:
-            torch.set_num_threads(learner_threads)
-        cpus = ray.cluster_resources().get("CPU", 0.0)
-        if cpus < num_env_runners:  # only an autoscaler adding nodes lets them all start
-            warnings.warn(
-                f"the cluster has {cpus:g} CPUs for {num_env_runners} env runners of one CPU "
-                "each: training waits until enough CPUs join",
-                stacklevel=2,
-            )
-        begin = time.perf_counter()
-        algo = config.build_algo()
-        build_s = time.perf_counter() - begin
-        history: list[dict[str, Any]] = []
-        results: dict[str, Any] = {}
-        begin = time.perf_counter()
-        for i in range(iterations):
-            results = algo.train()
-            row = {
-                "iteration": i + 1,
-                "env_steps_sampled": int(
-                    _metric(results, ENV_RUNNER_RESULTS, NUM_ENV_STEPS_SAMPLED_LIFETIME)
-                    or _metric(results, NUM_ENV_STEPS_SAMPLED_LIFETIME)
-                    or 0
-                ),
-                "episode_return_mean": _metric(results, ENV_RUNNER_RESULTS, EPISODE_RETURN_MEAN),
-                "time_s": time.perf_counter() - begin,
-            }
-            history.append(row)
-            if callback is not None:
-                callback(row)
-        wall = time.perf_counter() - begin
-        checkpoint = Path(algo.save_to_path((out / CHECKPOINT_DIR).resolve()))
-        last = history[-1]
-        episodes = _metric(results, ENV_RUNNER_RESULTS, NUM_EPISODES_LIFETIME)
-        summary = {
-            "engine": "rllib",
-            "env": env_id,
-            "seed": seed,
-            "iterations": iterations,
-            "num_env_runners": num_env_runners,
-            "num_envs_per_env_runner": config.num_envs_per_env_runner,
-            "train_batch_size": config.train_batch_size_per_learner,
-            "env_steps_sampled": last["env_steps_sampled"],
-            "episodes": int(episodes) if episodes is not None else 0,
-            "episode_return_mean": last["episode_return_mean"],
-            "wall_time_s": wall,
-            "build_time_s": build_s,
-            "env_steps_per_s": last["env_steps_sampled"] / wall if wall > 0 else None,
-            "checkpoint": str(checkpoint),
-            "address": address or "local",
-            "cluster_cpus": cpus,
-            "learner_threads": torch.get_num_threads(),
-            "ray_version": ray.__version__,
-            "history": history,
-        }
-        (out / SUMMARY_FILE).write_text(json.dumps(summary, indent=2) + "\n")
-        return summary
+        return _train_and_save(
+            config,
+            out,
+            env_id=env_id,
+            seed=seed,
+            iterations=iterations,
+            address=address,
+            learner_threads=learner_threads,
+            callback=callback,
+        )
     finally:
-        torch.set_num_threads(threads)
-        if algo is not None:
-            algo.stop()
         if started:
             ray.shutdown()
+
+
+def _train_and_save(
+    config: PPOConfig,
+    out: Path,
+    *,
+    env_id: str,
+    seed: int,
+    iterations: int,
+    address: str | None,
+    learner_threads: int | None,
+    callback: Callable[[dict[str, Any]], None] | None,
+) -> dict[str, Any]:
+    """:func:`train` once Ray is up: build the algorithm, train it ``iterations`` times with
+    torch on ``learner_threads`` threads, save the checkpoint and the summary into ``out``
+    and return the summary. The algorithm is stopped however this ends (its env runners are
+    actors that would otherwise outlive the call on a cluster that stays up)."""
+    algo = None
+    try:
+        with _torch_threads(learner_threads):
+            cpus = _cluster_cpus(config.num_env_runners)
+            begin = time.perf_counter()
+            algo = config.build_algo()
+            build_s = time.perf_counter() - begin
+            history, results, wall = _train_iterations(algo, iterations, callback)
+            checkpoint = Path(algo.save_to_path((out / CHECKPOINT_DIR).resolve()))
+            summary = _run_summary(
+                config,
+                history,
+                results,
+                env_id=env_id,
+                seed=seed,
+                iterations=iterations,
+                wall=wall,
+                build_s=build_s,
+                checkpoint=checkpoint,
+                address=address,
+                cpus=cpus,
+            )
+            (out / SUMMARY_FILE).write_text(json.dumps(summary, indent=2) + "\n")
+            return summary
+    finally:
+        if algo is not None:
+            algo.stop()
+
+
+@contextlib.contextmanager
+def _torch_threads(threads: int | None) -> Iterator[None]:
+    """torch's thread count set to ``threads`` (None: left as it is) inside the block, and
+    what it was before restored after it: the caller's torch is not changed for good."""
+    import torch
+
+    before = torch.get_num_threads()
+    try:
+        if threads is not None:
+            torch.set_num_threads(threads)
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
+def _cluster_cpus(num_env_runners: int) -> float:
+    """The Ray cluster's CPUs, with a warning where they are fewer than the env runners
+    (each holds one): only an autoscaler adding nodes then lets them all start."""
+    import ray
+
+    cpus = ray.cluster_resources().get("CPU", 0.0)
+    if cpus < num_env_runners:
+        warnings.warn(
+            f"the cluster has {cpus:g} CPUs for {num_env_runners} env runners of one CPU "
+            "each: training waits until enough CPUs join",
+            stacklevel=4,  # the caller of train (past _train_and_save)
+        )
+    return cpus
+
+
+def _train_iterations(
+    algo: Any, iterations: int, callback: Callable[[dict[str, Any]], None] | None
+) -> tuple[list[dict[str, Any]], dict[str, Any], float]:
+    """Train ``algo`` for ``iterations`` iterations; return the history (one row an
+    iteration, each passed to ``callback`` as it comes), the last iteration's results and
+    the wall time."""
+    from ray.rllib.utils.metrics import (
+        ENV_RUNNER_RESULTS,
+        EPISODE_RETURN_MEAN,
+        NUM_ENV_STEPS_SAMPLED_LIFETIME,
+    )
+
+    history: list[dict[str, Any]] = []
+    results: dict[str, Any] = {}
+    begin = time.perf_counter()
+    for i in range(iterations):
+        results = algo.train()
+        row = {
+            "iteration": i + 1,
+            "env_steps_sampled": int(
+                _metric(results, ENV_RUNNER_RESULTS, NUM_ENV_STEPS_SAMPLED_LIFETIME)
+                or _metric(results, NUM_ENV_STEPS_SAMPLED_LIFETIME)
+                or 0
+            ),
+            "episode_return_mean": _metric(results, ENV_RUNNER_RESULTS, EPISODE_RETURN_MEAN),
+            "time_s": time.perf_counter() - begin,
+        }
+        history.append(row)
+        if callback is not None:
+            callback(row)
+    return history, results, time.perf_counter() - begin
+
+
+def _run_summary(
+    config: PPOConfig,
+    history: list[dict[str, Any]],
+    results: Mapping[str, Any],
+    *,
+    env_id: str,
+    seed: int,
+    iterations: int,
+    wall: float,
+    build_s: float,
+    checkpoint: Path,
+    address: str | None,
+    cpus: float,
+) -> dict[str, Any]:
+    """The summary ``<out>/rllib.json`` holds: the run's settings, its last iteration's
+    numbers, the times, where the checkpoint is, the cluster, and the history."""
+    import ray
+    import torch
+    from ray.rllib.utils.metrics import ENV_RUNNER_RESULTS, NUM_EPISODES_LIFETIME
+
+    last = history[-1]
+    episodes = _metric(results, ENV_RUNNER_RESULTS, NUM_EPISODES_LIFETIME)
+    return {
+        "engine": "rllib",
+        "env": env_id,
+        "seed": seed,
+        "iterations": iterations,
+        "num_env_runners": config.num_env_runners,
+        "num_envs_per_env_runner": config.num_envs_per_env_runner,
+        "train_batch_size": config.train_batch_size_per_learner,
+        "env_steps_sampled": last["env_steps_sampled"],
+        "episodes": int(episodes) if episodes is not None else 0,
+        "episode_return_mean": last["episode_return_mean"],
+        "wall_time_s": wall,
+        "build_time_s": build_s,
+        "env_steps_per_s": last["env_steps_sampled"] / wall if wall > 0 else None,
+        "checkpoint": str(checkpoint),
+        "address": address or "local",
+        "cluster_cpus": cpus,
+        "learner_threads": torch.get_num_threads(),
+        "ray_version": ray.__version__,
+        "history": history,
+    }
 
 
 def load_rl_module(checkpoint: str | Path) -> RLModule:

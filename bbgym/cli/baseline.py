@@ -37,6 +37,7 @@ import argparse
 import json
 import shutil
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -96,6 +97,46 @@ def _steps_label(steps: float) -> str:
     return f"{steps:.0f}"
 
 
+REFERENCE_COLORS = {"random": "tab:gray", "scripted": "tab:green"}
+"""The reference policies a learning curve draws as horizontal lines, with their colours."""
+
+
+@dataclass(frozen=True)
+class _Evaluations:
+    """SB3's evaluations during a training run (``<run>/eval/evaluations.npz``), one entry
+    an evaluation, with the run's ``train.json`` (empty where it has none)."""
+
+    steps: np.ndarray
+    mean: np.ndarray
+    std: np.ndarray
+    n_episodes: int
+    successes: np.ndarray | None
+    """The success rate in percent; None where the run logged none."""
+    train_log: dict
+
+    @classmethod
+    def load(cls, run: Path) -> _Evaluations:
+        with np.load(run / "eval" / "evaluations.npz") as npz:
+            data = {key: npz[key] for key in npz.files}
+        log_path = run / "train.json"
+        train_log = json.loads(log_path.read_text()) if log_path.exists() else {}
+        steps = np.asarray(data["timesteps"], dtype=float).reshape(-1)
+        returns = np.asarray(data["results"], dtype=float).reshape(len(steps), -1)
+        successes = None
+        if "successes" in data and data["successes"].size:
+            successes = 100.0 * np.asarray(data["successes"], dtype=float).reshape(len(steps), -1)
+            successes = successes.mean(axis=1)
+        return cls(steps, returns.mean(axis=1), returns.std(axis=1), returns.shape[1],
+                   successes, train_log)  # fmt: skip
+
+    def seeds_label(self) -> str:
+        """Which seed the evaluation env had: training's plus the offset."""
+        seed = self.train_log.get("seed")
+        if seed is None:
+            return f"eval env seeded {train.EVAL_SEED_OFFSET} + the training seed"
+        return f"eval env seeded {int(seed) + train.EVAL_SEED_OFFSET}"
+
+
 def learning_curve_figure(
     run: Path, results: dict[str, dict], env_id: str, algo: str = "ppo", evaluated: str = "best"
 ) -> Any:
@@ -107,74 +148,108 @@ def learning_curve_figure(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    with np.load(run / "eval" / "evaluations.npz") as npz:
-        data = {key: npz[key] for key in npz.files}
-    log_path = run / "train.json"
-    train_log = json.loads(log_path.read_text()) if log_path.exists() else {}
-    steps = np.asarray(data["timesteps"], dtype=float).reshape(-1)
-    returns = np.asarray(data["results"], dtype=float).reshape(len(steps), -1)
-    n_episodes = returns.shape[1]
-    mean, std = returns.mean(axis=1), returns.std(axis=1)
-    successes = None
-    if "successes" in data and data["successes"].size:
-        successes = 100.0 * np.asarray(data["successes"], dtype=float).reshape(len(steps), -1)
-        successes = successes.mean(axis=1)
-    seed = train_log.get("seed")
-    if seed is None:
-        eval_seeds = f"eval env seeded {train.EVAL_SEED_OFFSET} + the training seed"
-    else:
-        eval_seeds = f"eval env seeded {int(seed) + train.EVAL_SEED_OFFSET}"
-    learnt_label = f"{algo.upper()} evaluations ({eval_seeds}, {n_episodes} episodes per point)"
-    i_best = best_model_index(steps, mean, train_log)
+    curve = _Evaluations.load(run)
+    steps = curve.steps
+    i_best = best_model_index(steps, curve.mean, curve.train_log)
     i_final = len(steps) - 1
-
     fig, (ax_success, ax_return) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
-    panels = [(ax_return, mean, "mean_return", 1.0, "{:.1f}")]
-    if successes is not None:
-        panels.insert(0, (ax_success, successes, "success_rate", 100.0, "{:.0f}%"))
+    # (axes, values, the key of a result, its scale on the plot, the number's format)
+    panels = [(ax_return, curve.mean, "mean_return", 1.0, "{:.1f}")]
+    if curve.successes is not None:
+        panels.insert(0, (ax_success, curve.successes, "success_rate", 100.0, "{:.0f}%"))
     else:
         ax_success.text(0.5, 0.5, "no success rate logged", ha="center", va="center",
                         transform=ax_success.transAxes, color="grey")  # fmt: skip
-    spread = f"{algo.upper()} mean +- std"
-    ax_return.fill_between(steps, mean - std, mean + std, alpha=0.2, label=spread)
-    if len(steps) == 1:  # a band of one point is not drawn: show its spread as an error bar
-        ax_return.errorbar(steps, mean, yerr=std, fmt="none", ecolor="tab:blue", alpha=0.5)
-    colors = {"random": "tab:gray", "scripted": "tab:green"}
+    _draw_return_spread(ax_return, curve, algo)
+    learnt_label = (
+        f"{algo.upper()} evaluations ({curve.seeds_label()}, {curve.n_episodes} episodes per point)"
+    )
+    reevaluated_at = steps[i_best if evaluated == "best" else i_final]
     for ax, values, key, scale, fmt in panels:
-        ax.plot(steps, values, "o-", ms=4, label=learnt_label)
-        ax.plot(
-            steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
-            label=f"final evaluation: {fmt.format(values[i_final])} at "
-            f"{_steps_label(steps[i_final])} steps",
-        )  # fmt: skip
-        ax.plot(
-            steps[i_best], values[i_best], "*", ms=15, color="tab:orange", mec="black",
-            label=f"best model (best_model.zip): {fmt.format(values[i_best])} at "
-            f"{_steps_label(steps[i_best])} steps",
-        )  # fmt: skip
-        for name, color in colors.items():
-            if name in results:
-                r = results[name]
-                ax.axhline(
-                    scale * r[key], color=color, ls="--",
-                    label=f"{name}: {fmt.format(scale * r[key])} ({_seed_range(r)})",
-                )  # fmt: skip
-        if algo in results:
-            r = results[algo]
-            at = i_best if evaluated == "best" else i_final
-            ax.plot(
-                steps[at], scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
-                label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
-                f"({_seed_range(r)})",
+        _draw_evaluations(ax, steps, values, fmt, learnt_label, i_final, i_best)
+        _draw_references(ax, results, key, scale, fmt, algo, evaluated, reevaluated_at)
+    _label_figure(fig, ax_success, ax_return, env_id, curve, results, algo)
+    return fig
+
+
+def _draw_return_spread(ax: Any, curve: _Evaluations, algo: str) -> None:
+    """The band of the evaluations' return, mean +- std over their episodes."""
+    steps, mean, std = curve.steps, curve.mean, curve.std
+    ax.fill_between(steps, mean - std, mean + std, alpha=0.2, label=f"{algo.upper()} mean +- std")
+    if len(steps) == 1:  # a band of one point is not drawn: show its spread as an error bar
+        ax.errorbar(steps, mean, yerr=std, fmt="none", ecolor="tab:blue", alpha=0.5)
+
+
+def _draw_evaluations(
+    ax: Any,
+    steps: np.ndarray,
+    values: np.ndarray,
+    fmt: str,
+    label: str,
+    i_final: int,
+    i_best: int,
+) -> None:
+    """The evaluations during training, with the final one and the best model's marked."""
+    ax.plot(steps, values, "o-", ms=4, label=label)
+    ax.plot(
+        steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
+        label=f"final evaluation: {fmt.format(values[i_final])} at "
+        f"{_steps_label(steps[i_final])} steps",
+    )  # fmt: skip
+    ax.plot(
+        steps[i_best], values[i_best], "*", ms=15, color="tab:orange", mec="black",
+        label=f"best model (best_model.zip): {fmt.format(values[i_best])} at "
+        f"{_steps_label(steps[i_best])} steps",
+    )  # fmt: skip
+
+
+def _draw_references(
+    ax: Any,
+    results: dict[str, dict],
+    key: str,
+    scale: float,
+    fmt: str,
+    algo: str,
+    evaluated: str,
+    reevaluated_at: float,
+) -> None:
+    """The baseline's own evaluations: each reference policy's ``key`` as a horizontal
+    line, and the learnt policy's as a diamond at the step of the model it evaluated."""
+    for name, color in REFERENCE_COLORS.items():
+        if name in results:
+            r = results[name]
+            ax.axhline(
+                scale * r[key], color=color, ls="--",
+                label=f"{name}: {fmt.format(scale * r[key])} ({_seed_range(r)})",
             )  # fmt: skip
-    if len(steps) == 1:  # one evaluation: give the x axis some width around it
+    if algo in results:
+        r = results[algo]
+        ax.plot(
+            reevaluated_at, scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
+            label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
+            f"({_seed_range(r)})",
+        )  # fmt: skip
+
+
+def _label_figure(
+    fig: Any,
+    ax_success: Any,
+    ax_return: Any,
+    env_id: str,
+    curve: _Evaluations,
+    results: dict[str, dict],
+    algo: str,
+) -> None:
+    """The axes' ranges, labels, titles, grids and legends, and the figure's title, which
+    says which seeds the points and the reference lines come from."""
+    if len(curve.steps) == 1:  # one evaluation: give the x axis some width around it
         for ax in (ax_success, ax_return):
-            ax.set_xlim(0.0, 2.0 * max(steps[0], 1.0))
+            ax.set_xlim(0.0, 2.0 * max(curve.steps[0], 1.0))
     ax_success.set(xlabel="timesteps", ylabel="success (%)", ylim=(-3, 103))
     ax_success.set_title(f"{env_id}: evaluation success rate")
     ax_return.set(xlabel="timesteps", ylabel="episode return")
     ax_return.set_title(f"{env_id}: evaluation return (mean +- std over episodes)")
-    refs = [results[n] for n in (*colors, algo) if n in results]
+    refs = [results[n] for n in (*REFERENCE_COLORS, algo) if n in results]
     ref_text = "no reference evaluation"
     if refs:
         ref_text = (
@@ -182,8 +257,9 @@ def learning_curve_figure(
             f"{_seed_range(refs[0])} ({refs[0].get('episodes', '?')} episodes)"
         )
     fig.suptitle(
-        f"{env_id} learning curve. Points: SB3's EvalCallback during training, {eval_seeds} "
-        f"once (its episodes run on between evaluations), {n_episodes} episodes per point.\n"
+        f"{env_id} learning curve. Points: SB3's EvalCallback during training, "
+        f"{curve.seeds_label()} once (its episodes run on between evaluations), "
+        f"{curve.n_episodes} episodes per point.\n"
         "Best model: the evaluation whose model is best_model.zip (SB3 saves one on a new best "
         f"mean return).\n{ref_text[0].upper()}{ref_text[1:]}.",
         fontsize=9,
@@ -192,7 +268,6 @@ def learning_curve_figure(
         ax.grid(alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), fontsize=8, frameon=False)
-    return fig
 
 
 def plot_learning_curve(
@@ -236,52 +311,23 @@ def run(args: argparse.Namespace) -> int:
     print(f"[1/4] training {algo.upper()} on {args.env}: seeds {seeds}, {budget} timesteps each, "
           f"{settings['n_envs']} envs, {args.jobs} at once, {args.torch_threads} torch "
           "thread(s) each")  # fmt: skip
-    start = time.perf_counter()
-    if args.no_train:
-        print(f"      (--no-train: using the models already in {args.out}/seed*)")
-    else:
-        train_seeds(args, folders, budget)
-    train_logs = {s: json.loads((f / "train.json").read_text()) for s, f in folders.items()}
-    train_wall = time.perf_counter() - start
+    train_logs, train_wall = _train_or_reuse(args, folders, budget)
     budget = train_logs[seeds[0]]["timesteps"]
 
     print(f"[2/4] evaluating random, scripted and {algo.upper()} ({len(seeds)} seeds, each "
           f"seed's {model_file}) over {args.episodes} seeded episodes")  # fmt: skip
     start = time.perf_counter()
-    results = {name: evaluate.evaluate(args.env, name, args.episodes, 0, None)
-               for name in ("random", "scripted")}  # fmt: skip
-    per_seed = []
-    for seed, folder in folders.items():
-        result = evaluate.evaluate(args.env, algo, args.episodes, 0, folder / model_file)
-        result["policy"] = f"{algo} seed {seed}"
-        result["training_seed"] = seed
-        per_seed.append(result)
-    if spec_of(args.env).timed_by_oracle:
-        for result in [*results.values(), *per_seed]:
-            result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
-    results[algo] = evaluate.over_seeds(per_seed, algo)
+    results, per_seed = _evaluate_policies(args.env, algo, folders, model_file, args.episodes)
     eval_wall = time.perf_counter() - start
-    rows = [results["random"], results["scripted"], results[algo]]
-    rows += per_seed if len(per_seed) > 1 else []
-    table = evaluate.format_table(rows)
-    summary_line = evaluate.format_over_seeds(results[algo])
-    print(table)
-    print(summary_line)
-    (args.out / "results.md").write_text(table + "\n\n" + summary_line + "\n")
-    (args.out / "results.json").write_text(json.dumps(rows, indent=2) + "\n")
+    _write_results(args.out, results, per_seed, algo)
 
     print("[3/4] plotting the learning curves")
-    first = folders[seeds[0]]
-    for seed, folder in folders.items():
-        curve_results = {**results, algo: per_seed[seeds.index(seed)]}
-        plot_learning_curve(folder, curve_results, args.env, folder / "learning_curve.png", algo,
-                            evaluated)  # fmt: skip
-    shutil.copy(first / "learning_curve.png", args.out / "learning_curve.png")
+    _plot_learning_curves(args.env, folders, results, per_seed, algo, evaluated, args.out)
 
     print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
-    record.record_to_file(args.env, algo, animation, model=first / model_file, seed=0,
-                          frame_skip=2)  # fmt: skip
+    record.record_to_file(args.env, algo, animation, model=folders[seeds[0]] / model_file,
+                          seed=0, frame_skip=2)  # fmt: skip
 
     summary = {
         "env": args.env,
@@ -309,6 +355,74 @@ def run(args: argparse.Namespace) -> int:
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     print(f"run folder {args.out}: " + ", ".join(sorted(p.name for p in args.out.iterdir())))
     return 0
+
+
+def _train_or_reuse(
+    args: argparse.Namespace, folders: dict[int, Path], budget: int
+) -> tuple[dict[int, dict], float]:
+    """Step 1: train every seed (:func:`train_seeds`), or with ``--no-train`` take the
+    runs already there; return each seed's ``train.json`` and the wall time."""
+    start = time.perf_counter()
+    if args.no_train:
+        print(f"      (--no-train: using the models already in {args.out}/seed*)")
+    else:
+        train_seeds(args, folders, budget)
+    train_logs = {s: json.loads((f / "train.json").read_text()) for s, f in folders.items()}
+    return train_logs, time.perf_counter() - start
+
+
+def _evaluate_policies(
+    env: str, algo: str, folders: dict[int, Path], model_file: str, episodes: int
+) -> tuple[dict[str, dict], list[dict]]:
+    """Step 2: evaluate random play, the scripted agent and each seed's ``model_file`` on
+    the same ``episodes`` seeded episodes. Return the results by policy (the learnt
+    policy's over all seeds, under ``algo``) and the learnt policy's per seed."""
+    results = {name: evaluate.evaluate(env, name, episodes, 0, None)
+               for name in ("random", "scripted")}  # fmt: skip
+    per_seed = []
+    for seed, folder in folders.items():
+        result = evaluate.evaluate(env, algo, episodes, 0, folder / model_file)
+        result["policy"] = f"{algo} seed {seed}"
+        result["training_seed"] = seed
+        per_seed.append(result)
+    if spec_of(env).timed_by_oracle:
+        for result in [*results.values(), *per_seed]:
+            result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
+    results[algo] = evaluate.over_seeds(per_seed, algo)
+    return results, per_seed
+
+
+def _write_results(out: Path, results: dict[str, dict], per_seed: list[dict], algo: str) -> None:
+    """Print the results table and write it to ``results.md`` and ``results.json``: the
+    references, the learnt policy over the seeds and, with more than one seed, each
+    seed's."""
+    rows = [results["random"], results["scripted"], results[algo]]
+    rows += per_seed if len(per_seed) > 1 else []
+    table = evaluate.format_table(rows)
+    summary_line = evaluate.format_over_seeds(results[algo])
+    print(table)
+    print(summary_line)
+    (out / "results.md").write_text(table + "\n\n" + summary_line + "\n")
+    (out / "results.json").write_text(json.dumps(rows, indent=2) + "\n")
+
+
+def _plot_learning_curves(
+    env: str,
+    folders: dict[int, Path],
+    results: dict[str, dict],
+    per_seed: list[dict],
+    algo: str,
+    evaluated: str,
+    out: Path,
+) -> None:
+    """Step 3: each seed's learning curve in its folder, against that seed's own
+    re-evaluation; the first seed's is copied into the run folder ``out``."""
+    for folder, seed_result in zip(folders.values(), per_seed, strict=True):
+        curve_results = {**results, algo: seed_result}
+        plot_learning_curve(folder, curve_results, env, folder / "learning_curve.png", algo,
+                            evaluated)  # fmt: skip
+    first = next(iter(folders.values()))
+    shutil.copy(first / "learning_curve.png", out / "learning_curve.png")
 
 
 def train_seeds(args: argparse.Namespace, folders: dict[int, Path], budget: int) -> None:

@@ -161,6 +161,56 @@ def open_writer(path: Path, fps: float) -> GifWriter | Mp4Writer:
     return Mp4Writer(path, fps) if check_format(path) == ".mp4" else GifWriter(path, fps)
 
 
+class _CaptionedFrames:
+    """An episode's frames on their way to a sink: every ``frame_skip``-th frame and every key
+    frame (the end of a throw: shown ``hold_periods`` frames long) is passed on, with a
+    caption over its bottom strip where ``title`` is set (``left`` on its left, what
+    :meth:`add` gives on its right). Each frame waits for the next, since only then is it
+    known to be the episode's last, which :meth:`finish` always passes on, held, with the
+    outcome's caption."""
+
+    def __init__(
+        self, sink: FrameSink, left: str, *, title: bool, frame_skip: int, hold_periods: int
+    ) -> None:
+        self.sink, self.left, self.title = sink, left, title
+        self.frame_skip, self.hold_periods = frame_skip, hold_periods
+        self.index = 0
+        self.kept = 0
+        """The frames passed on to the sink so far."""
+        # (frame, its caption's right side, kept?, periods): the frame that waits.
+        self._waiting: tuple[np.ndarray, str, bool, int] | None = None
+        self._captioner: Any = None
+
+    def add(self, frame: np.ndarray, right: str, key: bool) -> None:
+        """The next frame, captioned ``right``; a ``key`` frame is kept and held."""
+        waiting = self._waiting
+        if waiting is not None and waiting[2]:
+            self.sink(self._captioned(waiting[0], waiting[1], NEUTRAL_COLOR), waiting[3])
+            self.kept += 1
+        kept = key or self.index % self.frame_skip == 0
+        self._waiting = (frame, right, kept, self.hold_periods if key else 1)
+        self.index += 1
+
+    def finish(self, right: str, color: tuple[int, int, int]) -> None:
+        """Pass on the last frame, held, its caption's right side ``right`` in ``color``."""
+        assert self._waiting is not None, "no frame was added"
+        self.sink(self._captioned(self._waiting[0], right, color), self.hold_periods)
+        self.kept += 1
+
+    def _captioned(self, frame: np.ndarray, right: str, color: tuple[int, int, int]) -> np.ndarray:
+        if not self.title:
+            return frame
+        if self._captioner is None:  # pygame's fonts, only once a caption is drawn
+            from bbgym.render.base import Captioner
+
+            self._captioner = Captioner()
+        return self._captioner(frame, self.left, right, right_color=color)
+
+
+def _progress_caption(step: int, so_far: float) -> str:
+    return f"step {step} \N{MIDDLE DOT} return {so_far:+.2f}"
+
+
 def record_episode(
     env: gym.Env,
     policy: Any,
@@ -188,38 +238,13 @@ def record_episode(
     flights = hasattr(env.unwrapped, "render_flight")
     env_name = env.spec.id if env.spec is not None else type(env.unwrapped).__name__
     left = f"{env_name} \N{MIDDLE DOT} {policy_name or policy_label(policy)}"
+    frames = _CaptionedFrames(
+        sink, left, title=title, frame_skip=frame_skip, hold_periods=hold_periods
+    )
     obs, info = env.reset(seed=seed)
     if hasattr(policy, "reset"):
         policy.reset()
-    index, kept = 0, 0
-    # (frame, its caption's right side, kept?, periods): each frame is sent on later.
-    last: tuple[np.ndarray, str, bool, int] | None = None
-
-    captioner: Any = None
-
-    def captioned(frame: np.ndarray, right: str, color: tuple[int, int, int]) -> np.ndarray:
-        nonlocal captioner
-        if not title:
-            return frame
-        if captioner is None:
-            from bbgym.render.base import Captioner
-
-            captioner = Captioner()
-        return captioner(frame, left, right, right_color=color)
-
-    def emit(frame: np.ndarray, right: str, key: bool) -> None:
-        # Each frame waits for the next: the last one of the episode is always kept.
-        nonlocal index, kept, last
-        if last is not None and last[2]:
-            sink(captioned(last[0], last[1], NEUTRAL_COLOR), last[3])
-            kept += 1
-        last = (frame, right, key or index % frame_skip == 0, hold_periods if key else 1)
-        index += 1
-
-    def progress(step: int, so_far: float) -> str:
-        return f"step {step} \N{MIDDLE DOT} return {so_far:+.2f}"
-
-    emit(env.render(), progress(0, 0.0), key=False)
+    frames.add(env.render(), _progress_caption(0, 0.0), key=False)
     total, steps, terminated, truncated = 0.0, 0, False, False
     while not (terminated or truncated):
         if max_steps is not None and steps >= max_steps:
@@ -230,17 +255,14 @@ def record_episode(
         steps += 1
         if flights:
             for frame in env.unwrapped.render_flight():
-                emit(frame, progress(steps, before), key=False)
-        emit(env.render(), progress(steps, total), key=flights)
-    assert last is not None
+                frames.add(frame, _progress_caption(steps, before), key=False)
+        frames.add(env.render(), _progress_caption(steps, total), key=flights)
     outcome, success = spec_of(env_id_of(env)).episode_outcome(env, info, terminated, truncated)
     color = {True: SUCCESS_COLOR, False: FAILURE_COLOR}.get(success, NEUTRAL_COLOR)
-    final = f"final return {total:+.2f} \N{MIDDLE DOT} {outcome}"
-    sink(captioned(last[0], final, color), hold_periods)  # the last frame: kept and held
-    kept += 1
+    frames.finish(f"final return {total:+.2f} \N{MIDDLE DOT} {outcome}", color)
     return {
         "steps": steps,
-        "frames": kept,
+        "frames": frames.kept,
         "return": total,
         "success": bool(info.get("is_success", False)),
         "terminated": bool(terminated),

@@ -43,6 +43,9 @@ EVAL_SEED_OFFSET = 10_000
 
 ENGINES = ("sb3", "rllib")
 
+MODEL_FILE = "model.zip"
+"""The final model of a run, which ``--resume`` continues."""
+
 VEC_NORMALIZE_FILE = "vecnormalize.pkl"
 """The reward normalizer's running statistics (``normalize_reward``), for ``--resume``."""
 
@@ -165,76 +168,31 @@ def train_sb3(
     (``seed + 10000 + i``); the same command and seed on the same machine give the same
     model. ``train.json`` records the seed, threads, versions, machine and command."""
     require("stable_baselines3", "train")
-    from stable_baselines3.common.callbacks import CheckpointCallback
-    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
-    from stable_baselines3.common.vec_env import VecMonitor
-
     from bbgym.config import load_training
-    from bbgym.sb3 import algorithm_class, load_model, make_sb3_vec_env
 
     path, env_kwargs = resolve_preset(env, preset)
     algo_kwargs, settings = load_training(path)
     algo = settings["algo"]
     budget = timesteps or settings["total_timesteps"]
     pin_torch_threads(torch_threads)
-    n_envs = settings["n_envs"]
     if progress:
         progress = _progress_bar_available()
 
     out.mkdir(parents=True, exist_ok=True)
     shutil.copy(path, out / "config.yaml")
-    vec_env = VecMonitor(make_sb3_vec_env(env, n_envs=n_envs, seed=seed, **env_kwargs))
-    # Several envs evaluate at once: a native vector env of one is NumPy on one element.
-    n_eval = min(n_envs, settings["eval_episodes"])
-    eval_env = VecMonitor(
-        make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
-    )
-    stats_path = out / VEC_NORMALIZE_FILE
-    if settings["normalize_reward"]:
-        gamma = algo_kwargs.get("gamma", 0.99)
-        vec_env, eval_env = _normalize_reward(vec_env, eval_env, gamma, stats_path, resume)
-    evaluation = _final_eval_callback()(
-        eval_env,
-        n_eval_episodes=settings["eval_episodes"],
-        eval_freq=max(1, settings["eval_every_timesteps"] // n_envs),
-        best_model_save_path=str(out),
-        log_path=str(out / "eval"),
-        deterministic=True,
-    )
-    callbacks = [
-        evaluation,
-        CheckpointCallback(
-            save_freq=max(1, settings["checkpoint_every_timesteps"] // n_envs),
-            save_path=str(out / "checkpoints"),
-            name_prefix=algo,
-        ),
-    ]
-    model_path, buffer_path = out / "model.zip", out / REPLAY_BUFFER_FILE
-    if resume and model_path.exists():
-        model = load_model(model_path, algo, "--resume:", env=vec_env,
-                           tensorboard_log=str(out / "tb"))  # fmt: skip
-        if isinstance(model, OffPolicyAlgorithm) and buffer_path.exists():
-            model.load_replay_buffer(buffer_path)
-        print(f"resuming from {model_path} at {model.num_timesteps} timesteps")
-    else:
-        policy = algo_kwargs.pop("policy")
-        model = algorithm_class(algo)(
-            policy, vec_env, seed=seed, device="cpu", tensorboard_log=str(out / "tb"),
-            verbose=0, **algo_kwargs,
-        )  # fmt: skip
+    gamma = algo_kwargs.get("gamma", 0.99)
+    vec_env, eval_env = _training_envs(env, env_kwargs, settings, seed, gamma, out, resume)
+    evaluation, checkpoints = _training_callbacks(eval_env, settings, out)
+    model = _load_or_build_model(algo, algo_kwargs, vec_env, seed, out, resume)
     start = time.perf_counter()
     model.learn(
         total_timesteps=budget,
-        callback=callbacks,
+        callback=[evaluation, checkpoints],
         progress_bar=progress,
         reset_num_timesteps=not resume,
     )
     wall = time.perf_counter() - start
-    model.save(model_path)
-    if isinstance(model, OffPolicyAlgorithm):  # SAC: its replay buffer, for --resume
-        model.save_replay_buffer(buffer_path)
-    if settings["normalize_reward"]:
-        vec_env.save(str(stats_path))
+    _save_run(model, vec_env, out, settings["normalize_reward"])
     summary = {
         "env": env,
         "engine": "sb3",
@@ -244,7 +202,7 @@ def train_sb3(
         "wall_time_s": wall,
         "timesteps_per_s": budget / wall,
         "config": str(path),
-        "model": str(model_path),
+        "model": str(out / MODEL_FILE),
         "best_model": str(out / "best_model.zip"),
         "best_model_timesteps": evaluation.best_timesteps,
         "best_mean_return": float(evaluation.best_mean_reward),
@@ -254,6 +212,97 @@ def train_sb3(
     vec_env.close()
     eval_env.close()
     return summary
+
+
+def _training_envs(
+    env: str,
+    env_kwargs: dict[str, Any],
+    settings: dict[str, Any],
+    seed: int,
+    gamma: float,
+    out: Path,
+    resume: bool,
+) -> tuple[Any, Any]:
+    """The training and evaluation vector envs, seeded ``seed + i`` and
+    ``seed + EVAL_SEED_OFFSET + i``, each inside a ``VecMonitor`` (the episode statistics);
+    with the preset's ``normalize_reward``, also inside :func:`_normalize_reward`."""
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from bbgym.sb3 import make_sb3_vec_env
+
+    n_envs = settings["n_envs"]
+    vec_env = VecMonitor(make_sb3_vec_env(env, n_envs=n_envs, seed=seed, **env_kwargs))
+    # Several envs evaluate at once: a native vector env of one is NumPy on one element.
+    n_eval = min(n_envs, settings["eval_episodes"])
+    eval_env = VecMonitor(
+        make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
+    )
+    if settings["normalize_reward"]:
+        stats_path = out / VEC_NORMALIZE_FILE
+        vec_env, eval_env = _normalize_reward(vec_env, eval_env, gamma, stats_path, resume)
+    return vec_env, eval_env
+
+
+def _training_callbacks(eval_env: Any, settings: dict[str, Any], out: Path) -> tuple[Any, Any]:
+    """The periodic evaluation (:func:`_final_eval_callback`: the best model as
+    ``<out>/best_model.zip``, the log in ``<out>/eval``) and the periodic checkpoints
+    (``<out>/checkpoints``). The preset's periods count timesteps over all envs; SB3's count
+    calls, one per vector step, hence the division by ``n_envs``."""
+    from stable_baselines3.common.callbacks import CheckpointCallback
+
+    n_envs = settings["n_envs"]
+    evaluation = _final_eval_callback()(
+        eval_env,
+        n_eval_episodes=settings["eval_episodes"],
+        eval_freq=max(1, settings["eval_every_timesteps"] // n_envs),
+        best_model_save_path=str(out),
+        log_path=str(out / "eval"),
+        deterministic=True,
+    )
+    checkpoints = CheckpointCallback(
+        save_freq=max(1, settings["checkpoint_every_timesteps"] // n_envs),
+        save_path=str(out / "checkpoints"),
+        name_prefix=settings["algo"],
+    )
+    return evaluation, checkpoints
+
+
+def _load_or_build_model(
+    algo: str, algo_kwargs: dict[str, Any], vec_env: Any, seed: int, out: Path, resume: bool
+) -> Any:
+    """The model to train: with ``resume``, ``<out>/model.zip`` (and SAC's replay buffer
+    beside it) where it exists; else a new ``algo`` model from the preset's keyword
+    arguments, seeded with ``seed``, on the CPU. Both log to ``<out>/tb``."""
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+
+    from bbgym.sb3 import algorithm_class, load_model
+
+    model_path, buffer_path = out / MODEL_FILE, out / REPLAY_BUFFER_FILE
+    if resume and model_path.exists():
+        model = load_model(model_path, algo, "--resume:", env=vec_env,
+                           tensorboard_log=str(out / "tb"))  # fmt: skip
+        if isinstance(model, OffPolicyAlgorithm) and buffer_path.exists():
+            model.load_replay_buffer(buffer_path)
+        print(f"resuming from {model_path} at {model.num_timesteps} timesteps")
+        return model
+    kwargs = dict(algo_kwargs)
+    policy = kwargs.pop("policy")
+    return algorithm_class(algo)(
+        policy, vec_env, seed=seed, device="cpu", tensorboard_log=str(out / "tb"),
+        verbose=0, **kwargs,
+    )  # fmt: skip
+
+
+def _save_run(model: Any, vec_env: Any, out: Path, normalize_reward: bool) -> None:
+    """What ``--resume`` continues from: the final model, an off-policy algorithm's (SAC's)
+    replay buffer and the reward normalizer's statistics."""
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+
+    model.save(out / MODEL_FILE)
+    if isinstance(model, OffPolicyAlgorithm):
+        model.save_replay_buffer(out / REPLAY_BUFFER_FILE)
+    if normalize_reward:
+        vec_env.save(str(out / VEC_NORMALIZE_FILE))
 
 
 def _normalize_reward(
