@@ -24,7 +24,7 @@ Engine ``rllib`` (the ``rllib`` extra; PPO presets): Ray RLlib's PPO on its new 
 runner stepping the env's native vector env; ``--iterations`` training iterations, a
 checkpoint in ``<out>/checkpoint`` and a summary in ``<out>/rllib.json``. Without
 ``--address`` a local Ray starts for the run; ``--address auto`` joins the cluster of
-``ray start --head`` (see the README).
+``ray start --head`` (see the documentation's Training page, "Scale-out with Ray RLlib").
 """
 
 from __future__ import annotations
@@ -311,9 +311,10 @@ def _normalize_reward(
     """SB3's ``VecNormalize`` on the rewards only (the observations are already scaled):
     each reward is divided by the running standard deviation of the discounted return (RL
     Zoo's ``norm_reward``). On Sail-v1 it is what let every training seed learn to beat to
-    windward (README, "Baselines"). The episode statistics stay raw (``VecMonitor`` is
-    inside), and ``--resume`` continues the saved statistics. The evaluation env is
-    wrapped alike, as SB3's evaluation expects, but scores the env's own rewards."""
+    windward (the documentation's Baselines page). The episode statistics stay raw
+    (``VecMonitor`` is inside), and ``--resume`` continues the saved statistics. The
+    evaluation env is wrapped alike, as SB3's evaluation expects, but scores the env's own
+    rewards."""
     from stable_baselines3.common.vec_env import VecNormalize
 
     if resume and stats_path.exists():
