@@ -865,13 +865,32 @@ def _finished(
     p: BallParams, s: BallState, landed: Any, flight_time: Any, t: float, max_roll_s: Any,
     field_radius_m: float, xp: Any,
 ) -> Any:  # fmt: skip
-    """Resting on the ground (or rolled long enough after landing), or out of the field.
-
-    At rest means slow and not spinning about a horizontal axis: a ball whose backspin has
-    just stopped it is about to come back."""
-    speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
-    spin_speed_sq = p.radius_m * p.radius_m * (s.wx * s.wx + s.wy * s.wy)
-    at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01) & (spin_speed_sq < 0.01)
+    """Landed and at rest (:func:`ball_at_rest`), or rolled long enough after landing, or out of
+    the field."""
+    at_rest = landed & ball_at_rest(p, s)
     if max_roll_s is not None:  # a ball blown along the ground may never stop
         at_rest = at_rest | (landed & (t - flight_time > max_roll_s))
     return at_rest | (s.x * s.x + s.y * s.y > field_radius_m * field_radius_m)
+
+
+REST_SPEED_SQ = 0.01
+"""Squared speed (m^2/s^2), and squared rim speed of the horizontal spin, below which a
+ball on the ground is at rest (0.1 m/s)."""
+
+
+def ball_at_rest(p: BallParams, s: BallState, check_spin: bool = True) -> Array:
+    """Whether a ball is at rest: on the ground (its centre within 0.1% of a radius of it)
+    and slow (``|v| < 0.1 m/s``), and, with ``check_spin``, not spinning about a horizontal
+    axis (rim speed ``r |omega_h| < 0.1 m/s``): a ball whose backspin has just stopped it is
+    about to come back, so a throw's flight (:func:`simulate_throw`) waits for it.
+
+    BeachballTopple (:mod:`bbgym.physics.toppling`) stops its ball on speed alone
+    (``check_spin=False``): that is its rule since v0, and a version never changes
+    behaviour (its golden replays pin it).
+    """
+    speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
+    resting = (s.z <= p.radius_m * 1.001) & (speed_sq < REST_SPEED_SQ)
+    if not check_spin:
+        return resting
+    spin_speed_sq = p.radius_m * p.radius_m * (s.wx * s.wx + s.wy * s.wy)
+    return resting & (spin_speed_sq < REST_SPEED_SQ)
