@@ -45,4 +45,3 @@ def quadratic_drag_rate(drag_area_m2: float, density_kgm3: float, speed_mps: Arr
     ``F = -k v``: ``k = 1/2 C_d A rho |v|`` (N s/m). Integrators that treat the drag
     implicitly need ``k`` itself; the force is ``-k v``."""
     return 0.5 * drag_area_m2 * density_kgm3 * speed_mps
-
