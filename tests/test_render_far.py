@@ -30,13 +30,9 @@ from bbgym.render import (  # noqa: E402
     ToppleRenderer,
     ToppleScene,
 )
-from bbgym.render.base import (  # noqa: E402
-    EDGE_MARKER_MARGIN_PX,
-    SafeDraw,
-    clip_polygon,
-    clip_segment,
-    safe_box,
-)
+from bbgym.render.annotations import EDGE_MARKER_MARGIN_PX  # noqa: E402
+from bbgym.render.geometry import clip_polygon, clip_segment, safe_box  # noqa: E402
+from bbgym.render.safe_draw import SafeDraw  # noqa: E402
 from bbgym.render.sail_view import MARK_COLOR  # noqa: E402
 from bbgym.render.throw_view import (  # noqa: E402
     BALL_MARKER_COLOR,

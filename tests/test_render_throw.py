@@ -314,7 +314,7 @@ def test_readout_text_is_what_the_panel_draws(renderer: ThrowRenderer) -> None:
 def test_top_view_scale_bar_is_metres_times_pixels_per_metre(
     renderer: ThrowRenderer, target: tuple[float, float]
 ) -> None:
-    from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
+    from bbgym.render.annotations import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
     from bbgym.render.throw_view import TOP_SCALE_BAR_MAX_PX
 
     scene = make_scene(target_m=target, landing_m=None, previous_landings_m=())

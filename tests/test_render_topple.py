@@ -367,7 +367,7 @@ def test_failed_final_frame_has_a_red_banner_where_a_success_has_a_green_one(
 def test_inset_scale_bar_is_metres_times_pixels_per_metre(
     renderer: ToppleRenderer, distance: float
 ) -> None:
-    from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
+    from bbgym.render.annotations import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
     from bbgym.render.topple_view import INSET_SCALE_BAR_MAX_PX, top_view_map
 
     scene = make_scene(wall_distance_m=distance, hit_point_m=None)

@@ -11,8 +11,7 @@ renderer is created, so importing this module (or a view module built on it) nev
 The rest lives by concern: :mod:`bbgym.render.geometry` (pure clipping geometry),
 :mod:`bbgym.render.safe_draw` (pygame's ``draw`` made safe for far-away and huge shapes:
 ``self._pg`` is pygame with it), :mod:`bbgym.render.annotations` (off-screen markers, the
-scale bar, captions). Their public names are importable from here too, where the views
-import them.
+scale bar, captions); the names the views import from here stay importable here.
 """
 
 from __future__ import annotations
@@ -23,117 +22,38 @@ from typing import Any, Generic, TypeVar
 import numpy as np
 
 from bbgym.render.annotations import (
-    CAPTION_BACKGROUND,
     CAPTION_BAND_PX,
-    CAPTION_FONT_PX,
-    CAPTION_OPACITY,
-    CAPTION_TEXT_COLOR,
     EDGE_MARKER_HALF_WIDTH_PX,
     EDGE_MARKER_LENGTH_PX,
     EDGE_MARKER_MARGIN_PX,
     MARKER_LABEL_COLOR,
-    MARKER_OUTLINE_COLOR,
-    SCALE_BAR_COLOR,
     SCALE_BAR_FONT_PX,
-    SCALE_BAR_MARGIN_PX,
     SCALE_BAR_MAX_PX,
-    SCALE_BAR_OUTLINE_COLOR,
-    SCALE_BAR_STEPS,
     Captioner,
     ScaleBar,
-    draw_caption,
     draw_edge_marker,
     draw_scale_bar,
-    fit_text,
     format_distance,
-    format_metres,
     scale_bar,
     scale_bar_origin,
 )
 from bbgym.render.geometry import (
-    ARC_MAX_ERROR_PX,
-    ARC_MAX_POINTS,
-    GFX_SAFE_PX,
-    PIN_PX,
-    SAFE_EXTENT_FACTOR,
-    Box,
     Color,
     RectLike,
     Vec2,
-    arc_points,
     arc_span,
-    clip_polygon,
-    clip_polyline,
-    clip_segment,
     edge_marker_tip,
-    ellipse_covers,
-    in_box,
     is_finite_px,
-    is_outside,
     safe_box,
 )
-from bbgym.render.safe_draw import (
-    SafeDraw,
-    SafePygame,
-    import_pygame,
-)
+from bbgym.render.safe_draw import SafePygame, import_pygame
 
-__all__ = [  # the renderer base, and the names the views import from here
-    "FONT_SIZE_PX",
-    "RENDER_MODES",
-    "FAR_AWAY_PX",
-    "PygameRenderer",
-    "blend",
-    "check_render_mode",
-    "import_pygame",
-    "ARC_MAX_ERROR_PX",
-    "ARC_MAX_POINTS",
-    "Box",
-    "CAPTION_BACKGROUND",
-    "CAPTION_BAND_PX",
-    "CAPTION_FONT_PX",
-    "CAPTION_OPACITY",
-    "CAPTION_TEXT_COLOR",
-    "Captioner",
-    "Color",
-    "EDGE_MARKER_HALF_WIDTH_PX",
-    "EDGE_MARKER_LENGTH_PX",
-    "EDGE_MARKER_MARGIN_PX",
-    "GFX_SAFE_PX",
-    "MARKER_LABEL_COLOR",
-    "MARKER_OUTLINE_COLOR",
-    "PIN_PX",
-    "RectLike",
-    "SAFE_EXTENT_FACTOR",
-    "SCALE_BAR_COLOR",
-    "SCALE_BAR_FONT_PX",
-    "SCALE_BAR_MARGIN_PX",
-    "SCALE_BAR_MAX_PX",
-    "SCALE_BAR_OUTLINE_COLOR",
-    "SCALE_BAR_STEPS",
-    "SafeDraw",
-    "ScaleBar",
-    "Vec2",
-    "arc_points",
-    "arc_span",
-    "clip_polygon",
-    "clip_polyline",
-    "clip_segment",
-    "draw_caption",
-    "draw_edge_marker",
-    "draw_scale_bar",
-    "edge_marker_tip",
-    "ellipse_covers",
-    "fit_text",
-    "format_distance",
-    "format_metres",
-    "in_box",
-    "is_finite_px",
-    "is_outside",
-    "safe_box",
-    "scale_bar",
-    "scale_bar_origin",
-]
+__all__ = [  # the renderer base, and the names the views and the CLI import from here
+    "CAPTION_BAND_PX", "EDGE_MARKER_HALF_WIDTH_PX", "EDGE_MARKER_LENGTH_PX",
+    "EDGE_MARKER_MARGIN_PX", "FAR_AWAY_PX", "FONT_SIZE_PX", "RENDER_MODES", "Captioner",
+    "Color", "PygameRenderer", "Vec2", "arc_span", "blend", "check_render_mode",
+    "draw_edge_marker", "edge_marker_tip", "import_pygame", "is_finite_px", "safe_box",
+]  # fmt: skip
 
 RENDER_MODES = ("human", "rgb_array")
 FONT_SIZE_PX = 18
