@@ -15,7 +15,6 @@ deterministic under a seed, and the generator's state is one counter per env.
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any
@@ -98,10 +97,11 @@ def torch_namespace() -> Any:
     array-api-compat turns a Python scalar argument of ``maximum``, ``minimum`` and ``clip``
     into a tensor through ``torch.result_type``, which Dynamo cannot put in a graph: every
     such call breaks the compiled step in two (measured: a sailing step fell from a fused
-    kernel to 0.3 s of graph fragments). Here a scalar bound goes to ``torch.clamp``, which
-    takes it natively with the same result (the standard's promotion: the tensor's dtype
-    wins over a Python scalar), and ``where`` to ``torch.where``, which does the same (two
-    Python scalars, which torch would turn into float32, raise as the standard says).
+    kernel to 0.3 s of graph fragments). Here a scalar bound goes to ``torch.clamp_min`` or
+    ``torch.clamp_max``, which take it natively with the same result (the standard's
+    promotion: the tensor's dtype wins over a Python scalar), and ``where`` to
+    ``torch.where``, which does the same (two Python scalars, which torch would turn into
+    float32, raise as the standard says).
     Everything else is array-api-compat's.
     """
     global _TORCH_NAMESPACE
@@ -110,21 +110,23 @@ def torch_namespace() -> Any:
     import torch
     from array_api_compat import torch as compat
 
-    scalar = (int, float)
+    number = (int, float)
 
-    def maximum(x1: Any, x2: Any, /) -> Any:
-        if isinstance(x2, scalar):
-            return torch.clamp(x1, min=x2)
-        if isinstance(x1, scalar):
-            return torch.clamp(x2, min=x1)
-        return compat.maximum(x1, x2)
+    def scalar_bound(clamp: Any, compat_fn: Any) -> Any:
+        """``compat_fn`` (maximum or minimum), with a Python-number operand sent to
+        ``clamp`` (``torch.clamp_min`` or ``torch.clamp_max``) as the bound."""
 
-    def minimum(x1: Any, x2: Any, /) -> Any:
-        if isinstance(x2, scalar):
-            return torch.clamp(x1, max=x2)
-        if isinstance(x1, scalar):
-            return torch.clamp(x2, max=x1)
-        return compat.minimum(x1, x2)
+        def bounded(x1: Any, x2: Any, /) -> Any:
+            if isinstance(x2, number):
+                return clamp(x1, x2)
+            if isinstance(x1, number):
+                return clamp(x2, x1)
+            return compat_fn(x1, x2)
+
+        return bounded
+
+    maximum = scalar_bound(torch.clamp_min, compat.maximum)
+    minimum = scalar_bound(torch.clamp_max, compat.minimum)
 
     def clip(x: Any, /, min: Any = None, max: Any = None) -> Any:  # noqa: A002 (the standard's names)
         if min is not None:
@@ -132,7 +134,7 @@ def torch_namespace() -> Any:
         return x if max is None else minimum(x, max)
 
     def where(condition: Any, x1: Any, x2: Any, /) -> Any:
-        if isinstance(x1, scalar) and isinstance(x2, scalar):
+        if isinstance(x1, number) and isinstance(x2, number):
             # torch would make torch's default dtype (float32) of two Python floats
             raise TypeError("where() needs an array in x1 or x2 (the standard's rule)")
         return torch.where(condition, x1, x2)
@@ -143,42 +145,37 @@ def torch_namespace() -> Any:
     return _TORCH_NAMESPACE
 
 
-_warned_eager = False
-
-
 def compiled(fn: Any, backend: Backend) -> Any:
-    """``fn`` under ``torch.compile`` (a static graph per input shape), falling back to
-    eager torch with one warning if the compiler fails on the first call."""
+    """``fn`` under ``torch.compile`` (a static graph per input shape), or ``fn`` itself
+    unless the backend is torch with ``compile=True``.
+
+    Compiling happens at the first call (and again for a new input shape). If it fails (no
+    working C++ compiler, an op the compiler cannot take), the call raises a
+    ``RuntimeError`` naming what failed; nothing falls back silently: ``compile=False``
+    runs the torch backend eagerly (slower).
+    """
     if backend.name != "torch" or not backend.compile:
         return fn
     import torch
     import torch._dynamo
+    from torch._dynamo.exc import TorchDynamoException
 
     # Dynamo keeps compiled graphs per code object: every task, dtype and batch size runs
-    # the same FusedStep methods, so the default limit of 8 would send later envs to eager.
+    # the same VectorStep methods, so the default limit of 8 would send later envs to eager.
     config = torch._dynamo.config
     config.recompile_limit = max(config.recompile_limit, 256)
     config.accumulated_recompile_limit = max(config.accumulated_recompile_limit, 4096)
     compiled_fn = torch.compile(fn, dynamic=False)
-    state = {"fn": compiled_fn}
+    name = getattr(fn, "__qualname__", repr(fn))
 
     def call(*args: Any) -> Any:
-        global _warned_eager
         try:
-            return state["fn"](*args)
-        except Exception as error:  # a missing or broken C++ compiler, an unsupported op
-            if state["fn"] is fn:
-                raise
-            if not _warned_eager:
-                warnings.warn(
-                    f"torch.compile failed ({type(error).__name__}: {error}); "
-                    "running the torch backend eagerly (slower)",
-                    RuntimeWarning,
-                    stacklevel=2,
-                )
-                _warned_eager = True
-            state["fn"] = fn
-            return fn(*args)
+            return compiled_fn(*args)
+        except TorchDynamoException as error:  # the compiler failed, not the step
+            raise RuntimeError(
+                f"torch.compile failed on {name} ({type(error).__name__}: {error}); "
+                "pass compile=False to run the torch backend eagerly (slower)"
+            ) from error
 
     return call
 

@@ -4,7 +4,8 @@ match it to rounding."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import gymnasium as gym
@@ -52,3 +53,20 @@ def replica_run(
         row = (obs, reward, term, trunc)
         out.append(row if extra is None else (*row, extra(state, info)))
     return out
+
+
+@contextmanager
+def compiles() -> Iterator[Any]:
+    """Fails the test unless ``torch.compile`` really compiled graphs inside the block.
+
+    Dynamo's caches are emptied first, so every compiled part called in the block traces a
+    new graph; a run that fell back to eager torch (or never reached the compiler) counts
+    none. Yields Dynamo's counters (``counters["stats"]["unique_graphs"]``, ...)."""
+    import torch._dynamo
+    from torch._dynamo.utils import counters
+
+    torch._dynamo.reset()
+    counters.clear()
+    yield counters
+    graphs = counters["stats"]["unique_graphs"]
+    assert graphs >= 1, f"torch.compile compiled no graph: {dict(counters['stats'])}"

@@ -5,6 +5,7 @@ Written for BeachballSail-v0; the ball envs have their own files
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import backend_replica
@@ -85,11 +86,29 @@ def test_compiled_equals_eager() -> None:
     actions = actions_for(env_id, 12)
     results = []
     for compile in (False, True):
-        venv = make_torch(env_id, compile=compile, max_episode_steps=5)
-        out = [venv.reset(seed=2)[0]]
-        out += [venv.step(a)[0] for a in actions]
+        with backend_replica.compiles() if compile else contextlib.nullcontext():
+            venv = make_torch(env_id, compile=compile, max_episode_steps=5)
+            out = [venv.reset(seed=2)[0]]
+            out += [venv.step(a)[0] for a in actions]
         results.append(np.array(out))
     np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-6)
+
+
+def test_a_failing_compile_raises_and_names_the_eager_switch(monkeypatch) -> None:
+    """No silent fallback to eager torch: a compiler that fails (here a backend that raises,
+    as a missing C++ compiler makes inductor do) fails the call, naming ``compile=False``."""
+    real_compile = torch.compile
+
+    def broken(gm, example_inputs):
+        raise RuntimeError("no C++ compiler on this machine")
+
+    monkeypatch.setattr(torch, "compile", lambda fn, **kw: real_compile(fn, backend=broken, **kw))
+    step = backends.compiled(lambda x: x * 2.0 + 1.0, backends.Backend("torch"))
+    with pytest.raises(RuntimeError, match=r"(?s)torch.compile failed .*compile=False") as error:
+        step(torch.ones(3, dtype=torch.float64))
+    assert "no C++ compiler" in str(error.value)
+    eager = backends.compiled(abs, backends.Backend("torch", compile=False))
+    assert eager is abs
 
 
 def test_tensor_output_stays_on_the_device() -> None:

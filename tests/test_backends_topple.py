@@ -4,6 +4,7 @@ each part compiled once. The approach of ``tests/test_backends.py`` (BeachballSa
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import backend_replica
@@ -143,15 +144,13 @@ def test_torch_float32_keeps_the_walls_and_hits_of_float64() -> None:
 
 
 def test_compiled_equals_eager_and_compiles_each_part_once() -> None:
-    from torch._dynamo.utils import counters
-
     actions = throws(np.random.default_rng(2), 5, N)
     results = []
     for compile in (False, True):
-        counters.clear()
-        venv = make_torch(compile=compile, throws_per_episode=2, **FAST)
-        out = [venv.reset(seed=2)[0]]
-        out += [venv.step(a)[0] for a in actions]
+        with backend_replica.compiles() if compile else contextlib.nullcontext() as counters:
+            venv = make_torch(compile=compile, throws_per_episode=2, **FAST)
+            out = [venv.reset(seed=2)[0]]
+            out += [venv.step(a)[0] for a in actions]
         results.append(np.array(out))
         if compile:
             # begin, chunk, end, restart, observe: one graph each, never recompiled

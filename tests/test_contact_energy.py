@@ -16,7 +16,7 @@ import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
-from bbgym.physics.backend import scalar
+from bbgym.physics.backend import floats
 from bbgym.physics.ball import (
     TINY,
     BallParams,
@@ -79,7 +79,7 @@ def rest_on_ground(p: BallParams, s: BallState) -> BallState:
     contact's numbers are the analytic ones (the normal impulse is exactly m g dt)."""
     vz = s.vz - G * DT
     s = s._replace(x=s.x + s.vx * DT, y=s.y + s.vy * DT, z=s.z + vz * DT, vz=vz)
-    return ground_contact(p, s, DT, scalar)[0]
+    return ground_contact(p, s, DT, floats)[0]
 
 
 def slide(p: BallParams, vx: float, wy: float, max_steps: int = 3000) -> tuple[list, int]:
@@ -193,7 +193,7 @@ def test_friction_zero_is_ice():
 def test_one_ground_contact_never_adds_energy_and_keeps_contact_angular_momentum(p, depth, v, w):
     r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
     s = ball_at(0.0, 0.0, r * (1.0 - depth), *v, *w)
-    after, touching = ground_contact(p, s, DT, scalar)
+    after, touching = ground_contact(p, s, DT, floats)
     values = list(after)
     assert all(math.isfinite(x) for x in values)
     before_e, after_e = kinetic_energy(p, s), kinetic_energy(p, after)
@@ -254,7 +254,7 @@ def test_panel_contact_reflects_the_normal_velocity_and_never_adds_energy(
     r = p.radius_m
     x, y = offset * r * nx + lateral * ax, offset * r * ny + lateral * ay
     s = ball_at(x, y, 1.0, *v, 3.0, -2.0, 1.0)
-    after, hit = panel_contact(s, r, 0.0, 0.0, ax, ay, 1.5, 2.0, restitution, True, scalar)
+    after, hit = panel_contact(s, r, 0.0, 0.0, ax, ay, 1.5, 2.0, restitution, True, floats)
     approach = v[0] * nx + v[1] * ny
     assert hit == (abs(lateral) <= 1.5 and approach * offset < 0.0)
     assert kinetic_energy(p, after) <= kinetic_energy(p, s) * (1.0 + 1e-12)
@@ -294,7 +294,7 @@ def test_ball_hitting_the_wall_keeps_angular_momentum_and_never_adds_energy(
     h, q = along * p.height_m, offset * ball.radius_m - 0.5 * t
     bx, bz = foot_x + h * sn + q * c, foot_z + h * c - q * sn
     m = ball.mass_kg
-    after, vx, vz, height = ball_hits_wall(p, s, m, ball.radius_m, bx, 0.0, bz, *v, scalar)
+    after, vx, vz, height = ball_hits_wall(p, s, m, ball.radius_m, bx, 0.0, bz, *v, floats)
     assume(height >= 0.0)
     assert after.status == STANDING and after.pivot == side
     assert all(math.isfinite(x) for x in (after.rate, vx, vz))
@@ -331,7 +331,7 @@ def test_ball_hitting_the_wall_keeps_angular_momentum_and_never_adds_energy(
     restitution=st.one_of(st.just(0.0), st.just(1.0), st.floats(0.0, 1.0)),
 )
 def test_ball_collisions_keep_momentum_and_never_add_energy(m, p2, v1, v2, restitution):
-    a1, a2 = collide_balls(m[0], v1, (0.0, 0.0, 0.0), m[1], v2, p2, restitution, scalar)
+    a1, a2 = collide_balls(m[0], v1, (0.0, 0.0, 0.0), m[1], v2, p2, restitution, floats)
     assert all(math.isfinite(x) for x in (*a1, *a2))
     for k in range(3):
         before = m[0] * v1[k] + m[1] * v2[k]
@@ -367,7 +367,7 @@ def test_random_throw_with_any_ball_is_finite_on_numpy_and_python_floats(
     assume(norm > 1e-3)
     v = [speed * d / norm for d in direction]
     start = (0.0, 0.0, p.radius_m + 1.5, *v, *spin)
-    one = simulate_throw(p, ball_at(*start), *wind, max_time_s=4.0, max_roll_s=1.0, xp=scalar)
+    one = simulate_throw(p, ball_at(*start), *wind, max_time_s=4.0, max_roll_s=1.0, xp=floats)
     batch = simulate_throw(
         p, ball_at(*(np.array([x]) for x in start)), np.array([wind[0]]), np.array([wind[1]]),
         max_time_s=4.0, max_roll_s=1.0,

@@ -8,7 +8,7 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-from bbgym.physics.backend import scalar
+from bbgym.physics.backend import floats
 from bbgym.physics.ball import (
     BallParams,
     ball_at,
@@ -33,7 +33,7 @@ def fly(p, state, seconds, dt=0.001, wind=(0.0, 0.0)):
     """Integrate in the air only (no ground), returning the states at every step."""
     states = [state]
     for _ in range(int(round(seconds / dt))):
-        state = substep(p, state, wind[0], wind[1], dt, scalar)
+        state = substep(p, state, wind[0], wind[1], dt, floats)
         states.append(state)
     return states
 
@@ -50,7 +50,7 @@ def test_no_drag_no_wind_is_the_analytic_parabola():
     p = BallParams(drag_coefficient=0.0)
     h, vx, vz = 1.5, 6.0, 5.0
     result = simulate_throw(p, ball_at(0.0, 0.0, h, vx, 0.0, vz, 0.0, 0.0, 0.0), 0.0, 0.0,
-                            dt_s=0.0005, xp=scalar)  # fmt: skip
+                            dt_s=0.0005, xp=floats)  # fmt: skip
     # The ball touches down when its centre is one radius above the ground.
     drop = h - p.radius_m
     t_land = (vz + math.sqrt(vz * vz + 2 * G * drop)) / G
@@ -91,22 +91,22 @@ def test_beach_balls_of_any_size_fall_alike_but_a_big_solid_ball_falls_faster():
 def test_magnus_force_is_seed_formula_for_slow_spin_and_saturates():
     r, a = BALL.radius_m, BALL.area_m2
     # Slow spin about +z, ball flying along +x: force along omega x v = +y.
-    fx, fy, fz, s = magnus_force(BALL, 10.0, 0.0, 0.0, 0.0, 0.0, 2.0, scalar)
+    fx, fy, fz, s = magnus_force(BALL, 10.0, 0.0, 0.0, 0.0, 0.0, 2.0, floats)
     assert s == pytest.approx(r * 2.0 / 10.0)
     seed_k = 0.5 * AIR_DENSITY_KGM3 * a * r  # F = k (omega x v)
     # (C_L = C_max tanh(S / C_max) = S (1 - (S / C_max)^2 / 3 + ...): 0.4 % low at S = 0.04)
     assert fy == pytest.approx(seed_k * 2.0 * 10.0, rel=0.005) and fx == 0.0 and fz == 0.0
     # Fast spin: C_L levels off at lift_coefficient_max.
-    _, fy_fast, _, s_fast = magnus_force(BALL, 10.0, 0.0, 0.0, 0.0, 0.0, 500.0, scalar)
+    _, fy_fast, _, s_fast = magnus_force(BALL, 10.0, 0.0, 0.0, 0.0, 0.0, 500.0, floats)
     assert s_fast == pytest.approx(10.0)
     q = 0.5 * AIR_DENSITY_KGM3 * a * 10.0**2
     assert fy_fast == pytest.approx(q * BALL.lift_coefficient_max, rel=1e-6)
     # Spin along the flight does nothing.
-    assert magnus_force(BALL, 10.0, 0.0, 0.0, 30.0, 0.0, 0.0, scalar)[:3] == (0.0, 0.0, 0.0)
+    assert magnus_force(BALL, 10.0, 0.0, 0.0, 30.0, 0.0, 0.0, floats)[:3] == (0.0, 0.0, 0.0)
 
 
 def throw(spin, p=BALL):
-    return simulate_throw(p, ball_at(0.0, 0.0, 1.5, 10.0, 0.0, 6.0, *spin), 0.0, 0.0, xp=scalar)
+    return simulate_throw(p, ball_at(0.0, 0.0, 1.5, 10.0, 0.0, 6.0, *spin), 0.0, 0.0, xp=floats)
 
 
 def test_backspin_carries_topspin_drops_side_spin_curves():
@@ -132,7 +132,7 @@ def test_bounce_rebound_height_ratio_is_e_squared():
     drop = 2.0  # height of the ball's bottom above the ground
     result = simulate_throw(
         p, ball_at(0.0, 0.0, drop + p.radius_m, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0,
-        dt_s=0.0005, max_time_s=2.0, record_dt_s=0.0005, xp=scalar,
+        dt_s=0.0005, max_time_s=2.0, record_dt_s=0.0005, xp=floats,
     )  # fmt: skip
     heights = np.array([s.z for s in result.trajectory]) - p.radius_m
     after = heights[int(result.flight_time_s / 0.0005) + 5 :]
@@ -146,8 +146,8 @@ def test_energy_does_not_grow_over_elastic_bounces():
     s = ball_at(0.0, 0.0, 2.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     heights = []
     for _ in range(20000):  # 20 s, about 15 bounces
-        s = substep(p, s, 0.0, 0.0, 0.001, scalar)
-        s, _ = ground_contact(p, s, 0.001, scalar)
+        s = substep(p, s, 0.0, 0.0, 0.001, floats)
+        s, _ = ground_contact(p, s, 0.001, floats)
         heights.append(s.z)
     z = np.array(heights)
     apexes = z[1:-1][(z[1:-1] > z[:-2]) & (z[1:-1] >= z[2:])]
@@ -163,14 +163,14 @@ def test_friction_on_impact_drives_spin_to_rolling(solid, share):
     # 2/7 for a solid ball (the billiard result).
     p = BallParams(solid=solid, friction=1.0)
     s = ball_at(0.0, 0.0, p.radius_m - 0.001, 5.0, 0.0, -3.0, 0.0, 0.0, 0.0)
-    after, touching = ground_contact(p, s, 0.01, scalar)
+    after, touching = ground_contact(p, s, 0.01, floats)
     assert touching
     assert after.vz == pytest.approx(3.0 * p.restitution)
     assert after.vx == pytest.approx(5.0 * (1 - share))
     assert after.vx - p.radius_m * after.wy == pytest.approx(0.0, abs=1e-12)  # rolling
     # With little friction it only partly catches: Coulomb's limit mu * J_n.
     q = BallParams(solid=solid, friction=0.05)
-    partial, _ = ground_contact(q, s, 0.01, scalar)
+    partial, _ = ground_contact(q, s, 0.01, floats)
     j_n = (1 + q.restitution) * q.mass_kg * 3.0
     assert partial.vx == pytest.approx(5.0 - 0.05 * j_n / q.mass_kg)
 
@@ -183,7 +183,7 @@ def test_ball_collision_conserves_momentum_and_energy_when_elastic():
         axis = np.subtract(p2, p1)
         v1 = tuple(axis * 2.0 + rng.normal(size=3))  # approaching along the centre line
         v2 = tuple(-axis + rng.normal(size=3))
-        a1, a2 = collide_balls(m1, v1, p1, m2, v2, p2, eps, scalar)
+        a1, a2 = collide_balls(m1, v1, p1, m2, v2, p2, eps, floats)
         before = m1 * np.array(v1) + m2 * np.array(v2)
         np.testing.assert_allclose(m1 * np.array(a1) + m2 * np.array(a2), before, atol=1e-12)
         n = axis / np.linalg.norm(axis)
@@ -196,7 +196,7 @@ def test_ball_collision_conserves_momentum_and_energy_when_elastic():
         # Across the centre line nothing changes.
         np.testing.assert_allclose(np.cross(a1, n), np.cross(v1, n), atol=1e-12)
     # The seed's 1D formulas, equal masses and elastic: the balls swap velocities.
-    a1, a2 = collide_balls(1.0, (3.0, 0, 0), (0, 0, 0), 1.0, (-1.0, 0, 0), (1, 0, 0), 1.0, scalar)
+    a1, a2 = collide_balls(1.0, (3.0, 0, 0), (0, 0, 0), 1.0, (-1.0, 0, 0), (1, 0, 0), 1.0, floats)
     assert a1[0] == pytest.approx(-1.0) and a2[0] == pytest.approx(3.0)
 
 
@@ -251,7 +251,7 @@ def test_scalar_and_batched_throws_agree():
             ),  # fmt: skip
             [1.0, 0.0, -2.0][i],
             [0.5, 0.0, 1.0][i],
-            xp=scalar,
+            xp=floats,
         )
         assert single.landing_x == pytest.approx(batch.landing_x[i], abs=1e-9)
         assert single.landing_y == pytest.approx(batch.landing_y[i], abs=1e-9)
@@ -271,8 +271,8 @@ def test_roll_cap_ends_a_flight_after_landing():
     # In a steady 4 m/s wind a beach ball never stops rolling (drag beats rolling
     # resistance above ~2.6 m/s), so only the caps end the throw.
     start = ball_at(0.0, 0.0, 1.5, 6.0, 0.0, 4.0, 0.0, 0.0, 0.0)
-    free = simulate_throw(BALL, start, 4.0, 0.0, max_time_s=6.0, xp=scalar)
-    capped = simulate_throw(BALL, start, 4.0, 0.0, max_time_s=6.0, max_roll_s=0.5, xp=scalar)
+    free = simulate_throw(BALL, start, 4.0, 0.0, max_time_s=6.0, xp=floats)
+    capped = simulate_throw(BALL, start, 4.0, 0.0, max_time_s=6.0, max_roll_s=0.5, xp=floats)
     assert capped.landing_x == free.landing_x and capped.flight_time_s == free.flight_time_s
     assert (free.steps - 1) * 0.05 == pytest.approx(6.0)
     assert (capped.steps - 1) * 0.05 == pytest.approx(capped.flight_time_s + 0.5, abs=0.06)
@@ -305,7 +305,7 @@ def test_default_step_keeps_landings_accurate():
 def test_no_lift_flies_like_a_ball_without_spin():
     # lift_coefficient_max = 0 turns the Magnus force off (it used to divide by zero).
     p = BallParams(lift_coefficient_max=0.0)
-    assert magnus_force(p, 10.0, 0.0, 0.0, 0.0, -40.0, 0.0, scalar)[:3] == (0.0, 0.0, 0.0)
+    assert magnus_force(p, 10.0, 0.0, 0.0, 0.0, -40.0, 0.0, floats)[:3] == (0.0, 0.0, 0.0)
     spun, plain = throw((5.0, -40.0, 20.0), p), throw((0.0, 0.0, 0.0), p)
     assert spun.landing_x == plain.landing_x and spun.landing_y == plain.landing_y == 0.0
     assert spun.flight_time_s == plain.flight_time_s and spun.apex_height_m == plain.apex_height_m
@@ -331,7 +331,7 @@ def test_degenerate_settings_run_finite(settings):
         math.sqrt(2 * p.mass_kg * G / (AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2))
     ))  # fmt: skip
     result = simulate_throw(p, ball_at(0.0, 0.0, 1.5, 8.0, 1.0, 5.0, 10.0, -30.0, 20.0), 0.0,
-                            0.0, max_time_s=6.0, xp=scalar)  # fmt: skip
+                            0.0, max_time_s=6.0, xp=floats)  # fmt: skip
     values = [result.landing_x, result.landing_y, result.flight_time_s, result.apex_height_m]
     values += list(result.final)
     assert all(math.isfinite(v) for v in values)

@@ -37,7 +37,7 @@ def hold_course(p, state, sheet, wx, wy, seconds):
     rudder = np.zeros(state.x_m.shape)
     for _ in range(int(seconds / DT)):
         heading = state.heading_rad.copy()
-        state, _ = substep(p, state, rudder, limit, wx, wy, DT)
+        state, _, _ = substep(p, state, rudder, limit, wx, wy, DT)
         state = state._replace(heading_rad=heading, yaw_rate_rps=np.zeros_like(heading))
     return state
 
@@ -267,7 +267,7 @@ def test_energy_does_not_grow_without_input():
 
     e_prev = kinetic(s)
     for _ in range(200):
-        s, _ = substep(p, s, np.zeros(1), np.array([0.5]), np.zeros(1), np.zeros(1), DT)
+        s, _, _ = substep(p, s, np.zeros(1), np.array([0.5]), np.zeros(1), np.zeros(1), DT)
         e = kinetic(s)
         assert e <= e_prev * (1 + 1e-12)
         e_prev = e
@@ -294,7 +294,7 @@ def test_undamped_heel_swing_is_implicit_euler_exactly():
     heels = [s.heel_rad[0]]
     n = 400
     for _ in range(n):
-        s, _ = substep(q, s, np.zeros(1), np.array([0.0]), np.zeros(1), np.zeros(1), DT)
+        s, _, _ = substep(q, s, np.zeros(1), np.array([0.0]), np.zeros(1), np.zeros(1), DT)
         e = heel_energy(s)
         assert e < e_prev
         e_prev = e
@@ -335,11 +335,11 @@ def test_batched_physics_matches_elementwise():
         assert one.heading_rad[0] == pytest.approx(batch.heading_rad[i], rel=1e-12, abs=1e-12)
 
 
-def test_scalar_namespace_matches_numpy():
-    # One env runs on Python floats (bbgym.physics.backend.scalar), a batch on NumPy: the
+def test_floats_namespace_matches_numpy():
+    # One env runs on Python floats (bbgym.physics.backend.floats), a batch on NumPy: the
     # same functions must give the same trajectory, through tacks, jibes and the sheet stop.
 
-    from bbgym.physics.backend import scalar
+    from bbgym.physics.backend import floats
 
     s = dinghy_at_rest(1, heading_rad=0.4, speed_mps=2.0, boom_rad=-0.3)
     f = type(s)(**{k: getattr(s, k)[0].item() for k in s._fields})
@@ -349,7 +349,7 @@ def test_scalar_namespace_matches_numpy():
         rudder, sheet = 0.35 + rng.uniform(-0.1, 0.1), rng.uniform(0.2, 0.6)
         s, ev = step(P, s, np.array([rudder]), np.array([sheet]), np.array([-6.0]),
                      np.array([2.0]), DT, 5)  # fmt: skip
-        f, ev_f = step(P, f, rudder, sheet, -6.0, 2.0, DT, 5, scalar)
+        f, ev_f = step(P, f, rudder, sheet, -6.0, 2.0, DT, 5, floats)
         assert isinstance(f.x_m, float) and ev_f.jibes == ev.jibes[0]
         jibes, tacks = jibes + ev_f.jibes, tacks + ev_f.tacks
         assert f.x_m == pytest.approx(s.x_m[0], rel=1e-9, abs=1e-9)

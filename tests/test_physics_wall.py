@@ -8,7 +8,7 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-from bbgym.physics.backend import scalar
+from bbgym.physics.backend import floats
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
 from bbgym.physics.wall import (
     FALLEN_AWAY,
@@ -29,22 +29,22 @@ P = WallParams()
 def run(p, wind, seconds, dt=0.005, state=None):
     s = state or wall_at(6.0)
     for _ in range(int(round(seconds / dt))):
-        s = wall_step(p, s, wind, dt, scalar)
+        s = wall_step(p, s, wind, dt, floats)
     return s
 
 
 def test_torques_follow_the_seed():
     # Wind: h/2 F_w cos(phi); gravity m g x_cm about the far edge.
     u, phi = 3.0, 0.3
-    tau_wind, tau_gravity, face = wall_torques(P, phi, 1.0, u, scalar)
+    tau_wind, tau_gravity, face = wall_torques(P, phi, 1.0, u, floats)
     assert face == pytest.approx(P.wind_force_n(u) * math.cos(phi))
     assert tau_wind == pytest.approx(P.height_m / 2 * P.wind_force_n(u) * math.cos(phi))
     x_cm = -P.half_base_m * math.cos(phi) + P.height_m / 2 * math.sin(phi)
     assert tau_gravity == pytest.approx(P.mass_kg * GRAVITY_MPS2 * x_cm)
     # Restoring while the centre of mass is over the foot, overturning past it.
     tip = math.atan(P.half_base_m / (P.height_m / 2))
-    assert wall_torques(P, 0.9 * tip, 1.0, 0.0, scalar)[1] < 0.0
-    assert wall_torques(P, 1.1 * tip, 1.0, 0.0, scalar)[1] > 0.0
+    assert wall_torques(P, 0.9 * tip, 1.0, 0.0, floats)[1] < 0.0
+    assert wall_torques(P, 1.1 * tip, 1.0, 0.0, floats)[1] > 0.0
 
 
 def test_stands_below_and_falls_above_the_tipping_wind_speed():
@@ -84,7 +84,7 @@ def test_fall_time_from_a_small_lean_matches_the_thin_slab():
     state = state._replace(angle=phi0, pivot=1.0)
     dt, t = 1e-4, 0.0
     while state.status == STANDING:
-        state = wall_step(thin, state, 0.0, dt, scalar)
+        state = wall_step(thin, state, 0.0, dt, floats)
         t += dt
     assert state.status == FALLEN_AWAY
     assert t == pytest.approx(t_analytic, rel=5e-3)
@@ -94,7 +94,7 @@ def hit(z, restitution=0.6, speed=10.0, p=P):
     q = WallParams(ball_restitution=restitution, **{k: getattr(p, k) for k in ("mass_kg",)})
     s = wall_at(6.0)
     x = 6.0 - q.thickness_m / 2 - 0.15  # ball centre 0.15 m before the face, touching
-    return q, s, ball_hits_wall(q, s, 0.25, 0.2, x, 0.0, z, speed, 0.0, scalar), x
+    return q, s, ball_hits_wall(q, s, 0.25, 0.2, x, 0.0, z, speed, 0.0, floats), x
 
 
 def test_high_hit_turns_the_wall_more_than_a_low_one_and_the_ball_rebounds():
@@ -201,7 +201,7 @@ def test_stiff_loose_panel_air_terms_slow_it_and_never_reverse_it():
     assert dt * face_rate > 100.0 and dt * tumble * 50.0 / inertia_cm > 100.0
     # Upright (face normal along x), high in the air, at rest in a 20 m/s wind, tumbling.
     x, z, angle, vx, vz, rate, landed = loose_step(p, 0.0, 100.0, 0.0, 0.0, 0.0, 50.0, wind, dt,
-                                                   scalar)  # fmt: skip
+                                                   floats)  # fmt: skip
     assert not landed
     # Implicit: w_n' = w_n / (1 + dt c), the panel pulled toward the wind's speed, not past.
     assert vx == pytest.approx(wind * (1.0 - 1.0 / (1.0 + dt * face_rate)), rel=1e-9)

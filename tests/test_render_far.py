@@ -21,11 +21,7 @@ pytest.importorskip("pygame")
 
 import pygame  # noqa: E402
 
-from bbgym.envs.sail.view import (  # noqa: E402
-    MARK_COLOR,  # noqa: E402
-    SailRenderer,
-    SailScene,
-)
+from bbgym.envs.sail.view import MARK_COLOR, SailRenderer, SailScene  # noqa: E402
 from bbgym.envs.throw.view import (  # noqa: E402
     TARGET_COLOR,
     ThrowRenderer,
@@ -35,22 +31,13 @@ from bbgym.envs.throw.view import (  # noqa: E402
     side_view_map,
     top_view_map,
 )
-from bbgym.envs.topple.view import (  # noqa: E402
-    WALL_COLOR,  # noqa: E402
-    ToppleRenderer,
-    ToppleScene,
-)
-from bbgym.envs.topple.view import panel_rects as topple_panel_rects  # noqa: E402
-from bbgym.render.base import (  # noqa: E402
-    EDGE_MARKER_MARGIN_PX,
-    SafeDraw,
-    clip_polygon,
-    clip_segment,
-    safe_box,
-)
-from bbgym.render.beach import (  # noqa: E402
-    BALL_MARKER_COLOR,
-)
+from bbgym.envs.topple.frame import ToppleScene  # noqa: E402
+from bbgym.envs.topple.frame import panel_rects as topple_panel_rects  # noqa: E402
+from bbgym.envs.topple.view import WALL_COLOR, ToppleRenderer  # noqa: E402
+from bbgym.render.annotations import EDGE_MARKER_MARGIN_PX  # noqa: E402
+from bbgym.render.beach import BALL_MARKER_COLOR  # noqa: E402
+from bbgym.render.geometry import clip_polygon, clip_segment, safe_box  # noqa: E402
+from bbgym.render.safe_draw import SafeDraw  # noqa: E402
 
 W, H = 640, 480
 # Hypothesis runs a renderer many times: one per module, no per-example fixture.

@@ -12,7 +12,7 @@ pytest.importorskip("pygame")
 
 import bbgym  # noqa: E402, F401
 from bbgym.cli import record  # noqa: E402
-from bbgym.render.base import CAPTION_BAND_PX, draw_caption, fit_text  # noqa: E402
+from bbgym.render.annotations import CAPTION_BAND_PX, draw_caption, fit_text  # noqa: E402
 
 DOT = "\N{MIDDLE DOT}"
 
@@ -140,7 +140,7 @@ def test_captioner_outlives_pygame_quit() -> None:
     # gymnasium's play() ends with pygame.quit(); a font kept past it would crash pygame.
     import pygame
 
-    from bbgym.render.base import Captioner
+    from bbgym.render.annotations import Captioner
 
     frame = np.full((60, 200, 3), 90, dtype=np.uint8)
     captioner = Captioner()

@@ -208,7 +208,7 @@ def test_frames_and_geometry_helpers() -> None:
 
 @pytest.mark.parametrize("ppm", [0.01, 0.37, 1.0, 3.0, 7.5, 12.0, 16.0, 45.0, 1000.0, 2.5e5])
 def test_scale_bar_is_a_round_number_of_metres_as_long_as_it_should_be(ppm: float) -> None:
-    from bbgym.render.base import SCALE_BAR_MAX_PX, scale_bar
+    from bbgym.render.annotations import SCALE_BAR_MAX_PX, scale_bar
 
     bar = scale_bar(ppm)
     assert bar is not None
@@ -224,7 +224,7 @@ def test_scale_bar_is_a_round_number_of_metres_as_long_as_it_should_be(ppm: floa
      (0.01, 10000.0, "10 km"), (400.0, 0.2, "20 cm"), (1e5, 0.001, "1 mm")],
 )  # fmt: skip
 def test_scale_bar_choice_and_label(ppm: float, metres: float, label: str) -> None:
-    from bbgym.render.base import scale_bar
+    from bbgym.render.annotations import scale_bar
 
     bar = scale_bar(ppm)
     assert bar is not None and bar.metres == pytest.approx(metres) and bar.label == label
@@ -232,14 +232,14 @@ def test_scale_bar_choice_and_label(ppm: float, metres: float, label: str) -> No
 
 @pytest.mark.parametrize("ppm", [0.0, -3.0, math.nan, math.inf])
 def test_no_scale_bar_without_a_scale(ppm: float) -> None:
-    from bbgym.render.base import scale_bar
+    from bbgym.render.annotations import scale_bar
 
     assert scale_bar(ppm) is None
 
 
 def bar_run_px(img: np.ndarray, origin: tuple[int, int], length_px: float) -> int:
     """Pixels of the scale bar's colour on its row, from just before to just after it."""
-    from bbgym.render.base import SCALE_BAR_COLOR
+    from bbgym.render.annotations import SCALE_BAR_COLOR
 
     x0, y0 = origin
     row = img[y0, max(x0 - 3, 0) : x0 + round(length_px) + 3]
@@ -248,7 +248,7 @@ def bar_run_px(img: np.ndarray, origin: tuple[int, int], length_px: float) -> in
 
 @pytest.mark.parametrize("ppm", [12.0, 3.0, 40.0])
 def test_sail_scale_bar_is_metres_times_pixels_per_metre(ppm: float) -> None:
-    from bbgym.render.base import CAPTION_BAND_PX, scale_bar, scale_bar_origin
+    from bbgym.render.annotations import CAPTION_BAND_PX, scale_bar, scale_bar_origin
 
     r = SailRenderer("rgb_array", width=WIDTH, height=HEIGHT, pixels_per_meter=ppm)
     try:

@@ -319,7 +319,7 @@ def test_top_view_scale_bar_is_metres_times_pixels_per_metre(
     renderer: ThrowRenderer, target: tuple[float, float]
 ) -> None:
     from bbgym.envs.throw.view import TOP_SCALE_BAR_MAX_PX
-    from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
+    from bbgym.render.annotations import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
 
     scene = make_scene(target_m=target, landing_m=None, previous_landings_m=())
     img = renderer.render(scene)

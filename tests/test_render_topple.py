@@ -374,7 +374,7 @@ def test_inset_scale_bar_is_metres_times_pixels_per_metre(
     renderer: ToppleRenderer, distance: float
 ) -> None:
     from bbgym.envs.topple.view import INSET_SCALE_BAR_MAX_PX, top_view_map
-    from bbgym.render.base import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
+    from bbgym.render.annotations import SCALE_BAR_COLOR, scale_bar, scale_bar_origin
 
     scene = make_scene(wall_distance_m=distance, hit_point_m=None)
     img = renderer.render(scene)

@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.physics.backend import scalar
+from bbgym.physics.backend import floats
 from bbgym.physics.sailing import (
     SAIL_MODELS,
     DinghyParams,
@@ -76,14 +76,14 @@ def sail_batch(p, n, steps, wind, speed0, seed, dt=0.05, bound_yaw=True):
 
 
 def sail_floats(p, steps, wind, speed0, seed, heading=0.7, wind_from=0.0):
-    """One boat on Python floats (``backend.scalar``), random rudder and sheet."""
+    """One boat on Python floats (``backend.floats``), random rudder and sheet."""
     rng = np.random.default_rng(seed)
     s0 = dinghy_at_rest(1, heading_rad=heading, speed_mps=speed0)
     s = DinghyState(**{f: getattr(s0, f)[0].item() for f in s0._fields})
     wx, wy = -wind * math.cos(wind_from), -wind * math.sin(wind_from)
     for t in range(steps):
         rudder = float(rng.uniform(-1.0, 1.0)) * p.rudder_max_rad
-        s, _ = step(p, s, rudder, float(rng.uniform(0.0, 1.0)), wx, wy, 0.05, 5, scalar)
+        s, _ = step(p, s, rudder, float(rng.uniform(0.0, 1.0)), wx, wy, 0.05, 5, floats)
         assert isinstance(s.x_m, float)
         check_bounded(p, s, wind, speed0, f"step {t}")
         assert abs(s.yaw_rate_rps) <= YAW_RATE_BOUND_RPS, f"step {t}"
@@ -109,7 +109,7 @@ def test_floats_and_batch_agree_for_the_regression_boats():
             rudder, sheet = 0.35 * math.sin(0.1 * k), 0.2 + 0.4 * (k % 7) / 7
             s, _ = step(p, s, np.array([rudder]), np.array([sheet]), np.array([-7.0]),
                         np.array([2.0]), 0.05, 5)  # fmt: skip
-            f, _ = step(p, f, rudder, sheet, -7.0, 2.0, 0.05, 5, scalar)
+            f, _ = step(p, f, rudder, sheet, -7.0, 2.0, 0.05, 5, floats)
         assert f.x_m == pytest.approx(s.x_m[0], rel=1e-9, abs=1e-9)
         assert f.heel_rad == pytest.approx(s.heel_rad[0], rel=1e-9, abs=1e-9)
 
@@ -137,7 +137,7 @@ def test_hull_drag_decays_a_fast_boat_without_overshoot():
         f = DinghyState(**{k: getattr(s0, k)[0].item() for k in s0._fields})
         speeds = [100.0]
         for _ in range(200):
-            f, _ = substep(p, f, 0.0, p.sheet_min_rad, 0.0, 0.0, dt, scalar)
+            f, _, _ = substep(p, f, 0.0, p.sheet_min_rad, 0.0, 0.0, dt, floats)
             assert 0.0 < f.vx_mps < speeds[-1]
             speeds.append(f.vx_mps)
         assert speeds[-1] < 5.0
@@ -160,7 +160,7 @@ def sail_floats_unbounded_yaw(p, steps, wind):
     s0 = dinghy_at_rest(1, heading_rad=1.0, speed_mps=2.0)
     s = DinghyState(**{f: getattr(s0, f)[0].item() for f in s0._fields})
     for t in range(steps):
-        s, _ = step(p, s, 0.2 * p.rudder_max_rad, 0.5, -wind, 0.0, 0.05, 5, scalar)
+        s, _ = step(p, s, 0.2 * p.rudder_max_rad, 0.5, -wind, 0.0, 0.05, 5, floats)
         check_bounded(p, s, wind, 2.0, f"step {t}")
     return s
 
@@ -175,7 +175,7 @@ def test_abrupt_stall_blend_never_overflows():
         assert np.isfinite(cn).all() and (cn >= 0.0).all()
         # never above the attached slope's or the flat plate's line
         assert cn.max() <= max(p.sail_cn_peak / math.sin(p.sail_stall_rad), p.sail_cn_flat)
-        on_floats = [sail_normal_coefficient(p, math.sin(a), scalar) for a in angles[::40]]
+        on_floats = [sail_normal_coefficient(p, math.sin(a), floats) for a in angles[::40]]
         assert on_floats == pytest.approx(list(cn[::40]), rel=1e-12)
     # Where exp() does not overflow the blend equals the logistic 1 / (1 + exp(x)).
     p = DinghyParams()
@@ -288,7 +288,7 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
     f = f._replace(capsized=False, heel_rad=0.0, heel_rate_rps=0.0)
     for _ in range(50):
         f, _ = step(p, f, 0.5 * p.rudder_max_rad, 0.5, float(wx[0]), float(wy[0]), dt,
-                    round(0.25 / dt), scalar)  # fmt: skip
+                    round(0.25 / dt), floats)  # fmt: skip
         assert all(math.isfinite(getattr(f, k)) for k in f._fields)
 
 
@@ -306,7 +306,7 @@ def check_energy_never_grows(p: DinghyParams, s: DinghyState, sheet, dt: float) 
     zero = np.zeros_like(s.x_m)
     energy = mechanical_energy(p, s)
     for k in range(60):
-        s, impact = substep(p, s, zero, limit, zero, zero, dt)
+        s, impact, _ = substep(p, s, zero, limit, zero, zero, dt)
         new = mechanical_energy(p, s)
         assert np.isfinite(new).all()
         calm = impact == 0.0

@@ -74,43 +74,18 @@ def _full_like(x: Any, fill_value: Any, dtype: Any = None) -> Any:
     return (dtype or type(fill_value))(fill_value)
 
 
-floats = SimpleNamespace(
-    # dtypes: Python's own types stand for them
-    float64=float,
-    float32=float,
-    int64=int,
-    bool=bool,
-    astype=_astype,
-    sin=math.sin,
-    cos=math.cos,
-    tan=math.tan,
-    tanh=math.tanh,
-    exp=math.exp,
-    log=math.log,
-    sqrt=math.sqrt,
-    asin=math.asin,
-    acos=math.acos,
-    atan2=math.atan2,
-    hypot=math.hypot,
-    abs=abs,
-    sign=_sign,
-    maximum=max,
-    minimum=min,
-    clip=_clip,
-    where=_where,
-    remainder=operator.mod,  # Python's float % has the standard's remainder semantics
-    logical_not=operator.not_,
-    logical_and=operator.and_,
-    logical_or=operator.or_,
-    any=bool,
-    all=bool,
-    zeros_like=_zeros_like,
-    full_like=_full_like,
-)
-"""Namespace of the standard's functions on Python floats (and bools, ints)."""
+_MATH_NAMES = ("sin", "cos", "tan", "tanh", "exp", "log", "sqrt", "asin", "acos", "atan2", "hypot")
+"""The standard's functions that :mod:`math` has under the same names."""
 
-scalar = floats
-"""Former name of :data:`floats`."""
+floats = SimpleNamespace(
+    float64=float, float32=float, int64=int, bool=bool,  # Python's own types stand for the dtypes
+    **{name: getattr(math, name) for name in _MATH_NAMES},
+    abs=abs, sign=_sign, maximum=max, minimum=min, clip=_clip, where=_where, astype=_astype,
+    remainder=operator.mod,  # Python's float % has the standard's remainder semantics
+    logical_not=operator.not_, logical_and=operator.and_, logical_or=operator.or_,
+    any=bool, all=bool, zeros_like=_zeros_like, full_like=_full_like,
+)  # fmt: skip
+"""Namespace of the standard's functions on Python floats (and bools, ints)."""
 
 numpy = np
 """The batched reference namespace."""

@@ -36,6 +36,7 @@ import numpy as np
 
 from bbgym.physics.backend import Array, skippable
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, quadratic_drag_rate
+from bbgym.physics.compaction import scatter, take
 from bbgym.physics.validation import check_fields, interval, param
 
 TINY = 1e-12
@@ -768,23 +769,23 @@ def fly(
             max_roll_s, field_radius_m,
         )  # fmt: skip
         kept = recorded_poses(chunk_poses, i, record_every, last)
-        poses += kept if working is None else [_expand(frozen_pose, working, q) for q in kept]
+        poses += kept if working is None else [scatter(frozen_pose, working, q) for q in kept]
         i += n
         done = flight.done
         if bool(xp.all(done)):
             break
         if compacting and done.any():
-            full = _scatter(full, working, flight)
+            full = _scatter_flight(full, working, flight)
             frozen_pose = pose_of(full.ball)
             keep = np.flatnonzero(~done)
             working = keep if working is None else working[keep]
             size = done.shape[0]  # the working set's, before this drop
-            flight = _take(flight, keep)
-            wind_x, wind_y = _take(wind_x, keep, size), _take(wind_y, keep, size)
-            screen = None if screen is None else _take(screen, keep, size)
+            flight = take(flight, keep)
+            wind_x, wind_y = take(wind_x, keep, size), take(wind_y, keep, size)
+            screen = None if screen is None else take(screen, keep, size)
         screen = _without_idle_screen(screen)
     if working is not None:
-        flight = _scatter(full, working, flight)
+        flight = _scatter_flight(full, working, flight)
     if record:  # a chunk may run past the last ball's finish: those samples are not kept
         del poses[sample_count(flight.samples, xp) - 1 :]
     return flight, poses
@@ -795,40 +796,16 @@ def _without_idle_screen(screen: Screen | None) -> Screen | None:
     return None if screen is None or skippable(screen.enabled) else screen
 
 
-def _take(tree: Any, index: np.ndarray, size: int | None = None) -> Any:
-    """The balls ``index`` of a NamedTuple of NumPy arrays (or of one array); leaves that
-    are not per ball (Python numbers, arrays not of ``size`` balls) stay as they are."""
-    if isinstance(tree, tuple):
-        return type(tree)(*(_take(leaf, index, size) for leaf in tree))
-    per_ball = isinstance(tree, np.ndarray) and tree.ndim >= 1
-    if per_ball and (size is None or tree.shape[0] == size):
-        return tree[index]
-    return tree
-
-
-def _scatter(full: Any, working: np.ndarray | None, flown: Any) -> Any:
-    """``full`` with the balls ``working`` replaced by those of ``flown`` (all, for
-    ``None``). The batch-wide counters (samples recorded, next substep) are the working
-    set's: the masked loop counts them for every ball alike."""
+def _scatter_flight(full: Flight, working: np.ndarray | None, flown: Flight) -> Flight:
+    """:func:`~bbgym.physics.compaction.scatter` of a flight; the batch-wide counters
+    (samples recorded, next substep) are the working set's: the masked loop counts them for
+    every ball alike."""
     if working is None:
         return flown
-    if isinstance(full, Flight):
-        merged = Flight(*(_scatter(a, working, b) for a, b in zip(full, flown, strict=True)))
-        return merged._replace(
-            samples=np.full_like(full.samples, flown.samples[0]),
-            substep=np.full_like(full.substep, flown.substep[0]),
-        )
-    if isinstance(full, tuple):
-        return type(full)(*(_scatter(a, working, b) for a, b in zip(full, flown, strict=True)))
-    out = full.copy()
-    out[working] = flown
-    return out
-
-
-def _expand(frozen: BallPose, working: np.ndarray, pose: BallPose) -> BallPose:
-    """A recorded pose of the working set as one of the whole batch: the dropped balls are
-    where they stopped."""
-    return BallPose(*(_scatter(a, working, b) for a, b in zip(frozen, pose, strict=True)))
+    return scatter(full, working, flown)._replace(
+        samples=np.full_like(full.samples, flown.samples[0]),
+        substep=np.full_like(full.substep, flown.substep[0]),
+    )
 
 
 def flight_record_every(dt_s: float, record_dt_s: float = 0.05) -> int:
@@ -865,13 +842,32 @@ def _finished(
     p: BallParams, s: BallState, landed: Any, flight_time: Any, t: float, max_roll_s: Any,
     field_radius_m: float, xp: Any,
 ) -> Any:  # fmt: skip
-    """Resting on the ground (or rolled long enough after landing), or out of the field.
-
-    At rest means slow and not spinning about a horizontal axis: a ball whose backspin has
-    just stopped it is about to come back."""
-    speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
-    spin_speed_sq = p.radius_m * p.radius_m * (s.wx * s.wx + s.wy * s.wy)
-    at_rest = landed & (s.z <= p.radius_m * 1.001) & (speed_sq < 0.01) & (spin_speed_sq < 0.01)
+    """Landed and at rest (:func:`ball_at_rest`), or rolled long enough after landing, or out of
+    the field."""
+    at_rest = landed & ball_at_rest(p, s)
     if max_roll_s is not None:  # a ball blown along the ground may never stop
         at_rest = at_rest | (landed & (t - flight_time > max_roll_s))
     return at_rest | (s.x * s.x + s.y * s.y > field_radius_m * field_radius_m)
+
+
+REST_SPEED_SQ = 0.01
+"""Squared speed (m^2/s^2), and squared rim speed of the horizontal spin, below which a
+ball on the ground is at rest (0.1 m/s)."""
+
+
+def ball_at_rest(p: BallParams, s: BallState, check_spin: bool = True) -> Array:
+    """Whether a ball is at rest: on the ground (its centre within 0.1% of a radius of it)
+    and slow (``|v| < 0.1 m/s``), and, with ``check_spin``, not spinning about a horizontal
+    axis (rim speed ``r |omega_h| < 0.1 m/s``): a ball whose backspin has just stopped it is
+    about to come back, so a throw's flight (:func:`simulate_throw`) waits for it.
+
+    BeachballTopple (:mod:`bbgym.physics.toppling`) stops its ball on speed alone
+    (``check_spin=False``): that is its rule since v0, and a version never changes
+    behaviour (its golden replays pin it).
+    """
+    speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
+    resting = (s.z <= p.radius_m * 1.001) & (speed_sq < REST_SPEED_SQ)
+    if not check_spin:
+        return resting
+    spin_speed_sq = p.radius_m * p.radius_m * (s.wx * s.wx + s.wy * s.wy)
+    return resting & (spin_speed_sq < REST_SPEED_SQ)

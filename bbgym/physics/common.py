@@ -28,12 +28,6 @@ def wrap_angle(angle_rad: Array, xp: Any = np) -> Array:
     return math.pi - xp.remainder(math.pi - angle_rad, 2.0 * math.pi)
 
 
-def rotate(x: Array, y: Array, angle_rad: Array, xp: Any = np) -> tuple[Array, Array]:
-    """Rotate the vector (x, y) counterclockwise by ``angle_rad``."""
-    c, s = xp.cos(angle_rad), xp.sin(angle_rad)
-    return c * x - s * y, s * x + c * y
-
-
 def split_along(x: Array, y: Array, dir_x: Array, dir_y: Array) -> tuple[Array, Array]:
     """Split (x, y) into components along and across the unit direction (dir_x, dir_y).
 
@@ -49,20 +43,5 @@ def split_along(x: Array, y: Array, dir_x: Array, dir_y: Array) -> tuple[Array, 
 def quadratic_drag_rate(drag_area_m2: float, density_kgm3: float, speed_mps: Array) -> Array:
     """Quadratic drag ``F = -1/2 C_d A rho |v| v`` (seed §8) as the coefficient ``k`` of
     ``F = -k v``: ``k = 1/2 C_d A rho |v|`` (N s/m). Integrators that treat the drag
-    implicitly need ``k`` itself; :func:`quadratic_drag` gives the force."""
+    implicitly need ``k`` itself; the force is ``-k v``."""
     return 0.5 * drag_area_m2 * density_kgm3 * speed_mps
-
-
-def quadratic_drag(
-    drag_area_m2: float, density_kgm3: float, *rel: Array, xp: Any = np
-) -> tuple[Array, ...]:
-    """Quadratic drag ``F = -1/2 C_d A rho |v| v`` against the relative velocity (seed §8).
-
-    ``drag_area_m2`` is ``C_d * A``; ``rel`` are the components (2D or 3D) of the body's
-    velocity relative to the fluid; the force opposes it. Returns the force components.
-    """
-    speed_sq = rel[0] * rel[0]
-    for c in rel[1:]:
-        speed_sq = speed_sq + c * c
-    k = -quadratic_drag_rate(drag_area_m2, density_kgm3, xp.sqrt(speed_sq))
-    return tuple([k * c for c in rel])

@@ -73,7 +73,7 @@ def compute_polar(
     state = dinghy_at_rest(batch, speed_mps=1.0, boom_rad=-limit)
     rudder = np.zeros(batch)
     for _ in range(int(round(duration_s / dt_s))):
-        state, _ = substep(params, state, rudder, limit, wind_x, wind_y, dt_s)
+        state, _, _ = substep(params, state, rudder, limit, wind_x, wind_y, dt_s)
         # Hold the course: the helmsman keeps the bow where it is.
         state = state._replace(heading_rad=np.zeros(batch), yaw_rate_rps=np.zeros(batch))
 

@@ -288,7 +288,6 @@ class DinghyParams:
                 half_rho * self.hull_drag_sideways,
             ),
             "_roll_arm": self.boom_impact_heel_arm_m / self.sail_ce_aft_m,
-            "_crew_lag": {},  # 1 - exp(-dt / crew_time_s) by dt
         }
         for name, value in derived.items():
             object.__setattr__(self, name, value)
@@ -620,9 +619,7 @@ def crew_step(
     the boat lies over); the lead term offsets the time it takes to move. Returns the new
     position and its gain ``d crew / d(heel + T rate)`` (for the implicit heel update).
     """
-    lag = p._crew_lag.get(dt_s)
-    if lag is None:  # once per step size
-        lag = p._crew_lag[dt_s] = 1.0 - math.exp(-dt_s / p.crew_time_s)
+    lag = 1.0 - math.exp(-dt_s / p.crew_time_s)  # Python floats: a constant when compiled
     target = xp.tanh((heel_rad + p.crew_time_s * heel_rate_rps) * (1.0 / p.crew_response_rad))
     gain = (lag / p.crew_response_rad) * (1.0 - target * target)
     return crew_out + (target - crew_out) * lag, gain
@@ -681,38 +678,56 @@ def substep(
     wind_y: Array,
     dt_s: float,
     xp: Any = np,
-) -> tuple[DinghyState, Array]:
+) -> tuple[DinghyState, Array, Array]:
     """One semi-implicit Euler step (seed §1, §3): velocities first, then positions, with
     the stiff terms linearised and integrated implicitly (see the module docstring).
 
-    Returns the new state and the signed boom angular speed at a sheet-stop impact.
+    The forces come from the state at the start of the substep; then each velocity takes
+    its implicit update, one law each: the hull (:func:`_hull_velocity`), the boom and its
+    sheet stop (:func:`_boom_update`), yaw (:func:`_yaw_rate`), heel with the crew
+    (:func:`_heel_update`). Returns the new state, the signed boom angular speed at a
+    sheet-stop impact, and whether the boom jibed (crossed the centreline with the air
+    moving forward over the boat: the wind from aft).
     """
-    new_state, impact, _ = _substep(p, state, rudder_rad, boom_limit_rad, wind_x, wind_y, dt_s, xp)
-    return new_state, impact
-
-
-def _substep(
-    p: DinghyParams,
-    state: DinghyState,
-    rudder_rad: Array,
-    boom_limit_rad: Array,
-    wind_x: Array,
-    wind_y: Array,
-    dt_s: float,
-    xp: Any,
-) -> tuple[DinghyState, Array, Array]:
-    """:func:`substep`, also returning whether the boom jibed (see :func:`step`)."""
     h = dt_s
     cos_h, sin_h = xp.cos(state.heading_rad), xp.sin(state.heading_rad)
     surge, sway = split_along(state.vx_mps, state.vy_mps, cos_h, sin_h)
     aw_u, aw_v = apparent_wind_body(state, wind_x, wind_y, cos_h, sin_h)
-    heel = state.heel_rad
-    cos_heel, sin_heel = xp.cos(heel), xp.sin(heel)
+    cos_heel, sin_heel = xp.cos(state.heel_rad), xp.sin(state.heel_rad)
     upright = xp.logical_not(state.capsized)
 
     drive, side, normal, c_sail, k_boom, aw_speed = sail_force_linearised(
         p, state.boom_rad, cos_heel, upright, aw_u, aw_v, xp
     )
+    vx, vy = _hull_velocity(
+        p, state, cos_h, sin_h, surge, sway, aw_u, aw_v, aw_speed, drive, side, c_sail, h, xp
+    )
+    boom, boom_rate, impact = _boom_update(p, state, normal, k_boom, boom_limit_rad, h, xp)
+    # The sheet hands the sail's angular momentum to the hull: all of it to yaw, and a roll
+    # impulse from the height where the mast stops the swinging cloth (the jibe's jolt).
+    # Both enter the implicit updates below as part of the substep's angular impulse, so
+    # the damping acts on them as on any moment (added after the damping, a jolt would
+    # turn the boat by h * its rate more than the continuous motion does).
+    impulse = p.boom_inertia_kgm2 * impact
+    yaw_rate = _yaw_rate(p, state, surge, rudder_rad, impulse, h, xp)
+    heel, heel_rate, crew, capsized = _heel_update(
+        p, state, cos_heel, sin_heel, upright, side, impulse, h, xp
+    )
+    new_state = DinghyState(
+        state.x_m + h * vx, state.y_m + h * vy, state.heading_rad + h * yaw_rate, vx, vy,
+        yaw_rate, heel, heel_rate, boom, boom_rate, crew, capsized,
+    )  # fmt: skip
+    jibe = (state.boom_rad * boom < 0.0) & (aw_u > 0.0)
+    return new_state, impact, jibe
+
+
+def _hull_velocity(
+    p: DinghyParams, state: DinghyState, cos_h: Array, sin_h: Array, surge: Array,
+    sway: Array, aw_u: Array, aw_v: Array, aw_speed: Array, drive: Array, side: Array,
+    c_sail: Array, h: float, xp: Any,
+) -> tuple[Array, Array]:  # fmt: skip
+    """The boat's new world velocity: sail, hull and windage forces, linearly implicit in
+    the body frame (module docstring)."""
     hull_u, hull_v, c_u, c_v = hull_force_linearised(p, surge, sway, xp)
     # Windage of hull, mast and crew, quadratic drag against the air (-k v_rel with v_rel =
     # -v_a): the only force that pushes a boat in irons astern. Its derivative is at most
@@ -730,16 +745,23 @@ def _substep(
     c_iso = 2.0 * windage + c_sail
     du = h * force_u / (p.mass_kg + h * (c_u + c_iso))
     dv = h * force_v / (p.mass_kg + h * (c_v + c_iso))
-    vx = state.vx_mps + cos_h * du - sin_h * dv
-    vy = state.vy_mps + sin_h * du + cos_h * dv
+    return state.vx_mps + cos_h * du - sin_h * dv, state.vy_mps + sin_h * du + cos_h * dv
 
-    # Boom: the trapezoidal rule on its oscillator (the sail's weathervane stiffness
-    # k_boom), air damping implicit. Unconditionally stable like implicit Euler, but it
-    # keeps the energy of a free swing, whose speed at the sheet stop is the jibe's jolt
-    # (implicit Euler would damp it by (h w_0)^2 per substep: at 0.05 s a 10% weaker jolt).
-    # The air damps a swinging sail with -k rate |rate|; with the coefficient k |rate| frozen
-    # over the substep, implicit Euler is exact for pure quadratic decay,
-    # w / (1 + k w dt / I).
+
+def _boom_update(
+    p: DinghyParams, state: DinghyState, normal: Array, k_boom: Array, boom_limit_rad: Array,
+    h: float, xp: Any,
+) -> tuple[Array, Array, Array]:  # fmt: skip
+    """The boom's new ``(angle, rate, impact rate)``: the trapezoidal rule on its
+    oscillator (the sail's weathervane stiffness ``k_boom``), air damping implicit, then the
+    sheet stop (:func:`apply_sheet_stop`).
+
+    The trapezoidal rule is unconditionally stable like implicit Euler, but it keeps the
+    energy of a free swing, whose speed at the sheet stop is the jibe's jolt (implicit Euler
+    would damp it by ``(h w_0)^2`` per substep: at 0.05 s a 10% weaker jolt). The air damps
+    a swinging sail with ``-k rate |rate|``; with the coefficient ``k |rate|`` frozen over
+    the substep, implicit Euler is exact for pure quadratic decay, ``w / (1 + k w dt / I)``.
+    """
     omega = state.boom_rate_rps
     c_boom = p.boom_air_damping * xp.abs(omega)
     half_h = 0.5 * h
@@ -747,7 +769,7 @@ def _substep(
     boom_rate = omega + h * (p.sail_ce_aft_m * normal - (c_boom + hk_boom) * omega) / (
         p.boom_inertia_kgm2 + h * c_boom + half_h * hk_boom
     )
-    boom, boom_rate, impact = apply_sheet_stop(
+    return apply_sheet_stop(
         state.boom_rad + half_h * (omega + boom_rate),
         boom_rate,
         state.boom_rad,
@@ -756,20 +778,31 @@ def _substep(
         h,
         xp,
     )
-    # The sheet hands the sail's angular momentum to the hull: all of it to yaw, and a roll
-    # impulse from the height where the mast stops the swinging cloth (the jibe's jolt).
-    # Both enter the implicit updates below as part of the substep's angular impulse, so
-    # the damping acts on them as on any moment (added after the damping, a jolt would
-    # turn the boat by h * its rate more than the continuous motion does).
-    impulse = p.boom_inertia_kgm2 * impact
 
+
+def _yaw_rate(
+    p: DinghyParams, state: DinghyState, surge: Array, rudder_rad: Array, impulse: Array,
+    h: float, xp: Any,
+) -> Array:  # fmt: skip
+    """The new yaw rate: rudder and damping (:func:`yaw_moment_linearised`), implicit, with
+    the sheet's angular ``impulse``."""
     yaw, c_yaw = yaw_moment_linearised(p, surge, state.yaw_rate_rps, rudder_rad, xp)
-    yaw_rate = state.yaw_rate_rps + (h * yaw - impulse) / (p.yaw_inertia_kgm2 + h * c_yaw)
+    return state.yaw_rate_rps + (h * yaw - impulse) / (p.yaw_inertia_kgm2 + h * c_yaw)
 
-    # Heel: implicit Euler on the oscillator linearised about the start of the substep,
-    # the crew included: the crew moves toward its target (exact lag), and its reaction
-    # to the heel and rate reached in this substep (gain) is part of the implicit stiffness
-    # (k_crew) and damping (k_crew * T, the lead term).
+
+def _heel_update(
+    p: DinghyParams, state: DinghyState, cos_heel: Array, sin_heel: Array, upright: Array,
+    side: Array, impulse: Array, h: float, xp: Any,
+) -> tuple[Array, Array, Array, Array]:  # fmt: skip
+    """The new ``(heel, heel rate, crew, capsized)``: implicit Euler on the oscillator
+    linearised about the start of the substep, the crew included.
+
+    The crew moves toward its target (exact lag, :func:`crew_step`), and its reaction to the
+    heel and rate reached in this substep (its gain) is part of the implicit stiffness
+    (``k_crew``) and damping (``k_crew * T``, the lead term). The sheet's roll impulse acts
+    at ``boom_impact_heel_arm_m``. A capsized boat stays as it lies.
+    """
+    heel = state.heel_rad
     rate = state.heel_rate_rps
     crew, gain = crew_step(p, state.crew_out, heel, rate, h, xp)
     heel_m, k_heel = heel_moment_linearised(p, cos_heel, sin_heel, rate, crew, side, xp)
@@ -790,25 +823,7 @@ def _substep(
     crew = xp.where(
         upright, state.crew_out + (xp.clip(crew, -1.0, 1.0) - state.crew_out), state.crew_out
     )
-
-    new_state = DinghyState(
-        state.x_m + h * vx,
-        state.y_m + h * vy,
-        state.heading_rad + h * yaw_rate,
-        vx,
-        vy,
-        yaw_rate,
-        new_heel,
-        heel_rate,
-        boom,
-        boom_rate,
-        crew,
-        capsized,
-    )
-    # A jibe: the boom crosses the centreline with the air moving forward over the boat
-    # (the wind from aft).
-    jibe = (state.boom_rad * boom < 0.0) & (aw_u > 0.0)
-    return new_state, impact, jibe
+    return new_heel, heel_rate, crew, capsized
 
 
 class StepCarry(NamedTuple):
@@ -839,7 +854,7 @@ def step_substep(p: DinghyParams, carry: StepCarry, dt_s: float, xp: Any = np) -
     """One substep of a :func:`step`, counting jibes (the boom crosses the centerline while
     the apparent wind comes from aft, checked every substep: a boom crosses in a fraction
     of a second) and keeping the fastest boom speed at one."""
-    state, _impact, jibe = _substep(
+    state, _impact, jibe = substep(
         p, carry.boat, carry.rudder_rad, carry.boom_limit_rad, carry.wind_x, carry.wind_y,
         dt_s, xp,
     )  # fmt: skip

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from bbgym.physics.backend import Array, floats
-from bbgym.physics.ball import BallParams, ground_contact
+from bbgym.physics.ball import BallParams, ball_at_rest, ground_contact
 from bbgym.physics.ball import substep as ball_substep
 from bbgym.physics.wall import LOOSE, STANDING, WallParams, ball_hits_wall, wall_step
 from bbgym.physics.wind import GustParams, gust_step, wind_vector
@@ -254,10 +254,7 @@ def interval_substep(
             hits = hits + xp.astype(struck, xp.int64)
             hit_height = xp.where(struck, height, hit_height)
             hit_y = xp.where(struck, ball.y, hit_y)
-        resting = (ball.z <= p.radius_m * 1.001) & (
-            ball.vx * ball.vx + ball.vy * ball.vy + ball.vz * ball.vz < 0.01
-        )
-        flying = flying & xp.logical_not(moving & resting)
+        flying = flying & xp.logical_not(moving & ball_at_rest(p, ball, check_spin=False))
     # The wall.
     wall = select(live, wall_step(wp, wall, wind_x, dt, xp), wall, xp)
     settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Mapping
-from dataclasses import MISSING, dataclass, fields, replace
+from dataclasses import dataclass, fields
 from dataclasses import field as dataclass_field
 from typing import Any
 
@@ -213,16 +213,6 @@ def build_params(cls: type, path: str, value: Any, **extra: Any) -> Any:
     except (TypeError, ValueError) as error:
         message = str(error).replace(f"{cls.__name__}.", f"{path}.")
         raise type(error)(message) from None
-
-
-def replace_params(obj: Any, **changes: Any) -> Any:
-    """``dataclasses.replace``, validated again by the class's ``__post_init__``."""
-    return replace(obj, **changes)
-
-
-def field_defaults(cls: type) -> dict[str, Any]:
-    """``{field: default}`` of a dataclass (for docs and tests)."""
-    return {f.name: f.default for f in fields(cls) if f.default is not MISSING}
 
 
 def interval_rows(cls: type, group: str) -> list[str]:

@@ -92,6 +92,14 @@ class WallParams:
         return self.height_m * self.width_m
 
     @property
+    def face_drag_kg_m(self) -> float:
+        """``1/2 rho C_d A`` of the face: the wind's force on it per squared normal speed,
+        the quadratic drag of :func:`~bbgym.physics.common.quadratic_drag_rate` (seed §8)
+        per unit speed. Every drag on the face goes through here (written in the product
+        order the wall always used, so the v0 replays keep their bits)."""
+        return 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+
+    @property
     def inertia_kgm2(self) -> float:
         """About the foot's edge: the slab's own ``m (h^2 + t^2) / 12`` plus ``m d^2``
         (parallel axes, ``d`` from the edge to the centre of mass). A thin slab standing
@@ -106,12 +114,12 @@ class WallParams:
 
     def wind_force_n(self, wind_speed_mps: float) -> float:
         """Drag on the upright face, ``1/2 rho C_d A u^2`` (seed §8)."""
-        return 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2 * wind_speed_mps**2
+        return self.face_drag_kg_m * wind_speed_mps**2
 
     def tipping_wind_speed_mps(self) -> float:
         """Wind normal to the face that just tips the upright wall over its foot's edge:
         ``h/2 F_w = m g b`` (``inf`` without drag)."""
-        k = 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        k = self.face_drag_kg_m
         if k == 0.0:
             return math.inf
         return math.sqrt(self.mass_kg * GRAVITY_MPS2 * self.half_base_m / (0.5 * self.height_m * k))
@@ -119,7 +127,7 @@ class WallParams:
     def breakaway_wind_speed_mps(self) -> float:
         """Wind whose force on the upright face exceeds what the foot holds, ``F_w = hold_n``
         (``inf`` without drag)."""
-        k = 0.5 * AIR_DENSITY_KGM3 * self.drag_coefficient * self.area_m2
+        k = self.face_drag_kg_m
         if k == 0.0:
             return math.inf
         return math.sqrt(self.hold_n / k)
@@ -173,8 +181,7 @@ def wall_torques(p: WallParams, angle: Array, side: Array, wind_x: Array, xp: An
     at the centre of mass: its torque ``m g x_cm`` rights the wall while the centre is
     over the foot and overturns it past.
     """
-    k = 0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2
-    face = k * wind_x * xp.abs(wind_x) * xp.cos(angle)
+    face = p.face_drag_kg_m * wind_x * xp.abs(wind_x) * xp.cos(angle)
     x_cm, _ = _lever(p, angle, side, xp)
     return 0.5 * p.height_m * face, p.mass_kg * GRAVITY_MPS2 * x_cm, face
 
@@ -266,7 +273,7 @@ def loose_step(
     nx, nz = xp.cos(angle), -xp.sin(angle)
     w_n = (vx - wind_x) * nx + vz * nz
     # Face drag -1/2 rho C_d A w_n |w_n| n = -m c w_n n, implicit along n; gravity explicit.
-    c_face = 0.5 * AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2 / p.mass_kg * xp.abs(w_n)
+    c_face = p.face_drag_kg_m / p.mass_kg * xp.abs(w_n)
     vz = vz - GRAVITY_MPS2 * dt_s
     w_n_free = (vx - wind_x) * nx + vz * nz
     braked = w_n_free / (1.0 + dt_s * c_face) - w_n_free

@@ -25,7 +25,6 @@ from bbgym.physics.sailing import (
     DinghyState,
     StepEvents,
     apparent_wind_body,
-    crew_step,
     dinghy_moving,
     split_along,
     step_begin,
@@ -175,9 +174,6 @@ class SailTask(TaskCore):
         # Progress is measured against what a fast boat covers in one step, so the dense
         # term stays within [-1, 1] per step.
         self.progress_scale_m = BOAT_SPEED_SCALE_MPS * self.ctrl_dt
-        # Fill the physics' per-step-size caches now, not while torch.compile traces a step
-        # (a cache filled during tracing changes the guards and forces a recompile).
-        crew_step(self.params, 0.0, 0.0, 0.0, self.sim_dt, floats)
 
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
