@@ -26,7 +26,7 @@ import numpy as np
 
 from bbgym.envs.functional import tree_map
 from bbgym.envs.topple import ToppleTask
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 from bbgym.physics.wall import FALLEN_AWAY, FALLEN_TOWARD, LOOSE
 from bbgym.physics.wind import wind_vector
 

@@ -1,14 +1,13 @@
 """The ball physics is array-API clean: it runs unchanged on ``array_api_strict`` (the
 standard and nothing more: a non-standard name, a bool used as a number, two Python scalars
 in ``where`` all raise there), on torch through ``array_api_compat`` and on Python floats,
-and gives NumPy's numbers (DESIGN §2, :mod:`bbgym.physics.backend`)."""
+and gives NumPy's numbers (DESIGN §2, :mod:`bbgym.physics.namespace`)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from bbgym.physics.backend import floats
 from bbgym.physics.ball import (
     BallParams,
     BallPose,
@@ -28,6 +27,7 @@ from bbgym.physics.ball import (
     simulate_throw,
     substep,
 )
+from bbgym.physics.namespace import floats
 
 xs = pytest.importorskip("array_api_strict")
 

@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from bbgym.physics.backend import floats
 from bbgym.physics.ball import BallParams, ball_at
+from bbgym.physics.namespace import floats
 from bbgym.physics.toppling import IntervalParams, interval_start, run_interval
 from bbgym.physics.wall import (
     FALLEN_AWAY,

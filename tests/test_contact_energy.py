@@ -16,7 +16,6 @@ import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
-from bbgym.physics.backend import floats
 from bbgym.physics.ball import (
     TINY,
     BallParams,
@@ -30,6 +29,7 @@ from bbgym.physics.ball import (
     simulate_throw,
 )
 from bbgym.physics.common import GRAVITY_MPS2
+from bbgym.physics.namespace import floats
 from bbgym.physics.wall import STANDING, WallParams, ball_hits_wall, wall_at
 
 G = GRAVITY_MPS2

@@ -8,7 +8,6 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-from bbgym.physics.backend import floats
 from bbgym.physics.ball import (
     BallParams,
     ball_at,
@@ -20,6 +19,7 @@ from bbgym.physics.ball import (
     substep,
 )
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
+from bbgym.physics.namespace import floats
 
 G = GRAVITY_MPS2
 BALL = BallParams()

@@ -336,10 +336,10 @@ def test_batched_physics_matches_elementwise():
 
 
 def test_floats_namespace_matches_numpy():
-    # One env runs on Python floats (bbgym.physics.backend.floats), a batch on NumPy: the
+    # One env runs on Python floats (bbgym.physics.namespace.floats), a batch on NumPy: the
     # same functions must give the same trajectory, through tacks, jibes and the sheet stop.
 
-    from bbgym.physics.backend import floats
+    from bbgym.physics.namespace import floats
 
     s = dinghy_at_rest(1, heading_rad=0.4, speed_mps=2.0, boom_rad=-0.3)
     f = type(s)(**{k: getattr(s, k)[0].item() for k in s._fields})

@@ -8,8 +8,8 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-from bbgym.physics.backend import floats
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
+from bbgym.physics.namespace import floats
 from bbgym.physics.wall import (
     FALLEN_AWAY,
     FALLEN_TOWARD,

@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 from bbgym.physics.sailing import (
     SAIL_MODELS,
     DinghyParams,

@@ -36,7 +36,7 @@ from bbgym.envs.functional import (
     settle,
     tree_map,
 )
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 
 
 class CoreEnv(gym.Env[np.ndarray, np.ndarray]):

@@ -16,7 +16,7 @@ xp) -> (state, events)``               (the physics; the step's reward terms are
 =====================================  ==================================================
 
 Every function takes the array namespace ``xp`` and keeps the contract of
-:mod:`bbgym.physics.backend`, so the same source runs one env on Python floats
+:mod:`bbgym.physics.namespace`, so the same source runs one env on Python floats
 (:class:`CoreEnv`), a batch on NumPy, and a batch on torch compiled for the CPU or a GPU
 (:class:`CoreVectorEnv`). A partial reset is one :func:`tree_select`. The randomness is
 passed in: the NumPy adapters draw it from each env's ``numpy.random.Generator`` (so
@@ -31,7 +31,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bbgym import backends
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 
 
 class InitialNoise(NamedTuple):

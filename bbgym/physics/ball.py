@@ -1,7 +1,7 @@
 """Beach balls: gravity, drag, Magnus force, spin, bounces and collisions (seed §3-§6, §8).
 
 3D, world frame x east, y north, z up, SI units. Like the sailing physics every function is
-pure and written against an array namespace ``xp`` (:mod:`bbgym.physics.backend`): NumPy
+pure and written against an array namespace ``xp`` (:mod:`bbgym.physics.namespace`): NumPy
 arrays for a batch, Python floats for one ball, or any namespace of the array API standard
 (``array_api_strict``, torch): only the standard's names, no Python branch on array values,
 states are immutable NamedTuples. Vectors are passed as separate components.
@@ -34,9 +34,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array, skippable
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, quadratic_drag_rate
 from bbgym.physics.compaction import scatter, take
+from bbgym.physics.namespace import Array, skippable
 from bbgym.physics.validation import check_fields, interval, param
 
 TINY = 1e-12

@@ -1,7 +1,7 @@
 """Shared physical constants and vector tools (seed §8, §9).
 
 Everything here works on arrays with a leading batch axis, or on plain floats for one
-env, through the namespace ``xp`` (see :mod:`bbgym.physics.backend`).
+env, through the namespace ``xp`` (see :mod:`bbgym.physics.namespace`).
 
 2D vectors are passed as separate ``x`` and ``y`` arrays of shape ``(batch,)``: the
 physics is small per element, and two flat arrays are both faster and easier to read
@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from bbgym.physics.backend import Array
+from bbgym.physics.namespace import Array
 
 GRAVITY_MPS2 = 9.81
 AIR_DENSITY_KGM3 = 1.2

@@ -78,13 +78,13 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array
 from bbgym.physics.common import (
     AIR_DENSITY_KGM3,
     WATER_DENSITY_KGM3,
     quadratic_drag_rate,
     split_along,
 )
+from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_choice, check_fields, interval, param
 
 SAIL_MODELS = ("lift", "seed")

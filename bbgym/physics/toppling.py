@@ -28,7 +28,7 @@ arrays as they are: no copies); the caller keeps every ``record_every``-th, the 
 ``samples[i]`` of them for env ``i``. One env on Python floats (never compiled) skips the
 updates whose mask is false: the same values, faster. The states are immutable
 NamedTuples of arrays (:func:`select` also takes dataclasses), on any array API namespace
-(:mod:`bbgym.physics.backend`).
+(:mod:`bbgym.physics.namespace`).
 """
 
 from __future__ import annotations
@@ -38,9 +38,9 @@ import math
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
-from bbgym.physics.backend import Array, floats
 from bbgym.physics.ball import BallParams, ball_at_rest, ground_contact
 from bbgym.physics.ball import substep as ball_substep
+from bbgym.physics.namespace import Array, floats
 from bbgym.physics.wall import LOOSE, STANDING, WallParams, ball_hits_wall, wall_step
 from bbgym.physics.wind import GustParams, gust_step, wind_vector
 

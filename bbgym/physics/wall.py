@@ -10,7 +10,7 @@ flies as a free panel, pushed by the wind normal to its face (seed §8, loose pa
 2D in the vertical x-z plane: the thrower is at x = 0, the wall's foot is centred on
 ``base_x``, its face toward the thrower. ``angle`` (phi) > 0 leans the top away (+x).
 Pure functions over :class:`WallParams` and :class:`WallState`, on the array namespace
-``xp`` (Python floats, NumPy, ``array_api_strict``, torch: :mod:`bbgym.physics.backend`),
+``xp`` (Python floats, NumPy, ``array_api_strict``, torch: :mod:`bbgym.physics.namespace`),
 with the standard's names only, like the rest of the physics. The status code is a float
 of the batch's dtype (``STANDING`` ... ``LOOSE`` compare equal to it).
 
@@ -33,8 +33,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array, namespace_of, skippable
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
+from bbgym.physics.namespace import Array, namespace_of, skippable
 from bbgym.physics.validation import check_fields, interval, param
 
 STANDING, FALLEN_AWAY, FALLEN_TOWARD, LOOSE = 0, 1, 2, 3
@@ -156,7 +156,7 @@ class WallState(NamedTuple):
 
 def wall_at(base_x: Array, xp: Any = None) -> WallState:
     """An upright wall resting on its foot at ``base_x`` (``xp``: NumPy for a NumPy array,
-    else :data:`~bbgym.physics.backend.floats`, unless given)."""
+    else :data:`~bbgym.physics.namespace.floats`, unless given)."""
     xp = namespace_of(base_x) if xp is None else xp
     zero = 0.0 * base_x
     return WallState(

@@ -15,7 +15,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from bbgym.physics.backend import Array
+from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_fields, interval, param
 
 

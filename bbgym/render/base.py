@@ -50,24 +50,26 @@ from bbgym.render.safe_draw import SafePygame, import_pygame
 
 __all__ = [  # the renderer base, and the names the views and the CLI import from here
     "CAPTION_BAND_PX", "EDGE_MARKER_HALF_WIDTH_PX", "EDGE_MARKER_LENGTH_PX",
-    "EDGE_MARKER_MARGIN_PX", "FAR_AWAY_PX", "FONT_SIZE_PX", "RENDER_MODES", "Captioner",
-    "Color", "PygameRenderer", "Vec2", "arc_span", "blend", "check_render_mode",
+    "EDGE_MARKER_MARGIN_PX", "FONT_SIZE_PX", "RENDERER_MODES", "Captioner",
+    "Color", "PygameRenderer", "Vec2", "arc_span", "blend", "check_renderer_mode",
     "draw_edge_marker", "edge_marker_tip", "import_pygame", "is_finite_px", "safe_box",
 ]  # fmt: skip
 
-RENDER_MODES = ("human", "rgb_array")
+RENDERER_MODES = ("human", "rgb_array")
+"""How a renderer shows a frame: in a window, or as an array. (An env's render modes add
+``rgb_array_list``, which it draws frame by frame as ``rgb_array``:
+:data:`bbgym.envs.common.RENDER_MODES`.)"""
 FONT_SIZE_PX = 18
-FAR_AWAY_PX = 1.0e5
-"""Unused here; kept only while ``sail_view`` re-exports it (to be removed with that line)."""
 
 SceneT = TypeVar("SceneT")
 
 
-def check_render_mode(render_mode: str) -> None:
-    """Raise ``ValueError`` (naming ``render_mode``) unless it is one of :data:`RENDER_MODES`."""
-    if render_mode not in RENDER_MODES:
+def check_renderer_mode(render_mode: str) -> None:
+    """Raise ``ValueError`` (naming ``render_mode``) unless it is one of
+    :data:`RENDERER_MODES`."""
+    if render_mode not in RENDERER_MODES:
         raise ValueError(
-            f"render_mode must be one of {RENDER_MODES}, got render_mode={render_mode!r}"
+            f"render_mode must be one of {RENDERER_MODES}, got render_mode={render_mode!r}"
         )
 
 
@@ -91,7 +93,7 @@ class PygameRenderer(Generic[SceneT]):
     caption = "bbgym"  # window title in human mode
 
     def __init__(self, render_mode: str, width: int, height: int, render_fps: int = 30) -> None:
-        check_render_mode(render_mode)
+        check_renderer_mode(render_mode)
         if width <= 0 or height <= 0:
             raise ValueError("width and height must be positive")
         self.render_mode = render_mode

@@ -12,7 +12,7 @@ from bbgym.envs.common import (
     renderer_mode,
 )
 from bbgym.envs.sail.task import RENDER_PIXELS_PER_M, SailState, SailTask
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 from bbgym.physics.sailing import (
     apparent_wind_body,
     sail_force,

@@ -18,8 +18,8 @@ from bbgym.envs.common import (
     option_path,
 )
 from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
-from bbgym.physics.backend import Array, floats
 from bbgym.physics.common import wrap_angle
+from bbgym.physics.namespace import Array, floats
 from bbgym.physics.sailing import (
     DinghyParams,
     DinghyState,

@@ -29,13 +29,10 @@ from bbgym.render.base import (
     Vec2,
     arc_span,
     blend,
-    check_render_mode,
+    check_renderer_mode,
     edge_marker_tip,
     safe_box,
 )
-from bbgym.render.base import FAR_AWAY_PX as FAR_AWAY_PX  # re-exported: was defined here
-from bbgym.render.base import FONT_SIZE_PX as FONT_SIZE_PX
-from bbgym.render.base import RENDER_MODES as RENDER_MODES
 
 MPS_TO_KNOTS = 1.943844
 
@@ -254,7 +251,7 @@ class SailRenderer(PygameRenderer[SailScene]):
         render_fps: int = 30,
     ) -> None:
         # Checked here too (not only in the base) so the error order and message stay as before.
-        check_render_mode(render_mode)
+        check_renderer_mode(render_mode)
         if width <= 0 or height <= 0 or pixels_per_meter <= 0:
             raise ValueError("width, height and pixels_per_meter must be positive")
         super().__init__(render_mode, width, height, render_fps)

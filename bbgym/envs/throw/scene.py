@@ -10,7 +10,7 @@ from bbgym.envs.common import (
 )
 from bbgym.envs.throw.records import FlightRecords
 from bbgym.envs.throw.task import ThrowState, ThrowTask
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 from bbgym.physics.wind import wind_vector
 
 

@@ -29,7 +29,6 @@ from bbgym.envs.common import (
     option_path,
 )
 from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
-from bbgym.physics.backend import Array, floats
 from bbgym.physics.ball import (
     FLIGHT_SUBSTEPS_MAX,
     BallParams,
@@ -48,6 +47,7 @@ from bbgym.physics.ball import (
     sample_count,
     simulate_throw,
 )
+from bbgym.physics.namespace import Array, floats
 from bbgym.physics.validation import (
     build_params,
     check_bool,

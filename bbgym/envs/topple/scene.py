@@ -12,7 +12,7 @@ from bbgym.envs.common import (
 )
 from bbgym.envs.topple.records import recorded_rows
 from bbgym.envs.topple.task import ToppleState, ToppleTask
-from bbgym.physics.backend import floats
+from bbgym.physics.namespace import floats
 from bbgym.physics.wall import (
     LOOSE,
     STATE_NAMES,

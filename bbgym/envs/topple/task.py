@@ -36,8 +36,8 @@ from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 
 # (validation.interval by its module: the constructor's argument `interval` shadows the name)
 from bbgym.physics import validation
-from bbgym.physics.backend import Array, floats
 from bbgym.physics.ball import BallParams, ball_at
+from bbgym.physics.namespace import Array, floats
 from bbgym.physics.toppling import (
     IntervalCarry,
     IntervalParams,

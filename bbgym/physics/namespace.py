@@ -1,4 +1,6 @@
-"""The array namespaces the physics runs on, and the contract it keeps.
+"""The array namespaces the physics runs on (the contract every law keeps), and the
+Python-float namespace of the single envs. (The vector envs' backends, which pick a namespace,
+a device and a dtype, are :mod:`bbgym.backends`.)
 
 Every physics function takes ``xp``: the namespace whose functions it calls. The physics
 uses only names of the Python array API standard (``xp.asin``, ``xp.atan2``, ``xp.where``,
