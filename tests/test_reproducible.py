@@ -26,9 +26,9 @@ def small_preset(tmp_path):
 
 
 def parameters(run, algo="ppo"):
-    from bbgym.sb3 import algorithm_class
+    from bbgym.sb3 import load_model
 
-    return algorithm_class(algo).load(run / "model.zip", device="cpu").policy.state_dict()
+    return load_model(run / "model.zip", algo).policy.state_dict()
 
 
 def train_twice_and_once_more(tmp_path, env_id, preset, seed, timesteps, algo="ppo"):
