@@ -99,6 +99,7 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     """The Sail-v1 preset trains SAC: its checkpoints, replay buffer (saved with the model,
     continued by ``--resume``) and model, which ``bbgym evaluate`` loads as ``sac`` only."""
     from small_preset import write_tiny_sail_preset
+
     from bbgym.cli.train import REPLAY_BUFFER_FILE, train_sb3
     from bbgym.sb3 import load_model
 
