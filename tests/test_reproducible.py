@@ -28,8 +28,6 @@ def small_preset(tmp_path):
 def parameters(run, algo="ppo"):
     from bbgym.sb3 import load_model
 
-    # (load_model, not SAC.load: it silences SB3's spurious n_steps warning, which the
-    # test configuration makes an error)
     return load_model(run / "model.zip", algo).policy.state_dict()
 
 

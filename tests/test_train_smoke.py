@@ -99,7 +99,6 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     """The Sail-v1 preset trains SAC: its checkpoints, replay buffer (saved with the model,
     continued by ``--resume``) and model, which ``bbgym evaluate`` loads as ``sac`` only."""
     from small_preset import write_tiny_sail_preset
-    from stable_baselines3 import SAC
 
     from bbgym.cli.train import REPLAY_BUFFER_FILE, train_sb3
     from bbgym.sb3 import load_model
@@ -111,7 +110,7 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     assert summary["algo"] == "sac" and summary["timesteps"] == 1024
     assert list((out / "checkpoints").glob("sac_*_steps.zip")) == []  # every 100k steps
     assert (out / "best_model.zip").exists()
-    model = SAC.load(out / "model.zip", device="cpu")
+    model = load_model(out / "model.zip", "sac")
     model.load_replay_buffer(out / REPLAY_BUFFER_FILE)
     assert model.replay_buffer.size() * model.n_envs == 1024  # every step, 8 envs a row
     # Two updates per step of the 8 envs from the 256th step on.
