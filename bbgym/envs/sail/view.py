@@ -30,7 +30,6 @@ from bbgym.render.base import (
     arc_span,
     blend,
     check_renderer_mode,
-    edge_marker_tip,
     safe_box,
 )
 
@@ -221,13 +220,6 @@ def hull_outline_body(length_m: float, beam_m: float) -> list[Vec2]:
     port = [(fx * length_m, fy * beam_m) for fx, fy in _HULL_PORT_SIDE]
     starboard = [(x, -y) for x, y in reversed(port) if y != 0.0]
     return port + starboard
-
-
-def edge_arrow_tip(
-    target_px: Vec2, screen_size: tuple[int, int], margin_px: float
-) -> tuple[Vec2, Vec2]:
-    """Where an off-screen target's arrow goes: (tip point, unit direction), on the inset edge."""
-    return edge_marker_tip(target_px, (0, 0, screen_size[0], screen_size[1]), margin_px)
 
 
 # --- renderer --------------------------------------------------------------------------------
