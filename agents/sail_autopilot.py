@@ -33,8 +33,8 @@ from typing import Any
 import numpy as np
 
 from bbgym.physics.common import wrap_angle
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.polar import compute_polar
-from bbgym.physics.sailing import DinghyParams
 
 from .sail_simple import (
     OBS_AWA_COS,

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from bbgym.physics.common import wrap_angle
-from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.dinghy import DinghyParams
 
 # Observation indices (see the BeachballSail-v0 docstring).
 OBS_AWA_COS, OBS_AWA_SIN = 0, 1

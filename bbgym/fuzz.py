@@ -31,7 +31,7 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.validation import Interval, interval
 from bbgym.physics.wall import WallParams
 from bbgym.spec import base_ids, spec_of

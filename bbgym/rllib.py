@@ -19,6 +19,12 @@ other machines, which have not imported bbgym: :func:`ppo_config` names the env
 Ray state, so a checkpoint restored by a fresh driver, on a fresh cluster, finds its envs
 too. (:func:`register_envs` covers
 configs written by hand with the plain ids.)
+
+One module on purpose, though it is past 600 lines: it is the whole adapter to one optional
+dependency, in the order a run goes (the env for the runners, the PPO config from a preset,
+starting Ray, the training loop and its summary, loading a checkpoint and acting), and every
+part meets Ray's API: split, each piece would import ray's internals on its own and hide
+the one place that tracks Ray's releases. No function in it is past 80 lines.
 """
 
 from __future__ import annotations

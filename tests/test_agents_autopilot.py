@@ -9,8 +9,8 @@ from bbgym.agents import SimpleSailController, VMGAutopilot, sailing_tables
 from bbgym.agents.sail_autopilot import GRID_RAD, OBS_AWA_COS, OBS_AWA_SIN, OBS_HEEL, OBS_TWS
 
 import bbgym  # noqa: F401
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.polar import compute_polar
-from bbgym.physics.sailing import DinghyParams
 
 
 @pytest.fixture(scope="module")

@@ -10,22 +10,24 @@ import pytest
 
 from bbgym.physics.ball import (
     BallParams,
-    BallPose,
     BallState,
-    Screen,
     air_force,
     ball_at,
     collide_balls,
+    ground_contact,
+    magnus_force,
+    panel_contact,
+    substep,
+)
+from bbgym.physics.flight import (
+    BallPose,
+    Screen,
     flight_chunk,
     flight_record_every,
     flight_start,
     fly,
-    ground_contact,
-    magnus_force,
-    panel_contact,
     recorded_poses,
     simulate_throw,
-    substep,
 )
 from bbgym.physics.namespace import floats
 

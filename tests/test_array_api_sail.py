@@ -12,8 +12,8 @@ import pytest
 from bbgym import backends
 from bbgym.envs.functional import InitialNoise, VectorStep, tree_map
 from bbgym.envs.sail import SailTask
-from bbgym.physics import sailing
-from bbgym.physics.sailing import DinghyParams, dinghy_at_rest
+from bbgym.physics import sailing, sailing_step
+from bbgym.physics.dinghy import DinghyParams, dinghy_at_rest
 from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
 
 strict = pytest.importorskip("array_api_strict")
@@ -70,8 +70,8 @@ def boats(seed: int = 0):
 def test_sailing_step_and_energy(xp, sail_model: str) -> None:
     p = DinghyParams(sail_model=sail_model)
     s, (rudder, sheet, wx, wy) = boats()
-    ref = sailing.step(p, s, rudder, sheet, wx, wy, 0.05, 5, np)
-    got = sailing.step(p, to_xp(s, xp), *to_xp((rudder, sheet, wx, wy), xp), 0.05, 5, xp)
+    ref = sailing_step.step(p, s, rudder, sheet, wx, wy, 0.05, 5, np)
+    got = sailing_step.step(p, to_xp(s, xp), *to_xp((rudder, sheet, wx, wy), xp), 0.05, 5, xp)
     same(ref, got)
     same(sailing.mechanical_energy(p, ref[0], np), sailing.mechanical_energy(p, got[0], xp))
     aw = (wx - ref[0].vx_mps, wy - ref[0].vy_mps)

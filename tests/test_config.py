@@ -9,7 +9,7 @@ import pytest
 
 from bbgym.config import CONFIG_DIR, load_preset
 from bbgym.envs.sail import SailTask
-from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.wind import GustParams
 
 

@@ -26,9 +26,9 @@ from bbgym.physics.ball import (
     ground_contact,
     panel_contact,
     rolling_velocity,
-    simulate_throw,
 )
 from bbgym.physics.common import GRAVITY_MPS2
+from bbgym.physics.flight import simulate_throw
 from bbgym.physics.namespace import floats
 from bbgym.physics.wall import STANDING, WallParams, ball_hits_wall, wall_at
 

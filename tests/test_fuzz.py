@@ -26,7 +26,7 @@ from bbgym.fuzz import (
     sample_options,
 )
 from bbgym.physics.ball import BallParams
-from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.validation import Interval
 from bbgym.physics.wall import WallParams
 from bbgym.physics.wind import GustParams

@@ -15,10 +15,10 @@ from bbgym.physics.ball import (
     ground_contact,
     magnus_force,
     panel_contact,
-    simulate_throw,
     substep,
 )
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
+from bbgym.physics.flight import simulate_throw
 from bbgym.physics.namespace import floats
 
 G = GRAVITY_MPS2

@@ -8,18 +8,16 @@ import numpy as np
 import pytest
 
 from bbgym.physics.common import AIR_DENSITY_KGM3, split_along, wrap_angle
+from bbgym.physics.dinghy import DinghyParams, dinghy_at_rest
 from bbgym.physics.sailing import (
-    DinghyParams,
     apparent_wind_body,
     boom_limit_from_sheet,
-    dinghy_at_rest,
     hull_force,
     sail_force,
     sail_normal_coefficient,
-    step,
-    substep,
     yaw_moment,
 )
+from bbgym.physics.sailing_step import step, substep
 
 P = DinghyParams()
 DT = 0.05

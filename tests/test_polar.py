@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.polar import compute_polar
-from bbgym.physics.sailing import DinghyParams
 
 
 @pytest.fixture(scope="module")

@@ -21,18 +21,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import bbgym  # noqa: F401  (registers the ids)
+from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams, DinghyState, dinghy_at_rest
 from bbgym.physics.namespace import floats
-from bbgym.physics.sailing import (
-    SAIL_MODELS,
-    DinghyParams,
-    DinghyState,
-    dinghy_at_rest,
-    hull_force,
-    mechanical_energy,
-    sail_normal_coefficient,
-    step,
-    substep,
-)
+from bbgym.physics.sailing import hull_force, mechanical_energy, sail_normal_coefficient
+from bbgym.physics.sailing_step import step, substep
 from bbgym.physics.validation import accepted_interval
 
 REGRESSION_BOATS = [

@@ -253,7 +253,7 @@ def expected_interval_rows() -> list[tuple[str, str]]:
 
     from bbgym.envs import sail, throw, topple
     from bbgym.physics.ball import BallParams
-    from bbgym.physics.sailing import DinghyParams
+    from bbgym.physics.dinghy import DinghyParams
     from bbgym.physics.wall import WallParams
 
     rows = [

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from bbgym.cli import UsageError, positive_float, require
+from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams
 from bbgym.physics.polar import Polar, compute_polar
-from bbgym.physics.sailing import SAIL_MODELS, DinghyParams
 
 CSV_COLUMNS = (
     "true_wind_angle_deg",

@@ -1,6 +1,6 @@
 """Working sets of a NumPy batch: the elements still busy taken out, and put back.
 
-A host loop over a batch (:func:`bbgym.physics.ball.fly`) can drop the elements that are done
+A host loop over a batch (:func:`bbgym.physics.flight.fly`) can drop the elements that are done
 from its working set between chunks, so a batch costs what its busy elements do rather than
 its longest one times its size, and put them back at the end: the results are those of the
 masked loop over the whole batch, bit for bit. NumPy only (a compiled step cannot change

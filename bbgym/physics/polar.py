@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbgym.physics.sailing import DinghyParams, dinghy_at_rest, substep
+from bbgym.physics.dinghy import DinghyParams, dinghy_at_rest
+from bbgym.physics.sailing_step import substep
 
 
 @dataclass

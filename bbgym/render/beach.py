@@ -32,56 +32,22 @@ Rect = tuple[int, int, int, int]  # x, y, width, height in pixels
 
 # Kept far apart from each other so elements stay recognisable (and testable by colour).
 SKY_COLOR: Color = (178, 216, 242)
-
-
 SKY_GRID_COLOR: Color = (158, 198, 228)
-
-
 SAND_COLOR: Color = (236, 221, 180)
-
-
 SAND_GRID_COLOR: Color = (222, 203, 156)
-
-
 GROUND_LINE_COLOR: Color = (150, 122, 76)
-
-
 PANEL_EDGE_COLOR: Color = (40, 44, 56)
-
-
 READOUT_COLOR: Color = (22, 42, 68)
-
-
 TEXT_COLOR: Color = (245, 245, 245)
-
-
 DIM_TEXT_COLOR: Color = (160, 172, 190)
-
-
 LABEL_COLOR: Color = (70, 80, 96)  # panel titles and axis labels, on sky and sand
-
-
 THROWER_COLOR: Color = (255, 140, 0)  # orange shirt
-
-
 SKIN_COLOR: Color = (236, 196, 158)
-
-
 LEG_COLOR: Color = (52, 58, 84)
-
-
 TRACE_COLOR: Color = (30, 58, 138)
-
-
 SOCK_COLOR: Color = (228, 52, 36)
-
-
 SOCK_STRIPE_COLOR: Color = (250, 250, 250)
-
-
 POLE_COLOR: Color = (90, 90, 96)
-
-
 WIND_ARROW_COLOR: Color = (250, 250, 250)
 
 

@@ -13,9 +13,7 @@ from bbgym import backends
 from bbgym.envs.core import CoreEnv, CoreVectorEnv
 from bbgym.envs.sail.scene import describe_scene, make_renderer
 from bbgym.envs.sail.task import SailTask
-from bbgym.physics.sailing import (
-    DinghyParams,
-)
+from bbgym.physics.dinghy import DinghyParams
 
 _DOC_ARGS = """
     ## Arguments

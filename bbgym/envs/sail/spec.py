@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from bbgym.envs.sail.task import ARGUMENT_TABLE
-from bbgym.physics.sailing import DinghyParams
+from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.wind import GustParams
 from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
 
@@ -50,7 +50,7 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     their cheap ends (:data:`bbgym.fuzz.COST_CAPS`)."""
     from bbgym.envs.sail import task
     from bbgym.fuzz import COST_CAPS, draw_flag, draw_int, draw_pair, sample_params
-    from bbgym.physics.sailing import SAIL_MODELS
+    from bbgym.physics.dinghy import SAIL_MODELS
     from bbgym.physics.validation import interval
 
     sim_dt = draw("sim_dt", COST_CAPS["sail_sim_dt"], True)

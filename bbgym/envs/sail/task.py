@@ -19,18 +19,10 @@ from bbgym.envs.common import (
 )
 from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 from bbgym.physics.common import wrap_angle
+from bbgym.physics.dinghy import DinghyParams, DinghyState, StepEvents, dinghy_moving
 from bbgym.physics.namespace import Array, floats
-from bbgym.physics.sailing import (
-    DinghyParams,
-    DinghyState,
-    StepEvents,
-    apparent_wind_body,
-    dinghy_moving,
-    split_along,
-    step_begin,
-    step_end,
-    step_substep,
-)
+from bbgym.physics.sailing import apparent_wind_body, split_along
+from bbgym.physics.sailing_step import step_begin, step_end, step_substep
 from bbgym.physics.validation import (
     ANGLE_RAD,
     build_params,

@@ -29,12 +29,11 @@ from bbgym.envs.common import (
     option_path,
 )
 from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
-from bbgym.physics.ball import (
+from bbgym.physics.ball import BallParams, ball_at
+from bbgym.physics.flight import (
     FLIGHT_SUBSTEPS_MAX,
-    BallParams,
     Flight,
     Screen,
-    ball_at,
     flight_chunk,
     flight_record_every,
     flight_result,
@@ -316,6 +315,11 @@ class ThrowTask(TaskCore):
         )
         self.miss_scale = check_number("miss_scale", miss_scale, MISS_SCALE_M)
         self.hit_bonus = check_number("hit_bonus", hit_bonus, REWARD_WEIGHT)
+        self._derive_sizes()
+
+    def _derive_sizes(self) -> None:
+        """The step's fixed sizes (the flight's substeps and recorded poses) and the
+        spaces, from the checked arguments."""
         self.flight_substeps = flight_substeps(self.sim_dt, self.max_flight_time)
         assert self.flight_substeps < FLIGHT_SUBSTEPS_MAX  # 600 s / 1e-4 s = 6e6
         self.record_every = flight_record_every(self.sim_dt, RECORD_DT_S)
@@ -323,10 +327,6 @@ class ThrowTask(TaskCore):
         """The most poses a throw records: the launch's, then one every ``record_every``
         substeps up to the flight's last (121 by default: 6 s every 0.05 s); the rows of
         the ``trajectory`` and ``orientations`` infos."""
-        # Fill the ball's derived constants now, not while torch.compile traces a chunk (a
-        # cache filled during tracing changes the guards and forces a recompile).
-        _ = self.ball.mass_kg, self.ball.inertia_kgm2, self.ball.area_m2
-
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
         self.reward_range = (0.0, 1.0 + self.hit_bonus)
@@ -469,7 +469,7 @@ class ThrowTask(TaskCore):
 
     def transition(self, state: ThrowState, action: Any, noise: Any, xp: Any,
                    record: bool = False) -> tuple[ThrowState, ThrowEvents]:  # fmt: skip
-        """One throw. On the host (Python floats, NumPy) :func:`~bbgym.physics.ball.fly`
+        """One throw. On the host (Python floats, NumPy) :func:`~bbgym.physics.flight.fly`
         flies it, on other namespaces the chunks do; the results are the same."""
         if xp is not floats and xp is not np:
             return super().transition(state, action, noise, xp, record)

@@ -7,7 +7,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import replace
-from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -281,6 +280,11 @@ class ToppleTask(TaskCore):
         self.throw_cost = check_number("throw_cost", throw_cost, REWARD_WEIGHT)
         self.lean_weight = check_number("lean_weight", lean_weight, REWARD_WEIGHT)
 
+        self._derive_sizes()
+
+    def _derive_sizes(self) -> None:
+        """The spaces, and the interval's fixed sizes and its compiled and host chunking,
+        from the checked arguments."""
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
         self.reward_range = (
@@ -305,12 +309,6 @@ class ToppleTask(TaskCore):
         # windsock's next pair: a window of n + 1, of which ``noise_used`` are used.
         self.step_noise_pairs = self.n_gust_updates + 1
         self.chunks = self.interval_params.n_chunks
-        # Fill the parameters' cached properties now, not while torch.compile traces a
-        # step (a cached_property's first read takes a lock: a graph break).
-        for params in (self.wall, self.ball, self.gust_params):
-            for name, attribute in vars(type(params)).items():
-                if isinstance(attribute, cached_property):
-                    getattr(params, name)
 
     # -- scenario ---------------------------------------------------------------------------
     def initial(self, noise: InitialNoise, options: Mapping[str, Any], xp: Any) -> ToppleState:
