@@ -319,6 +319,40 @@ def arguments_table(family: str) -> str:
     return "\n".join(lines)
 
 
+def _space(space: Any) -> str:
+    """A Box as ``Box(low, high, shape)`` with its bounds written as scalars when uniform."""
+    import numpy as np
+
+    low, high = np.unique(space.low), np.unique(space.high)
+    if len(low) == 1 and len(high) == 1:
+        return f"`Box({low[0]:g}, {high[0]:g}, {space.shape})`"
+    return f"`{space}`"
+
+
+def versions_table(family: str) -> str:
+    """``| id | actions | observation | what it is |`` for every version of a family, newest
+    first: the spaces from the env itself (``gym.make``), the rest from its spec."""
+    import importlib
+
+    known = families()
+    if family not in known:
+        raise LookupError(f"unknown env family {family!r}; known: {', '.join(known)}")
+    spec = known[family]
+    lines = ["| id | actions | observation | what it is |", "|---|---|---|---|"]
+    for version in reversed(spec.versions):
+        # The class itself with the registered kwargs: gym.make would warn that an old
+        # version is out of date, and only the spaces are wanted.
+        env_class = getattr(importlib.import_module(spec.module), spec.env_class)
+        env = env_class(**version.kwargs)
+        actions = f"{_space(env.action_space)}: {spec.actions}"
+        lines.append(
+            f"| `{version.env_id}` | {actions} | {_space(env.observation_space)} "
+            f"| {version.changes} |"
+        )
+        env.close()
+    return "\n".join(lines)
+
+
 def params_table(group: str) -> str:
     """``| `group.field` | default | accepted |`` for every field of the group's dataclass
     that declares an interval (``bbgym.physics.validation.interval_rows``)."""
@@ -348,6 +382,8 @@ def table(spec: str) -> str:
         return arguments_table(arg)
     if kind == "params":
         return params_table(arg)
+    if kind == "versions":
+        return versions_table(arg)
     raise LookupError(f"unknown table marker {spec!r}")
 
 

@@ -140,3 +140,22 @@ def test_the_site_builds_strictly(tmp_path):
     assert "BeachballSailEnv" in api and "Version History" in api
     changelog = (site / "changelog" / "index.html").read_text(encoding="utf-8")
     assert "0.1.0" in changelog
+
+
+def test_each_env_page_lists_its_family_versions_with_the_envs_own_spaces():
+    import gymnasium as gym
+
+    from bbgym.spec import specs
+
+    for spec in specs():
+        table = tables.versions_table(spec.family)
+        rows = [line for line in table.splitlines()[2:]]
+        assert [row.split("`")[1] for row in rows] == [v.env_id for v in reversed(spec.versions)]
+        for row, version in zip(rows, reversed(spec.versions), strict=True):
+            env = gym.spec(version.env_id).make()  # what a user gets, checked against the table
+            assert f"{env.action_space.shape})`: {spec.actions}" in row
+            assert f"{env.observation_space.shape})`" in row
+            assert version.changes in row
+            env.close()
+    with pytest.raises(LookupError, match="unknown env family"):
+        tables.versions_table("nonsense")

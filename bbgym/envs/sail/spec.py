@@ -108,7 +108,12 @@ SPEC = register_spec(
         summary="sail a dinghy to a mark anywhere on the water (beat, tack, jibe) upright",
         actions="rudder, sheet",
         versions=(
-            Version("BeachballSail-v0", "the first version", preset="beachball_sail", base=True),
+            Version(
+                "BeachballSail-v0",
+                "the first version: progress, +10 at the mark, -10 a capsize, -0.01 a step",
+                preset="beachball_sail",
+                base=True,
+            ),
             # Time costs enough to race: 0.1 a step, against 0.01, and a capsize 30, more than
             # the discounted cost of the time left in any episode.
             Version(

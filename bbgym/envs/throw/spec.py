@@ -127,10 +127,15 @@ SPEC = register_spec(
         "(Curve: round a screen, so only a spinning throw scores)",
         actions="launch velocity, spin",
         versions=(
-            Version("BeachballThrow-v0", "the first version", preset="beachball_throw", base=True),
+            Version(
+                "BeachballThrow-v0",
+                "the first version: a ring 3-10 m away",
+                preset="beachball_throw",
+                base=True,
+            ),
             Version(
                 "BeachballCurve-v0",
-                "Throw-v0 with a screen in the way and targets 7-10 m out",
+                "Throw-v0 with a screen in the way and targets 7-10 m out (5% cannot be won)",
                 kwargs=CURVE,
                 preset="beachball_throw",
                 base=True,

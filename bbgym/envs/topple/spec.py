@@ -104,7 +104,10 @@ SPEC = register_spec(
         actions="launch velocity, spin",
         versions=(
             Version(
-                "BeachballTopple-v0", "the first version", preset="beachball_topple", base=True
+                "BeachballTopple-v0",
+                "the first version: walls 4-8 m away, wind from anywhere (half cannot be won)",
+                preset="beachball_topple",
+                base=True,
             ),
             # v1: the walls the planner can bring down: nearer, in an onshore breeze (from
             # behind the thrower: pi/2 .. 3 pi/2 counterclockwise from +x).
