@@ -79,9 +79,38 @@ def test_learning_curve_marks_the_best_model_and_the_final_evaluation(tmp_path) 
         assert list(random_line.get_ydata()) == [-3.0, -3.0]
         assert list(line_labelled(ax_success, "scripted").get_ydata()) == [90.0, 90.0]
         assert "7.0 at 2000 steps" in line_labelled(ax_return, "best model (").get_label()
+        # One short line of title; what each point and line comes from is in the legends.
         title = fig._suptitle.get_text()
-        assert "eval env seeded 10007" in title and "seeds 0..9" in title
-        assert "2 episodes per point" in title and "best_model.zip" in title
+        assert title == "BeachballSail-v0: PPO while it learns, training seed 7"
+        # The re-evaluated model stands right of the curve, not on its last point, and the
+        # reference lines lie under the curve.
+        reevaluated = line_labelled(ax_success, "best model re-evaluated")
+        assert reevaluated.get_xdata()[0] > STEPS[-1]
+        assert reevaluated.get_xdata()[0] < ax_success.get_xlim()[1]
+        curve_z = line_labelled(ax_success, "PPO evaluations").get_zorder()
+        assert line_labelled(ax_success, "scripted").get_zorder() < curve_z
+        assert ax_success.get_ylim()[1] > 105  # a curve at 100% is not on the axis' edge
+    finally:
+        plt.close(fig)
+
+
+def test_a_final_evaluation_that_is_the_best_model_gets_one_mark(tmp_path) -> None:
+    import matplotlib.pyplot as plt
+
+    returns = np.array([[1.0], [2.0], [3.0], [4.0]])
+    run = make_run(tmp_path, returns=returns, log={"seed": 0, "best_model_timesteps": 4000})
+    fig = learning_curve_figure(run, RESULTS, "BeachballSail-v0", evaluated="final")
+    try:
+        for ax in fig.axes[:2]:
+            labels = [ln.get_label() for ln in ax.get_lines()]
+            assert not any(label.startswith("best model (") for label in labels)
+            assert not any(label.startswith("final evaluation:") for label in labels)
+            both = line_labelled(ax, "final evaluation, also the best model")
+            assert list(both.get_xdata()) == [4000]
+            # No two marks at one place: each mark's (x, y) differs.
+            marks = [(ln.get_xdata()[0], ln.get_ydata()[0]) for ln in ax.get_lines()
+                     if len(ln.get_xdata()) == 1]  # fmt: skip
+            assert len(marks) == len(set(marks)) == 2, marks
     finally:
         plt.close(fig)
 
@@ -100,7 +129,8 @@ def test_best_model_without_train_log_entry_is_the_first_best_mean(tmp_path) -> 
         ax_return = fig.axes[1]
         assert list(line_labelled(ax_return, "best model (").get_xdata()) == [2000]
         assert "eval env seeded 10000" in line_labelled(ax_return, "PPO").get_label()
-        assert "no reference evaluation" in fig._suptitle.get_text().lower()
+        labels = [ln.get_label() for ln in ax_return.get_lines()]
+        assert not any(label.startswith(("random", "scripted")) for label in labels)
     finally:
         plt.close(fig)
 
@@ -115,7 +145,7 @@ def test_learning_curve_of_a_single_evaluation(tmp_path) -> None:
     fig = learning_curve_figure(run, RESULTS, "BeachballSail-v0")
     try:
         for ax, value in zip(fig.axes[:2], (50.0, 2.0), strict=True):
-            for start in ("best model (", "final evaluation", "PPO evaluations"):
+            for start in ("final evaluation, also the best model", "PPO evaluations"):
                 line = line_labelled(ax, start)
                 assert list(line.get_xdata()) == [2048]
                 assert list(line.get_ydata()) == pytest.approx([value])

@@ -151,7 +151,6 @@ def learning_curve_figure(
     curve = _Evaluations.load(run)
     steps = curve.steps
     i_best = best_model_index(steps, curve.mean, curve.train_log)
-    i_final = len(steps) - 1
     fig, (ax_success, ax_return) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
     # (axes, values, the key of a result, its scale on the plot, the number's format)
     panels = [(ax_return, curve.mean, "mean_return", 1.0, "{:.1f}")]
@@ -164,40 +163,47 @@ def learning_curve_figure(
     learnt_label = (
         f"{algo.upper()} evaluations ({curve.seeds_label()}, {curve.n_episodes} episodes per point)"
     )
-    reevaluated_at = steps[i_best if evaluated == "best" else i_final]
+    # The re-evaluation stands to the right of the curve, not on its last point, where the
+    # final and best marks may already be.
+    reevaluated_x = steps[-1] + REEVALUATION_GAP * max(steps[-1] - steps[0], steps[-1], 1.0)
     for ax, values, key, scale, fmt in panels:
-        _draw_evaluations(ax, steps, values, fmt, learnt_label, i_final, i_best)
-        _draw_references(ax, results, key, scale, fmt, algo, evaluated, reevaluated_at)
-    _label_figure(fig, ax_success, ax_return, env_id, curve, results, algo)
+        _draw_evaluations(ax, steps, values, fmt, learnt_label, i_best)
+        _draw_references(ax, results, key, scale, fmt, algo, evaluated, reevaluated_x)
+    _label_figure(fig, ax_success, ax_return, env_id, curve, algo)
     return fig
+
+
+REEVALUATION_GAP = 0.06
+"""How far right of the last evaluation the re-evaluated model is drawn, as a share of the
+curve's span."""
 
 
 def _draw_return_spread(ax: Any, curve: _Evaluations, algo: str) -> None:
     """The band of the evaluations' return, mean +- std over their episodes."""
     steps, mean, std = curve.steps, curve.mean, curve.std
-    ax.fill_between(steps, mean - std, mean + std, alpha=0.2, label=f"{algo.upper()} mean +- std")
+    ax.fill_between(steps, mean - std, mean + std, alpha=0.2, label=f"{algo.upper()} mean +- std",
+                    zorder=2)  # fmt: skip
     if len(steps) == 1:  # a band of one point is not drawn: show its spread as an error bar
         ax.errorbar(steps, mean, yerr=std, fmt="none", ecolor="tab:blue", alpha=0.5)
 
 
 def _draw_evaluations(
-    ax: Any,
-    steps: np.ndarray,
-    values: np.ndarray,
-    fmt: str,
-    label: str,
-    i_final: int,
-    i_best: int,
+    ax: Any, steps: np.ndarray, values: np.ndarray, fmt: str, label: str, i_best: int
 ) -> None:
-    """The evaluations during training, with the final one and the best model's marked."""
-    ax.plot(steps, values, "o-", ms=4, label=label)
+    """The evaluations during training, with the final one and the best model's marked:
+    one mark where they are the same evaluation, so that no mark hides another."""
+    ax.plot(steps, values, "o-", ms=4, label=label, zorder=4)
+    i_final = len(steps) - 1
+    final = f"{fmt.format(values[i_final])} at {_steps_label(steps[i_final])} steps"
+    if i_best == i_final:
+        ax.plot(steps[i_final], values[i_final], "*", ms=15, color="tab:orange", mec="black",
+                label=f"final evaluation, also the best model (best_model.zip): {final}",
+                zorder=5)  # fmt: skip
+        return
+    ax.plot(steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
+            label=f"final evaluation: {final}", zorder=5)  # fmt: skip
     ax.plot(
-        steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
-        label=f"final evaluation: {fmt.format(values[i_final])} at "
-        f"{_steps_label(steps[i_final])} steps",
-    )  # fmt: skip
-    ax.plot(
-        steps[i_best], values[i_best], "*", ms=15, color="tab:orange", mec="black",
+        steps[i_best], values[i_best], "*", ms=15, color="tab:orange", mec="black", zorder=5,
         label=f"best model (best_model.zip): {fmt.format(values[i_best])} at "
         f"{_steps_label(steps[i_best])} steps",
     )  # fmt: skip
@@ -211,59 +217,45 @@ def _draw_references(
     fmt: str,
     algo: str,
     evaluated: str,
-    reevaluated_at: float,
+    reevaluated_x: float,
 ) -> None:
     """The baseline's own evaluations: each reference policy's ``key`` as a horizontal
-    line, and the learnt policy's as a diamond at the step of the model it evaluated."""
+    line under the curve, and the learnt policy's as a diamond at ``reevaluated_x``."""
     for name, color in REFERENCE_COLORS.items():
         if name in results:
             r = results[name]
             ax.axhline(
-                scale * r[key], color=color, ls="--",
+                scale * r[key], color=color, ls="--", lw=1.2, alpha=0.8, zorder=1,
                 label=f"{name}: {fmt.format(scale * r[key])} ({_seed_range(r)})",
             )  # fmt: skip
     if algo in results:
         r = results[algo]
         ax.plot(
-            reevaluated_at, scale * r[key], "D", ms=7, mfc="none", mec="tab:purple", mew=1.5,
-            label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
+            reevaluated_x, scale * r[key], "D", ms=8, mfc="none", mec="tab:purple", mew=1.5,
+            zorder=5, label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
             f"({_seed_range(r)})",
         )  # fmt: skip
 
 
 def _label_figure(
-    fig: Any,
-    ax_success: Any,
-    ax_return: Any,
-    env_id: str,
-    curve: _Evaluations,
-    results: dict[str, dict],
-    algo: str,
+    fig: Any, ax_success: Any, ax_return: Any, env_id: str, curve: _Evaluations, algo: str
 ) -> None:
-    """The axes' ranges, labels, titles, grids and legends, and the figure's title, which
-    says which seeds the points and the reference lines come from."""
-    if len(curve.steps) == 1:  # one evaluation: give the x axis some width around it
-        for ax in (ax_success, ax_return):
-            ax.set_xlim(0.0, 2.0 * max(curve.steps[0], 1.0))
-    ax_success.set(xlabel="timesteps", ylabel="success (%)", ylim=(-3, 103))
-    ax_success.set_title(f"{env_id}: evaluation success rate")
+    """The axes' ranges, labels, titles, grids and legends, and a one-line figure title
+    (which seeds each point and line come from is in the legends)."""
+    steps = curve.steps
+    for ax in (ax_success, ax_return):
+        # Room on the right for the re-evaluated model, and around a single evaluation.
+        span = max(steps[-1] - steps[0], steps[-1], 1.0)
+        low = 0.0 if len(steps) == 1 else steps[0] - 0.02 * span
+        ax.set_xlim(low, steps[-1] + 2.0 * REEVALUATION_GAP * span)
+    # Headroom above 100%: a curve at the top is not drawn on the axis' edge.
+    ax_success.set(xlabel="timesteps", ylabel="success (%)", ylim=(-3, 109))
+    ax_success.set_title("success rate")
     ax_return.set(xlabel="timesteps", ylabel="episode return")
-    ax_return.set_title(f"{env_id}: evaluation return (mean +- std over episodes)")
-    refs = [results[n] for n in (*REFERENCE_COLORS, algo) if n in results]
-    ref_text = "no reference evaluation"
-    if refs:
-        ref_text = (
-            f"reference lines: the baseline's own evaluation of each policy over "
-            f"{_seed_range(refs[0])} ({refs[0].get('episodes', '?')} episodes)"
-        )
-    fig.suptitle(
-        f"{env_id} learning curve. Points: SB3's EvalCallback during training, "
-        f"{curve.seeds_label()} once (its episodes run on between evaluations), "
-        f"{curve.n_episodes} episodes per point.\n"
-        "Best model: the evaluation whose model is best_model.zip (SB3 saves one on a new best "
-        f"mean return).\n{ref_text[0].upper()}{ref_text[1:]}.",
-        fontsize=9,
-    )
+    ax_return.set_title("episode return (mean +- std over episodes)")
+    seed = curve.train_log.get("seed")
+    trained = f", training seed {seed}" if seed is not None else ""
+    fig.suptitle(f"{env_id}: {algo.upper()} while it learns{trained}", fontsize=12)
     for ax in (ax_success, ax_return):
         ax.grid(alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
