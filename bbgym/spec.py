@@ -61,6 +61,19 @@ class FuzzSpec:
 
 
 @dataclass(frozen=True)
+class Showcase:
+    """An episode that shows what a family is about, and the pace a person can follow it
+    at: what ``bbgym baseline`` records of the learnt policy (``episode.gif``)."""
+
+    seed: int = 0
+    """The episode's reset seed."""
+    frame_skip: int = 2
+    """Every ``frame_skip``-th frame is kept (the key frames always)."""
+    fps: float = 20.0
+    """Frames per second of the animation."""
+
+
+@dataclass(frozen=True)
 class EnvSpec:
     """An env family: everything the package's shared machinery needs to know of it."""
 
@@ -104,6 +117,8 @@ class EnvSpec:
     demo: Callable[[int | None, int], tuple[str, str, dict[str, Any], list[Any]]] | None = None
     """``demo(seed, frame_skip) -> (caption, statistics table, statistics, frames)``: one
     scripted episode for ``bbgym demo`` (``seed`` None: the family's showcase seed)."""
+    showcase: Showcase = field(default_factory=Showcase)
+    """The episode ``bbgym baseline`` records, and at what pace."""
     classes_module: str | None = None
     """The module that holds the two classes, if not ``bbgym.envs.<family>`` (a family
     declared outside the package, such as the test suite's)."""

@@ -79,3 +79,26 @@ def test_beats_to_an_upwind_mark():
     info = run_episode(env, SimpleSailController(), seed=0, options=options)
     assert info["is_success"]
     assert info["tacks"] >= 1
+
+
+def test_the_showcase_episode_is_a_beat_with_tacks():
+    # bbgym baseline records the learnt policy on the sailing showcase seed: that episode
+    # must show upwind sailing (the mark within 45 deg of the wind's eye, so no boat can
+    # lay it), and the autopilot must tack on the way.
+    from bbgym.spec import spec_of
+
+    spec = spec_of("BeachballSail-v1")
+    env = gym.make("BeachballSail-v1")
+    policy = spec.policy("scripted", env)
+    obs, info = env.reset(seed=spec.showcase.seed)
+    to_mark = np.asarray(info["mark"]) - np.asarray(info["position"])
+    # true_wind_angle is where the wind blows from, off the bow.
+    wind_from = info["heading"] + info["true_wind_angle"]
+    off_wind = math.remainder(math.atan2(to_mark[1], to_mark[0]) - wind_from, 2 * math.pi)
+    assert abs(off_wind) < math.radians(45.0), math.degrees(off_wind)
+    policy.reset()
+    terminated = truncated = False
+    while not (terminated or truncated):
+        obs, _, terminated, truncated, info = env.step(policy(obs))
+    assert info["is_success"] and info["tacks"] >= 1, info["tacks"]
+    assert spec.showcase.frame_skip * 0.25 * spec.showcase.fps <= 5.0  # at most 5x real time

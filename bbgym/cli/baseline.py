@@ -318,8 +318,10 @@ def run(args: argparse.Namespace) -> int:
 
     print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
+    showcase = spec_of(args.env).showcase
     record.record_to_file(args.env, algo, animation, model=folders[seeds[0]] / model_file,
-                          seed=0, frame_skip=2)  # fmt: skip
+                          seed=showcase.seed, frame_skip=showcase.frame_skip,
+                          fps=showcase.fps)  # fmt: skip
 
     summary = {
         "env": args.env,

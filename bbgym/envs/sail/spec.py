@@ -7,7 +7,12 @@ from typing import Any
 from bbgym.envs.sail.task import ARGUMENT_TABLE
 from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.wind import GustParams
-from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
+from bbgym.spec import EnvSpec, FuzzSpec, Showcase, Version, register_spec
+
+SHOWCASE = Showcase(seed=16, frame_skip=1, fps=10.0)
+"""Seed 16 puts the mark upwind, so the episode is a beat with tacks, what the env is
+about (a reach shows little); a frame every 0.25 s step at 10 fps plays 2.5x real time,
+slow enough to follow the tacks. ``bbgym baseline`` records it, ``bbgym demo`` sails it."""
 
 MAX_EPISODE_STEPS = 1200
 """300 s at 0.25 s a step: enough to beat 100 m upwind in light air."""
@@ -131,5 +136,6 @@ SPEC = register_spec(
         fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.4, episode_steps=300),
         keyboard=_keyboard,
         demo=_demo,
+        showcase=SHOWCASE,
     )
 )
