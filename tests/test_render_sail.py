@@ -260,3 +260,18 @@ def test_sail_scale_bar_is_metres_times_pixels_per_metre(ppm: float) -> None:
     origin = scale_bar_origin((0, 0, WIDTH, HEIGHT), HEIGHT)
     assert origin[1] < HEIGHT - CAPTION_BAND_PX  # above the strip a recording's caption covers
     assert bar_run_px(img, origin, bar.length_px) == round(bar.metres * ppm)
+
+
+def test_the_wind_label_stays_legible_over_the_marks_ring(renderer: SailRenderer) -> None:
+    # A mark whose dashed ring crosses the wind dial's label: the label sits on its own
+    # panel, so no dash runs through its text.
+    cx = WIDTH - sail_view.WIND_ARROW_CENTER_FROM_CORNER_PX
+    top = sail_view.WIND_ARROW_CENTER_FROM_CORNER_PX + int(sail_view.WIND_ARROW_MAX_PX) // 2 + 10
+    label_x, label_y = cx, top + 7  # the middle of the label's line of text
+    mark = ((label_x - WIDTH / 2) / PPM, -(label_y - HEIGHT / 2) / PPM)
+    ring = renderer.render(make_scene(mark_m=mark, mark_radius_m=36.0 / PPM))
+    clear = renderer.render(make_scene(mark_m=(0.0, -10.0), mark_radius_m=36.0 / PPM))
+    box = np.s_[top : top + 11, cx - 36 : cx + 36]  # inside the label's line
+    assert np.array_equal(ring[box], clear[box])  # not a dash in the label
+    # The ring is there, just not over the label: it differs from the clear water next to it.
+    assert not np.array_equal(ring[top + 30 : top + 60], clear[top + 30 : top + 60])

@@ -330,3 +330,24 @@ def test_top_view_scale_bar_is_metres_times_pixels_per_metre(
     row = img[y0, x0 - 3 : x0 + round(bar.length_px) + 3]
     run = int(np.count_nonzero(np.all(row == np.array(SCALE_BAR_COLOR), axis=-1)))
     assert run == round(bar.metres * view.pixels_per_meter)
+
+
+@pytest.mark.parametrize("speed", [0.0, 0.4, 3.0, 9.0])
+def test_the_windsock_label_never_covers_the_sock(speed: float) -> None:
+    # Every wind direction, the sock near the middle and near each edge of the panel: the
+    # label stands clear of the sock and the pole, and inside the panel.
+    import pygame
+
+    from bbgym.render.beach import ViewMap, draw_top_windsock
+
+    pygame.font.init()
+    font = pygame.font.Font(None, 16)
+    surface = pygame.Surface((640, 280))
+    view = ViewMap(rect=(0, 0, 640, 280), origin_px=(320.0, 140.0), pixels_per_meter=24.0)
+    for pole in ((0.0, 0.0), (-12.5, 4.5), (12.5, -5.2), (0.0, 5.0), (0.0, -5.5)):
+        for k in range(24):
+            angle = 2 * math.pi * k / 24
+            wind = (speed * math.cos(angle), speed * math.sin(angle))
+            label, sock = draw_top_windsock(pygame, surface, font, view, pole, wind)
+            assert not pygame.Rect(label).colliderect(pygame.Rect(sock)), (pole, k, label, sock)
+            assert pygame.Rect(0, 0, 640, 280).contains(pygame.Rect(label))

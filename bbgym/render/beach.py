@@ -383,12 +383,13 @@ def draw_top_windsock(
     pole_m: Vec2,
     windsock_mps: Vec2,
     label_min_y_px: float = 20.0,
-) -> None:
+) -> tuple[Rect, Rect]:
     """Windsock seen from above at ``pole_m``, pointing where the (read) wind blows.
 
     A sock droops in light air, so from above it looks shorter: its length shows the speed.
-    The label ("sock 2.3 m/s") stays inside ``view.rect``, at least ``label_min_y_px`` below
-    its top edge (room for a panel title).
+    The label ("sock 2.3 m/s") stands clear of the sock, below it or above it, inside
+    ``view.rect`` and at least ``label_min_y_px`` below its top edge (room for a panel
+    title). Returns the label's and the sock's (pole included) rectangles in pixels.
     """
     surf = surface
     pole = view.to_px(*pole_m)
@@ -397,6 +398,8 @@ def draw_top_windsock(
     fill = windsock_fill(speed)
     length_px = SOCK_LENGTH_M * view.pixels_per_meter * (0.2 + 0.8 * fill)
     mouth_half = max(4.0, 0.16 * view.pixels_per_meter)
+    corners = [(pole[0] - 3.0, pole[1] - 3.0), (pole[0] + 3.0, pole[1] + 3.0)]  # the pole
+    uy = 0.0
     if speed > 1e-6:
         ux, uy = wx / speed, -wy / speed  # screen y points down
         nx, ny = -uy, ux
@@ -416,17 +419,24 @@ def draw_top_windsock(
             ]
             pg.draw.polygon(surf, SOCK_COLOR if k % 2 == 0 else SOCK_STRIPE_COLOR, quad)
             pg.draw.polygon(surf, POLE_COLOR, quad, 1)
-        label_dir = (-ux, -uy)  # the label goes on the side the sock does not cover
-    else:
-        label_dir = (0.0, 1.0)
+            corners += quad
     pg.draw.circle(surf, POLE_COLOR, pole, 3)
+    left, top = min(c[0] for c in corners), min(c[1] for c in corners)
+    right, bottom = max(c[0] for c in corners), max(c[1] for c in corners)
+    sock = (int(left), int(top), math.ceil(right - left) + 1, math.ceil(bottom - top) + 1)
+
     label = label_font.render(f"sock {speed:.1f} m/s", True, LABEL_COLOR)
-    lx = pole[0] + label_dir[0] * 14 - label.get_width() / 2
-    ly = pole[1] + label_dir[1] * 14 - label.get_height() / 2
+    lw, lh = label.get_width(), label.get_height()
     x, y, w, h = view.rect
-    lx = min(max(lx, x + 2), x + w - label.get_width() - 2)
-    ly = min(max(ly, y + label_min_y_px), y + h - label.get_height() - 2)
+    lx = min(max(pole[0] - lw / 2, x + 2), x + w - lw - 2)
+    below, above = bottom + 3, top - 3 - lh  # just clear of the sock's box
+    fits_below = below + lh <= y + h - 2
+    fits_above = above >= y + label_min_y_px
+    # Below the sock unless it points down (then above), or where there is no room.
+    ly = below if (uy <= 0.0 and fits_below) or not fits_above else above
+    ly = min(max(ly, y + label_min_y_px), y + h - lh - 2)
     surf.blit(label, (lx, ly))
+    return (int(lx), int(ly), lw, lh), sock
 
 
 def draw_wind_compass(

@@ -543,7 +543,11 @@ class SailRenderer(PygameRenderer[SailScene]):
             ]
             pg.draw.polygon(self._surface, WIND_COLOR, head)
         label = self._font.render(f"wind {speed:.1f} m/s", True, TEXT_COLOR)
-        self._surface.blit(label, (cx - label.get_width() / 2, cy + WIND_ARROW_MAX_PX // 2 + 10))
+        left, top = cx - label.get_width() / 2, cy + WIND_ARROW_MAX_PX // 2 + 10
+        # On a panel of its own: the mark's dashed ring or the wake may pass under it.
+        backing = (left - 3, top - 1, label.get_width() + 6, label.get_height() + 2)
+        pg.draw.rect(self._surface, PANEL_COLOR, backing)
+        self._surface.blit(label, (left, top))
 
     def _draw_readout(self, scene: SailScene) -> None:
         """Small text panel in the top-left corner."""
