@@ -52,6 +52,38 @@ def test_bad_arguments_say_what_is_wrong(capsys, argv, message):
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["train", "--env", "CartPole-v1"],
+        ["evaluate", "--env", "CartPole-v1"],
+        ["baseline", "--env", "CartPole-v1"],
+        ["record", "--env", "CartPole-v1", "--policy", "random"],
+        ["play", "--env", "CartPole-v1"],
+        ["demo", "--env", "CartPole-v1"],
+        ["bench", "--envs", "BeachballSail-v0", "CartPole-v1"],
+    ],
+)
+def test_a_registered_env_that_is_not_bbgyms_is_refused_by_every_command(capsys, argv):
+    """CartPole-v1 is registered (by Gymnasium), but no bbgym family declares it: every
+    command taking an env id says so, naming the argument and bbgym's ids (evaluate once
+    crashed with a bare KeyError: 'is_success')."""
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    option = "--envs" if argv[0] == "bench" else "--env"
+    assert f"argument {option}: 'CartPole-v1' is a registered Gymnasium env but not" in err
+    assert "BeachballSail-v1" in err
+
+
+def test_evaluating_an_id_of_no_bbgym_family_from_python_says_so():
+    from bbgym.cli.evaluate import evaluate
+
+    with pytest.raises(ValueError, match="unknown env id 'CartPole-v1'; known: BeachballSail"):
+        evaluate("CartPole-v1", "random", 1, 0, None)
+
+
 def test_a_missing_extra_names_it(capsys, monkeypatch):
     import importlib.util
 
@@ -62,7 +94,9 @@ def test_a_missing_extra_names_it(capsys, monkeypatch):
     )  # fmt: skip
     assert cli.main(["train", "--env", "BeachballSail-v0"]) == 3
     err = capsys.readouterr().err
-    assert "'stable_baselines3'" in err and 'pip install "bbgym[train]"' in err
+    from bbgym._extras import install_hint
+
+    assert "'stable_baselines3'" in err and install_hint("train") in err
 
 
 @pytest.mark.parametrize("env_id", sorted(preset_files()))

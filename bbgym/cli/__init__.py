@@ -47,21 +47,30 @@ class UsageError(Exception):
 
 
 class MissingExtra(Exception):
-    """A command needs an optional dependency that is not installed."""
+    """A command needs optional dependencies that are not installed: the message names
+    each missing module, its extra, and the pip command that installs them
+    (:func:`bbgym._extras.install_hint`)."""
 
-    def __init__(self, extra: str, module: str) -> None:
-        super().__init__(
-            f"this command needs {module!r}, which is in bbgym's {extra!r} extra: "
-            f'pip install "bbgym[{extra}]" (from a checkout: pip install -e ".[{extra}]")'
-        )
+    def __init__(self, missing: dict[str, list[str]]) -> None:
+        from bbgym._extras import missing_message
+
+        self.missing = missing
+        super().__init__(missing_message(missing))
 
 
 def require(module: str, extra: str) -> None:
-    """Raise :class:`MissingExtra` if ``module`` cannot be imported."""
-    import importlib.util
+    """Raise :class:`MissingExtra` if ``module`` (of bbgym's ``extra``) cannot be imported."""
+    require_all([(module, extra)])
 
-    if importlib.util.find_spec(module) is None:
-        raise MissingExtra(extra, module)
+
+def require_all(needs: Sequence[tuple[str, str]]) -> None:
+    """Raise one :class:`MissingExtra` naming every module of ``needs``, pairs ``(module,
+    extra)``, that cannot be imported."""
+    from bbgym._extras import missing_modules
+
+    missing = missing_modules(needs)
+    if missing:
+        raise MissingExtra(missing)
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefaultsHelpFormatter):
@@ -77,12 +86,20 @@ def bbgym_env_ids() -> list[str]:
 
 
 def env_id(text: str) -> str:
-    """An argparse ``type``: an env id a bbgym family registers, or an error listing them."""
-    if text not in bbgym_env_ids():
+    """An argparse ``type``: an env id a bbgym family registers, or an error listing them.
+    An id another package registers (``CartPole-v1``) is refused too, saying so: the
+    commands need what a bbgym family's spec declares (its policies, outcomes, presets)."""
+    import gymnasium as gym
+
+    ids = bbgym_env_ids()
+    if text in ids:
+        return text
+    if text in gym.registry:
         raise argparse.ArgumentTypeError(
-            f"unknown env id {text!r}; bbgym's ids: {', '.join(bbgym_env_ids())}"
+            f"{text!r} is a registered Gymnasium env but not one of bbgym's; the bbgym "
+            f"commands run bbgym's own ids: {', '.join(ids)}"
         )
-    return text
+    raise argparse.ArgumentTypeError(f"unknown env id {text!r}; bbgym's ids: {', '.join(ids)}")
 
 
 def _number(text: str, cast: type, minimum: float, strict: bool) -> Any:
@@ -137,7 +154,8 @@ def build_parser() -> argparse.ArgumentParser:
             formatter_class=HelpFormatter,
         )
         module.add_arguments(sub)
-        sub.set_defaults(_run=module.run, _parser=sub)
+        needs = getattr(module, "needs", None)
+        sub.set_defaults(_run=module.run, _parser=sub, _needs=needs)
     return parser
 
 
@@ -146,6 +164,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(list(sys.argv[1:] if argv is None else argv))
     try:
+        # Every extra the command will need is checked before it starts any work: a
+        # baseline does not train for an hour and then fail for want of pygame.
+        if args._needs is not None:
+            require_all(args._needs(args))
         status = args._run(args)
     except UsageError as err:
         args._parser.error(str(err))  # exits with status 2

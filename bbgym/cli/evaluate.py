@@ -38,6 +38,7 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym._extras import extra_needs
 from bbgym.cli import UsageError, env_id, positive_int, require
 from bbgym.spec import env_id_of, spec_of
 
@@ -90,6 +91,9 @@ def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated
 
 
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
+    """``episodes`` seeded episodes (seeds ``seed ..``) of ``policy_name`` on ``env_id``, a
+    bbgym id (else ``ValueError`` listing them: the outcomes come from the family's spec)."""
+    spec_of(env_id)
     env = gym.make(env_id)
     policy = make_policy(policy_name, env, model, seed)
     successes, returns, lengths, times = 0, [], [], []
@@ -288,6 +292,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--episodes", type=positive_int, default=100, help="episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
     parser.add_argument("--out", type=Path, default=Path("runs/eval"), help="output folder")
+
+
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: the ``train`` extra for a saved model's policy."""
+    return extra_needs("train") if set(args.policies) & set(LEARNT) else []
 
 
 def run(args: argparse.Namespace) -> int:

@@ -36,7 +36,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require
+from bbgym._extras import extra_needs
+from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require_all
 
 EVAL_SEED_OFFSET = 10_000
 """Evaluation episodes use seeds far from the training ones."""
@@ -78,6 +79,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="rllib: a Ray cluster to join ('auto' or host:port)")  # fmt: skip
     parser.add_argument("--num-cpus", type=positive_int, default=None,
                         help="rllib: CPUs of the local Ray started without --address")  # fmt: skip
+
+
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs, checked before it starts (:func:`bbgym.cli.main`)."""
+    return extra_needs("rllib" if args.engine == "rllib" else "train")
 
 
 def add_threads_argument(parser: argparse.ArgumentParser) -> None:
@@ -167,7 +173,7 @@ def train_sb3(
     ``set_random_seed``), the training envs (``seed + i``) and the evaluation envs
     (``seed + 10000 + i``); the same command and seed on the same machine give the same
     model. ``train.json`` records the seed, threads, versions, machine and command."""
-    require("stable_baselines3", "train")
+    require_all(extra_needs("train"))
     from bbgym.config import load_training
 
     path, env_kwargs = resolve_preset(env, preset)
@@ -360,7 +366,7 @@ def _final_eval_callback() -> type:
 
 
 def _run_rllib(args: argparse.Namespace) -> int:
-    require("ray", "rllib")
+    require_all(extra_needs("rllib"))
     from bbgym import rllib
     from bbgym.config import load_training
 
