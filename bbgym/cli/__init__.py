@@ -23,14 +23,17 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Sequence
 from typing import Any
 
 COMMANDS: dict[str, str] = {
-    "train": "train PPO (stable-baselines3, or Ray RLlib) on an env from its preset",
+    "train": "train the preset's algorithm, PPO or SAC (stable-baselines3; PPO also on Ray "
+    "RLlib), on an env",
     "evaluate": "evaluate policies over the same seeded episodes; write a results table",
-    "baseline": "train PPO, evaluate it beside random and scripted play, write a run folder",
+    "baseline": "train the preset's PPO or SAC, evaluate it beside random and scripted play, "
+    "write a run folder",
     "record": "an animation (GIF or MP4) of an episode of any policy",
     "play": "play an env from the keyboard (pygame window)",
     "polar": "compute and plot the dinghy's polar diagram from the physics",
@@ -74,7 +77,32 @@ def require_all(needs: Sequence[tuple[str, str]]) -> None:
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefaultsHelpFormatter):
-    """Keeps the command's docstring as written and shows every option's default."""
+    """Keeps the command's description as written and shows each option's default, where it
+    has one and its help does not say it in words (not a flag's False, nor the None of an
+    option whose help says what it defaults to)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        if action.default is None or isinstance(action.default, bool) or "default" in text:
+            return action.help
+        return super()._get_help_string(action)
+
+
+_RST_ROLE = re.compile(r":[a-z]+:`~?([^`<]*?)\s*(?:<[^>]*>)?`")
+_RST_LITERAL = re.compile(r"``(.+?)``", re.DOTALL)
+
+
+def plain_text(doc: str) -> str:
+    """A module docstring as plain text for ``--help``: RST literals (````x````) lose their
+    backticks, cross-references (``:mod:`bbgym.spec```, ``:attr:`~bbgym.spec.EnvSpec.demo```)
+    become their target's (last) name."""
+
+    def role(match: re.Match[str]) -> str:
+        target = match.group(1)
+        shown = target.rsplit(".", 1)[-1] if match.group(0).find("`~") >= 0 else target
+        return shown
+
+    return _RST_LITERAL.sub(r"\1", _RST_ROLE.sub(role, doc))
 
 
 def bbgym_env_ids() -> list[str]:
@@ -140,8 +168,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser = argparse.ArgumentParser(
         prog="bbgym",
-        description=__doc__.split("\n\n")[0].replace("\n", " "),
-        epilog="Run 'bbgym <command> --help' for a command's options.",
+        description=plain_text(__doc__.split("\n\n")[0].replace("\n", " ")),
+        epilog=f"ENV_ID: one of {', '.join(bbgym_env_ids())}. Run 'bbgym <command> --help' "
+        "for a command's options.",
     )
     parser.add_argument("--version", action="version", version=f"bbgym {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -150,7 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
         sub = commands.add_parser(
             name,
             help=summary,
-            description=module.__doc__,
+            description=plain_text(module.__doc__ or ""),
             formatter_class=HelpFormatter,
         )
         module.add_arguments(sub)

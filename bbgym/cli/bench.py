@@ -292,7 +292,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--torch-threads", type=positive_int, default=2,
                         help="torch's thread count")  # fmt: skip
     parser.add_argument("--envs", nargs="+", type=env_id_type, default=base_ids(),
-                        help="the envs to time (default: every family's base tasks)")  # fmt: skip
+                        help="the envs to time (default: every family's base tasks, "
+                             f"{' '.join(base_ids())})")  # fmt: skip
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
 

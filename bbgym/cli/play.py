@@ -1,6 +1,6 @@
 """Play an env from the keyboard (gymnasium.utils.play, in a pygame window).
 
-    bbgym play --env ENV_ID [--seed 0] [--fps 20] [--zoom 1.0]
+    bbgym play --env ENV_ID [--seed S] [--fps 20] [--zoom 1.0]
 
 Sailing (one env step per frame, 0.25 s, so 20 fps is 5x real time):
   LEFT / RIGHT   rudder hard over while held: turn to port / to starboard (0 when released)
