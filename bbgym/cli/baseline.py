@@ -394,7 +394,7 @@ def _evaluate_policies(
         per_seed.append(result)
     if spec_of(env).timed_by_oracle:
         for result in [*results.values(), *per_seed]:
-            result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
+            evaluate.add_time_vs_oracle(result, results["scripted"])
     results[algo] = evaluate.over_seeds(per_seed, algo)
     return results, per_seed
 
