@@ -24,7 +24,6 @@ import numpy as np
 BACKENDS = ("numpy", "torch")
 DTYPES = ("float64", "float32")
 OUTPUTS = ("numpy", "torch")
-TORCH_EXTRA = "pip install 'bbgym[torch]'"
 
 _MASK32 = 0xFFFFFFFF
 
@@ -77,8 +76,11 @@ def resolve_backend(
         import array_api_compat  # noqa: F401
         import torch
     except ImportError as error:
+        from bbgym._extras import install_hint
+
         raise ImportError(
-            f"backend='torch' needs torch and array-api-compat: {TORCH_EXTRA} ({error})"
+            "backend='torch' needs torch and array-api-compat (the 'torch' extra): "
+            f"{install_hint('torch')} ({error})"
         ) from None
     device = "cpu" if device is None else device
     if not isinstance(device, str) or device.split(":")[0] not in ("cpu", "cuda"):

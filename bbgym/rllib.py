@@ -59,8 +59,10 @@ def _require_ray() -> None:
     try:
         import ray.rllib  # noqa: F401
     except ImportError as e:
+        from bbgym._extras import install_hint
+
         raise ImportError(
-            "bbgym.rllib needs Ray RLlib and torch: pip install 'bbgym[rllib]'"
+            f"bbgym.rllib needs Ray RLlib and torch (the 'rllib' extra): {install_hint('rllib')}"
         ) from e
 
 

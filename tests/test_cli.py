@@ -52,6 +52,38 @@ def test_bad_arguments_say_what_is_wrong(capsys, argv, message):
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["train", "--env", "CartPole-v1"],
+        ["evaluate", "--env", "CartPole-v1"],
+        ["baseline", "--env", "CartPole-v1"],
+        ["record", "--env", "CartPole-v1", "--policy", "random"],
+        ["play", "--env", "CartPole-v1"],
+        ["demo", "--env", "CartPole-v1"],
+        ["bench", "--envs", "BeachballSail-v0", "CartPole-v1"],
+    ],
+)
+def test_a_registered_env_that_is_not_bbgyms_is_refused_by_every_command(capsys, argv):
+    """CartPole-v1 is registered (by Gymnasium), but no bbgym family declares it: every
+    command taking an env id says so, naming the argument and bbgym's ids (evaluate once
+    crashed with a bare KeyError: 'is_success')."""
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    option = "--envs" if argv[0] == "bench" else "--env"
+    assert f"argument {option}: 'CartPole-v1' is a registered Gymnasium env but not" in err
+    assert "BeachballSail-v1" in err
+
+
+def test_evaluating_an_id_of_no_bbgym_family_from_python_says_so():
+    from bbgym.cli.evaluate import evaluate
+
+    with pytest.raises(ValueError, match="unknown env id 'CartPole-v1'; known: BeachballSail"):
+        evaluate("CartPole-v1", "random", 1, 0, None)
+
+
 def test_a_missing_extra_names_it(capsys, monkeypatch):
     import importlib.util
 
@@ -62,7 +94,9 @@ def test_a_missing_extra_names_it(capsys, monkeypatch):
     )  # fmt: skip
     assert cli.main(["train", "--env", "BeachballSail-v0"]) == 3
     err = capsys.readouterr().err
-    assert "'stable_baselines3'" in err and 'pip install "bbgym[train]"' in err
+    from bbgym._extras import install_hint
+
+    assert "'stable_baselines3'" in err and install_hint("train") in err
 
 
 @pytest.mark.parametrize("env_id", sorted(preset_files()))
@@ -159,3 +193,55 @@ def test_one_seed_keeps_its_own_interval():
     two = over_seeds([seed, {**seed, "success_rate": 0.90, "training_seed": 1}])
     assert two["policy"] == "ppo, 2 seeds" and two["worst_seed"] == 1
     assert two["outcomes"] == {"success": 196, "timed out": 4}
+
+
+def test_evaluate_refuses_to_replace_its_results_without_overwrite(tmp_path, capsys):
+    argv = ["evaluate", "--env", "BeachballThrow-v0", "--policies", "random", "--episodes", "1",
+            "--out", str(tmp_path)]  # fmt: skip
+    assert cli.main(argv) == 0
+    first = (tmp_path / "BeachballThrow-v0.json").read_text()
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([*argv, "--seed", "5"])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert f"--out {tmp_path}:" in err and "--overwrite" in err
+    assert (tmp_path / "BeachballThrow-v0.json").read_text() == first
+    assert cli.main([*argv, "--seed", "5", "--overwrite"]) == 0
+    assert json.loads((tmp_path / "BeachballThrow-v0.json").read_text())[0]["seeds"] == [5, 5]
+
+
+def _row(env: str, policy: str, **fields) -> dict:
+    return {"env": env, "policy": policy, "episodes": 100, "success_rate": 0.5,
+            "success_ci95": [0.4, 0.6], "mean_return": 1.0, "mean_length": 2.0,
+            "mean_time_to_mark_s": None, "outcomes": {"success": 50, "missed long": 50},
+            "wall_time_s": 3.0, **fields}  # fmt: skip
+
+
+def test_a_throw_table_has_no_time_columns():
+    from bbgym.cli.evaluate import format_table
+
+    table = format_table([_row("BeachballThrow-v0", "random"),
+                          _row("BeachballThrow-v0", "scripted")])  # fmt: skip
+    header = table.splitlines()[0]
+    assert "time to mark" not in header and "time / oracle" not in header
+    assert all(line.count("|") == header.count("|") for line in table.splitlines())
+    assert "missed long 50" in table
+
+
+def test_a_mean_over_few_finished_episodes_shows_their_count():
+    from bbgym.cli.evaluate import add_time_vs_oracle, format_table
+
+    oracle = _row("BeachballSail-v1", "scripted", mean_time_to_mark_s=40.0,
+                  time_to_mark_episodes=100, episode_time_to_mark_s=[40.0] * 100)  # fmt: skip
+    lucky = [None] * 100
+    lucky[3], lucky[7] = 80.0, 64.0
+    random = _row("BeachballSail-v1", "random", mean_time_to_mark_s=72.0,
+                  time_to_mark_episodes=2, episode_time_to_mark_s=lucky)  # fmt: skip
+    for row in (oracle, random):
+        add_time_vs_oracle(row, oracle)
+    assert random["time_vs_oracle"] == pytest.approx(1.8)
+    assert random["time_vs_oracle_episodes"] == 2
+    table = format_table([random, oracle])
+    random_line, oracle_line = table.splitlines()[2:]
+    assert "| 72.0 s (2 ep.) | 1.80 (2 ep.) |" in random_line
+    assert "| 40.0 s | 1.00 |" in oracle_line

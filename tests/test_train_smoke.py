@@ -127,7 +127,7 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     def evaluate(policy: str) -> subprocess.CompletedProcess:
         command = [sys.executable, "-m", "bbgym", "evaluate", "--env", "BeachballSail-v1",
                    "--policies", policy, "--model", str(out / "model.zip"), "--episodes", "2",
-                   "--out", str(tmp_path / "eval")]  # fmt: skip
+                   "--out", str(tmp_path / "eval"), "--overwrite"]  # fmt: skip
         return subprocess.run(command, capture_output=True, text=True, timeout=600)
 
     done = evaluate("sac")

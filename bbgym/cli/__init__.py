@@ -23,14 +23,17 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Sequence
 from typing import Any
 
 COMMANDS: dict[str, str] = {
-    "train": "train PPO (stable-baselines3, or Ray RLlib) on an env from its preset",
+    "train": "train the preset's algorithm, PPO or SAC (stable-baselines3; PPO also on Ray "
+    "RLlib), on an env",
     "evaluate": "evaluate policies over the same seeded episodes; write a results table",
-    "baseline": "train PPO, evaluate it beside random and scripted play, write a run folder",
+    "baseline": "train the preset's PPO or SAC, evaluate it beside random and scripted play, "
+    "write a run folder",
     "record": "an animation (GIF or MP4) of an episode of any policy",
     "play": "play an env from the keyboard (pygame window)",
     "polar": "compute and plot the dinghy's polar diagram from the physics",
@@ -47,25 +50,59 @@ class UsageError(Exception):
 
 
 class MissingExtra(Exception):
-    """A command needs an optional dependency that is not installed."""
+    """A command needs optional dependencies that are not installed: the message names
+    each missing module, its extra, and the pip command that installs them
+    (:func:`bbgym._extras.install_hint`)."""
 
-    def __init__(self, extra: str, module: str) -> None:
-        super().__init__(
-            f"this command needs {module!r}, which is in bbgym's {extra!r} extra: "
-            f'pip install "bbgym[{extra}]" (from a checkout: pip install -e ".[{extra}]")'
-        )
+    def __init__(self, missing: dict[str, list[str]]) -> None:
+        from bbgym._extras import missing_message
+
+        self.missing = missing
+        super().__init__(missing_message(missing))
 
 
 def require(module: str, extra: str) -> None:
-    """Raise :class:`MissingExtra` if ``module`` cannot be imported."""
-    import importlib.util
+    """Raise :class:`MissingExtra` if ``module`` (of bbgym's ``extra``) cannot be imported."""
+    require_all([(module, extra)])
 
-    if importlib.util.find_spec(module) is None:
-        raise MissingExtra(extra, module)
+
+def require_all(needs: Sequence[tuple[str, str]]) -> None:
+    """Raise one :class:`MissingExtra` naming every module of ``needs``, pairs ``(module,
+    extra)``, that cannot be imported."""
+    from bbgym._extras import missing_modules
+
+    missing = missing_modules(needs)
+    if missing:
+        raise MissingExtra(missing)
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter, argparse.ArgumentDefaultsHelpFormatter):
-    """Keeps the command's docstring as written and shows every option's default."""
+    """Keeps the command's description as written and shows each option's default, where it
+    has one and its help does not say it in words (not a flag's False, nor the None of an
+    option whose help says what it defaults to)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        if action.default is None or isinstance(action.default, bool) or "default" in text:
+            return action.help
+        return super()._get_help_string(action)
+
+
+_RST_ROLE = re.compile(r":[a-z]+:`~?([^`<]*?)\s*(?:<[^>]*>)?`")
+_RST_LITERAL = re.compile(r"``(.+?)``", re.DOTALL)
+
+
+def plain_text(doc: str) -> str:
+    """A module docstring as plain text for ``--help``: RST literals (````x````) lose their
+    backticks, cross-references (``:mod:`bbgym.spec```, ``:attr:`~bbgym.spec.EnvSpec.demo```)
+    become their target's (last) name."""
+
+    def role(match: re.Match[str]) -> str:
+        target = match.group(1)
+        shown = target.rsplit(".", 1)[-1] if match.group(0).find("`~") >= 0 else target
+        return shown
+
+    return _RST_LITERAL.sub(r"\1", _RST_ROLE.sub(role, doc))
 
 
 def bbgym_env_ids() -> list[str]:
@@ -77,12 +114,20 @@ def bbgym_env_ids() -> list[str]:
 
 
 def env_id(text: str) -> str:
-    """An argparse ``type``: an env id a bbgym family registers, or an error listing them."""
-    if text not in bbgym_env_ids():
+    """An argparse ``type``: an env id a bbgym family registers, or an error listing them.
+    An id another package registers (``CartPole-v1``) is refused too, saying so: the
+    commands need what a bbgym family's spec declares (its policies, outcomes, presets)."""
+    import gymnasium as gym
+
+    ids = bbgym_env_ids()
+    if text in ids:
+        return text
+    if text in gym.registry:
         raise argparse.ArgumentTypeError(
-            f"unknown env id {text!r}; bbgym's ids: {', '.join(bbgym_env_ids())}"
+            f"{text!r} is a registered Gymnasium env but not one of bbgym's; the bbgym "
+            f"commands run bbgym's own ids: {', '.join(ids)}"
         )
-    return text
+    raise argparse.ArgumentTypeError(f"unknown env id {text!r}; bbgym's ids: {', '.join(ids)}")
 
 
 def _number(text: str, cast: type, minimum: float, strict: bool) -> Any:
@@ -123,8 +168,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser = argparse.ArgumentParser(
         prog="bbgym",
-        description=__doc__.split("\n\n")[0].replace("\n", " "),
-        epilog="Run 'bbgym <command> --help' for a command's options.",
+        description=plain_text(__doc__.split("\n\n")[0].replace("\n", " ")),
+        epilog=f"ENV_ID: one of {', '.join(bbgym_env_ids())}. Run 'bbgym <command> --help' "
+        "for a command's options.",
     )
     parser.add_argument("--version", action="version", version=f"bbgym {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -133,11 +179,12 @@ def build_parser() -> argparse.ArgumentParser:
         sub = commands.add_parser(
             name,
             help=summary,
-            description=module.__doc__,
+            description=plain_text(module.__doc__ or ""),
             formatter_class=HelpFormatter,
         )
         module.add_arguments(sub)
-        sub.set_defaults(_run=module.run, _parser=sub)
+        needs = getattr(module, "needs", None)
+        sub.set_defaults(_run=module.run, _parser=sub, _needs=needs)
     return parser
 
 
@@ -146,6 +193,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(list(sys.argv[1:] if argv is None else argv))
     try:
+        # Every extra the command will need is checked before it starts any work: a
+        # baseline does not train for an hour and then fail for want of pygame.
+        if args._needs is not None:
+            require_all(args._needs(args))
         status = args._run(args)
     except UsageError as err:
         args._parser.error(str(err))  # exits with status 2

@@ -44,7 +44,8 @@ from typing import Any
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.cli import UsageError, env_id, evaluate, positive_int, record, require, train
+from bbgym._extras import extra_needs
+from bbgym.cli import UsageError, env_id, evaluate, positive_int, record, require_all, train
 from bbgym.spec import base_ids, spec_of
 
 
@@ -68,6 +69,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
     )
+
+
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs, checked before training starts: training
+    (``train``), the learning curves (``plots``) and the recorded episode (``render`` to
+    draw it, Pillow of ``plots`` to write the GIF)."""
+    return extra_needs("train", "plots", "render")
 
 
 def best_model_index(timesteps: np.ndarray, mean_returns: np.ndarray, train_log: dict) -> int:
@@ -285,8 +293,7 @@ def plot_learning_curve(
 def run(args: argparse.Namespace) -> int:
     from bbgym.config import EVALUATED_MODELS, load_training
 
-    require("stable_baselines3", "train")
-    require("matplotlib", "plots")
+    require_all(needs(args))  # also where run() is called without bbgym.cli.main
     args.out = args.out or Path("runs") / "baseline" / args.env
     seeds = list(range(args.seed, args.seed + args.seeds))
     folders = {seed: args.out / f"seed{seed}" for seed in seeds}
@@ -381,7 +388,7 @@ def _evaluate_policies(
         per_seed.append(result)
     if spec_of(env).timed_by_oracle:
         for result in [*results.values(), *per_seed]:
-            result["time_vs_oracle"] = evaluate.time_vs_oracle(result, results["scripted"])
+            evaluate.add_time_vs_oracle(result, results["scripted"])
     results[algo] = evaluate.over_seeds(per_seed, algo)
     return results, per_seed
 

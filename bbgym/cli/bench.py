@@ -41,8 +41,9 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym._extras import extra_needs
 from bbgym.cli import env_id as env_id_type
-from bbgym.cli import positive_float, positive_int, require
+from bbgym.cli import positive_float, positive_int, require_all
 from bbgym.spec import base_ids, spec_of
 
 REFERENCE = "CartPole-v1"
@@ -291,7 +292,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--torch-threads", type=positive_int, default=2,
                         help="torch's thread count")  # fmt: skip
     parser.add_argument("--envs", nargs="+", type=env_id_type, default=base_ids(),
-                        help="the envs to time (default: every family's base tasks)")  # fmt: skip
+                        help="the envs to time (default: every family's base tasks, "
+                             f"{' '.join(base_ids())})")  # fmt: skip
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
 
@@ -312,11 +314,15 @@ def _sizes(args: argparse.Namespace) -> None:
         args.compile = False
 
 
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends`` (the PPO
+    rows are timed only where stable-baselines3 is installed)."""
+    return extra_needs("torch") if args.backends else []
+
+
 def run(args: argparse.Namespace) -> int:
     _sizes(args)
-    if args.backends:
-        require("torch", "torch")
-        require("array_api_compat", "torch")
+    require_all(needs(args))
     try:
         import torch
 

@@ -20,7 +20,7 @@ import json
 from pathlib import Path
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
+from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_all
 from bbgym.spec import spec_of, specs
 
 
@@ -35,10 +35,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fps", type=positive_float, default=10.0, help="animation playback rate")
 
 
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: drawing and writing the animation."""
+    from bbgym.cli.record import animation_needs
+
+    return animation_needs(Path(f"episode.{args.format}"))
+
+
 def run(args: argparse.Namespace) -> int:
     from bbgym.cli.record import check_format, open_writer
 
-    require("pygame", "render")
+    require_all(needs(args))
     spec = spec_of(args.env) if args.env else None
     if spec is None or spec.demo is None:
         raise UsageError(f"--env {args.env}: its family has no demo")

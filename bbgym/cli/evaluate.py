@@ -2,14 +2,17 @@
 
     bbgym evaluate --env ENV_ID [--policies random,scripted]
         [--model runs/ppo/ENV_ID-seed0/best_model.zip] [--episodes 100] [--seed 0]
-        [--out runs/eval]
+        [--out runs/eval] [--overwrite]
 
 Every policy meets the same scenarios (episode ``k`` is reset with ``seed + k``). Reports
 the success rate with a 95% Wilson interval, the mean return, the mean episode length
 (steps; throws for the ball envs), the failure breakdown (how each failed episode ended,
 by the env family's :attr:`~bbgym.spec.EnvSpec.outcome`) and, where the env keeps time
 (``elapsed_time`` in its info), the mean time to the mark of the successful episodes.
-Writes ``<out>/<env>.json`` and ``<out>/<env>.md``.
+Writes ``<out>/<env>.json`` and ``<out>/<env>.md``, and refuses (before evaluating) to
+replace them unless ``--overwrite`` is given. In the table a mean over fewer than 10 finished
+episodes (time to the mark, time / oracle) shows their count, "1.80 (2 ep.)"; the time
+columns are left out for an env that keeps no time.
 
 Policies: ``random`` (uniform actions), ``ppo`` and ``sac`` (a stable-baselines3 PPO or SAC
 model saved at ``--model``), and the env family's own (:attr:`bbgym.spec.EnvSpec.policies`):
@@ -38,6 +41,7 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym._extras import extra_needs
 from bbgym.cli import UsageError, env_id, positive_int, require
 from bbgym.spec import env_id_of, spec_of
 
@@ -90,6 +94,9 @@ def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated
 
 
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
+    """``episodes`` seeded episodes (seeds ``seed ..``) of ``policy_name`` on ``env_id``, a
+    bbgym id (else ``ValueError`` listing them: the outcomes come from the family's spec)."""
+    spec_of(env_id)
     env = gym.make(env_id)
     policy = make_policy(policy_name, env, model, seed)
     successes, returns, lengths, times = 0, [], [], []
@@ -126,19 +133,44 @@ def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Pat
         "mean_return": float(np.mean(returns)),
         "mean_length": float(np.mean(lengths)),
         "mean_time_to_mark_s": float(np.mean(times)) if times else None,
+        "time_to_mark_episodes": len(times),
         "outcomes": dict(outcomes.most_common()),
         "wall_time_s": time.perf_counter() - start,
         "episode_time_to_mark_s": episode_times if times else None,
     }
 
 
-def time_vs_oracle(result: dict, oracle: dict) -> float | None:
-    """Mean of ``time / oracle time`` over the episodes both policies finished."""
+def _oracle_ratios(result: dict, oracle: dict) -> list[float]:
     mine, best = result["episode_time_to_mark_s"], oracle["episode_time_to_mark_s"]
     if not mine or not best:
-        return None
-    ratios = [a / b for a, b in zip(mine, best, strict=True) if a is not None and b is not None]
+        return []
+    return [a / b for a, b in zip(mine, best, strict=True) if a is not None and b is not None]
+
+
+def time_vs_oracle(result: dict, oracle: dict) -> float | None:
+    """Mean of ``time / oracle time`` over the episodes both policies finished."""
+    ratios = _oracle_ratios(result, oracle)
     return float(np.mean(ratios)) if ratios else None
+
+
+def add_time_vs_oracle(result: dict, oracle: dict) -> None:
+    """Set ``result``'s ``time_vs_oracle`` (:func:`time_vs_oracle`) and
+    ``time_vs_oracle_episodes``, the number of episodes it is the mean of."""
+    result["time_vs_oracle"] = time_vs_oracle(result, oracle)
+    result["time_vs_oracle_episodes"] = len(_oracle_ratios(result, oracle))
+
+
+FEW_EPISODES = 10
+"""A mean over fewer finished episodes than this is shown with their count in a table
+("1.80 (2 ep.)"): random play's time / oracle may rest on two lucky arrivals."""
+
+
+def _with_count(text: str, episodes: int | None) -> str:
+    """``text``, with ``" (n ep.)"`` where it is a mean over fewer than
+    :data:`FEW_EPISODES` episodes."""
+    if episodes is None or episodes >= FEW_EPISODES:
+        return text
+    return f"{text} ({episodes} ep.)"
 
 
 T_975 = {
@@ -204,11 +236,19 @@ def over_seeds(per_seed: list[dict], algo: str = "ppo") -> dict:
         "mean_return": float(np.mean([r["mean_return"] for r in per_seed])),
         "mean_length": float(np.mean([r["mean_length"] for r in per_seed])),
         "mean_time_to_mark_s": float(np.mean(times)) if times else None,
+        "time_to_mark_episodes": _sum_counts(per_seed, "time_to_mark_episodes"),
         "time_vs_oracle": float(np.mean(ratios)) if ratios else None,
+        "time_vs_oracle_episodes": _sum_counts(per_seed, "time_vs_oracle_episodes"),
         "worst_time_vs_oracle": max(ratios) if ratios else None,
         "outcomes": dict(outcomes.most_common()),
         "wall_time_s": sum(r["wall_time_s"] for r in per_seed),
     }
+
+
+def _sum_counts(rows: list[dict], key: str) -> int | None:
+    """The sum of ``key`` over ``rows``; None where a row lacks it (older results)."""
+    counts = [r.get(key) for r in rows]
+    return None if any(c is None for c in counts) else sum(counts)
 
 
 def format_over_seeds(result: dict) -> str:
@@ -247,23 +287,49 @@ def episodes_label(result: dict) -> str:
     return f"{len(seeds)} x {result['episodes']}" if seeds else str(result["episodes"])
 
 
+def _timed_by_oracle(env: str) -> bool:
+    try:
+        return spec_of(env).timed_by_oracle
+    except ValueError:  # an id of no bbgym family (a results file of another package)
+        return True
+
+
 def format_table(results: list[dict]) -> str:
+    """The results as a markdown table, a row each. The time columns are left out where no
+    row has a value (the ball envs keep no time to a mark) and "time / oracle" where the
+    env's family is not ``timed_by_oracle``; a mean of fewer than :data:`FEW_EPISODES`
+    finished episodes shows their count ("1.80 (2 ep.)")."""
+    columns: dict[str, tuple[str, Any]] = {
+        "env": ("---", lambda r: r["env"]),
+        "policy": ("---", lambda r: r["policy"]),
+        "episodes": ("---:", episodes_label),
+        "success (95% CI)": ("---", lambda r: (
+            f"{100 * r['success_rate']:.0f}% "
+            f"({100 * r['success_ci95'][0]:.0f}-{100 * r['success_ci95'][1]:.0f}%)")),
+        "mean return": ("---:", lambda r: f"{r['mean_return']:.2f}"),
+        "mean length": ("---:", lambda r: f"{r['mean_length']:.1f}"),
+        "time to mark": ("---:", lambda r: _with_count(
+            f"{r['mean_time_to_mark_s']:.1f} s", r.get("time_to_mark_episodes"))
+            if r.get("mean_time_to_mark_s") else "-"),
+        "time / oracle": ("---:", lambda r: _with_count(
+            f"{r['time_vs_oracle']:.2f}", r.get("time_vs_oracle_episodes"))
+            if r.get("time_vs_oracle") is not None else "-"),
+        "failures": ("---", lambda r: format_failures(r.get("outcomes"))),
+        "wall time": ("---:", lambda r: f"{r['wall_time_s']:.0f} s"),
+    }  # fmt: skip
+    cells = {name: [cell(r) for r in results] for name, (_, cell) in columns.items()}
+    dropped = {
+        name for name in ("time to mark", "time / oracle") if all(c == "-" for c in cells[name])
+    }
+    if results and not any(_timed_by_oracle(r["env"]) for r in results):
+        dropped.add("time / oracle")
+    names = [name for name in columns if name not in dropped]
     lines = [
-        "| env | policy | episodes | success (95% CI) | mean return | mean length | "
-        "time to mark | time / oracle | failures | wall time |",
-        "|---|---|---:|---|---:|---:|---:|---:|---|---:|",
+        "| " + " | ".join(names) + " |",
+        "|" + "|".join(columns[name][0] for name in names) + "|",
     ]
-    for r in results:
-        low, high = r["success_ci95"]
-        ttm = f"{r['mean_time_to_mark_s']:.1f} s" if r["mean_time_to_mark_s"] else "-"
-        ratio = r.get("time_vs_oracle")
-        ratio = f"{ratio:.2f}" if ratio is not None else "-"
-        lines.append(
-            f"| {r['env']} | {r['policy']} | {episodes_label(r)} | {100 * r['success_rate']:.0f}% "
-            f"({100 * low:.0f}-{100 * high:.0f}%) | {r['mean_return']:.2f} | "
-            f"{r['mean_length']:.1f} | {ttm} | {ratio} | {format_failures(r.get('outcomes'))} | "
-            f"{r['wall_time_s']:.0f} s |"
-        )
+    for i in range(len(results)):
+        lines.append("| " + " | ".join(cells[name][i] for name in names) + " |")
     return "\n".join(lines)
 
 
@@ -288,10 +354,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--episodes", type=positive_int, default=100, help="episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
     parser.add_argument("--out", type=Path, default=Path("runs/eval"), help="output folder")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace <out>/<env>.json and .md where they exist")  # fmt: skip
+
+
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: the ``train`` extra for a saved model's policy."""
+    return extra_needs("train") if set(args.policies) & set(LEARNT) else []
 
 
 def run(args: argparse.Namespace) -> int:
     names = args.policies
+    written = [args.out / f"{args.env}.json", args.out / f"{args.env}.md"]
+    existing = [str(path) for path in written if path.exists()]
+    if existing and not args.overwrite:
+        raise UsageError(
+            f"--out {args.out}: {' and '.join(existing)} exist(s); pass --overwrite to "
+            "replace, or another --out"
+        )
     learnt = [name for name in names if name in LEARNT]
     if learnt and args.model is None:
         raise UsageError(
@@ -307,7 +387,7 @@ def run(args: argparse.Namespace) -> int:
             args.env, "scripted", args.episodes, args.seed, None
         )
         for result in results:
-            result["time_vs_oracle"] = time_vs_oracle(result, oracle)
+            add_time_vs_oracle(result, oracle)
     table = format_table(results)
     print(table)
     args.out.mkdir(parents=True, exist_ok=True)

@@ -1,6 +1,6 @@
 """Play an env from the keyboard (gymnasium.utils.play, in a pygame window).
 
-    bbgym play --env ENV_ID [--seed 0] [--fps 20] [--zoom 1.0]
+    bbgym play --env ENV_ID [--seed S] [--fps 20] [--zoom 1.0]
 
 Sailing (one env step per frame, 0.25 s, so 20 fps is 5x real time):
   LEFT / RIGHT   rudder hard over while held: turn to port / to starboard (0 when released)
@@ -22,7 +22,8 @@ from __future__ import annotations
 
 import argparse
 
-from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
+from bbgym._extras import extra_needs
+from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_all
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -33,8 +34,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--zoom", type=positive_float, default=1.0, help="window scale")
 
 
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: pygame (``render``)."""
+    return extra_needs("render")
+
+
 def run(args: argparse.Namespace) -> int:
-    require("pygame", "render")
+    require_all(needs(args))
     from bbgym.keyboard import make_play_env, play_env
 
     try:

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from bbgym.cli import UsageError, positive_float, require
+from bbgym.cli import UsageError, positive_float, require_all
 from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams
 from bbgym.physics.polar import Polar, compute_polar
 
@@ -266,10 +266,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="angle grid step, deg, in (0, 90]")  # fmt: skip
 
 
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: matplotlib (``plots``)."""
+    return [("matplotlib", "plots")]
+
+
 def run(args: argparse.Namespace) -> int:
     if not (0 < args.step_deg <= 90):
         raise UsageError("--step-deg must be in (0, 90]")
-    require("matplotlib", "plots")
+    require_all(needs(args))
 
     angles = np.radians(np.arange(0.0, 180.0 + 1e-9, args.step_deg))
     t0 = time.perf_counter()

@@ -38,7 +38,8 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
-from bbgym.cli import UsageError, env_id, positive_float, positive_int, require
+from bbgym._extras import extra_needs, install_hint
+from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_all
 from bbgym.cli.evaluate import LEARNT, POLICIES, make_policy
 from bbgym.spec import env_id_of, spec_of
 
@@ -150,8 +151,8 @@ def check_format(path: Path) -> str:
         )
     if suffix == ".mp4" and importlib.util.find_spec("imageio_ffmpeg") is None:
         raise ValueError(
-            "writing .mp4 needs the imageio-ffmpeg package: pip install imageio-ffmpeg "
-            '(or pip install -e ".[plots]"), or write a .gif'
+            "writing .mp4 needs the imageio-ffmpeg package (the 'plots' extra): "
+            f"{install_hint('plots')}, or write a .gif"
         )
     return suffix
 
@@ -272,6 +273,25 @@ def record_episode(
     }
 
 
+def animation_needs(path: Path) -> list[tuple[str, str]]:
+    """``(module, extra)`` drawing and writing the animation ``path`` needs: pygame
+    (``render``) and Pillow for ``.gif`` or imageio-ffmpeg for ``.mp4`` (``plots``)."""
+    writer = "imageio_ffmpeg" if path.suffix.lower() == ".mp4" else "PIL"
+    return [("pygame", "render"), (writer, "plots")]
+
+
+def default_out(args: argparse.Namespace) -> Path:
+    """``--out``, or its default ``runs/record/<env>-<policy>-seed<seed>.gif``."""
+    return args.out or Path("runs/record") / f"{args.env}-{args.policy}-seed{args.seed}.gif"
+
+
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs: :func:`animation_needs`, and the ``train`` extra
+    for a saved model's policy."""
+    learnt = extra_needs("train") if args.policy in LEARNT else []
+    return [*animation_needs(default_out(args)), *learnt]
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
     parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
@@ -302,8 +322,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(
             f"--policy {args.policy} needs --model (a saved stable-baselines3 model .zip)"
         )
-    if args.out is None:
-        args.out = Path("runs/record") / f"{args.env}-{args.policy}-seed{args.seed}.gif"
+    args.out = default_out(args)
     try:
         check_format(args.out)
     except ValueError as err:
@@ -338,8 +357,8 @@ def record_to_file(
     captioned unless ``title`` is False; return the episode's statistics (see
     :func:`record_episode`)."""
     check_format(out)
-    require("pygame", "render")
-    require("PIL", "plots")
+    spec_of(env_id)  # a bbgym id, else ValueError listing them (the captions need its spec)
+    require_all(animation_needs(out))
     env = gym.make(env_id, render_mode="rgb_array")
     try:
         try:

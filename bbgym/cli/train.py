@@ -18,7 +18,13 @@ evaluated, so a short budget still has a best model) and checkpoints in
 ``<out>/checkpoints``; a preset with ``train.normalize_reward`` trains on normalized
 rewards and keeps their statistics in ``<out>/vecnormalize.pkl``. The final model is
 ``<out>/model.zip`` (SAC's replay buffer beside it, ``<out>/replay_buffer.pkl``);
-``--resume`` continues from them. A summary goes to ``<out>/train.json``.
+``--resume`` continues from them. A summary goes to ``<out>/train.json``; the terminal gets a
+few lines of it. A budget is rounded up to what SB3 collects at once (PPO: rollouts of
+``n_envs x n_steps``; SAC: ``n_envs x train_freq`` steps), said in one line. The training
+rate (``timesteps_per_s``) counts the training alone; the evaluations' time is
+``eval_time_s``. A run that ends before its first scheduled evaluation is evaluated on one
+episode per evaluation env, not the preset's ``eval_episodes``: its one model is not chosen
+among others.
 
 Engine ``rllib`` (the ``rllib`` extra; PPO presets): Ray RLlib's PPO on its new API stack, each env
 runner stepping the env's native vector env; ``--iterations`` training iterations, a
@@ -36,7 +42,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require
+from bbgym._extras import extra_needs
+from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require_all
 
 EVAL_SEED_OFFSET = 10_000
 """Evaluation episodes use seeds far from the training ones."""
@@ -78,6 +85,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="rllib: a Ray cluster to join ('auto' or host:port)")  # fmt: skip
     parser.add_argument("--num-cpus", type=positive_int, default=None,
                         help="rllib: CPUs of the local Ray started without --address")  # fmt: skip
+
+
+def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """``(module, extra)`` the run needs, checked before it starts (:func:`bbgym.cli.main`)."""
+    return extra_needs("rllib" if args.engine == "rllib" else "train")
 
 
 def add_threads_argument(parser: argparse.ArgumentParser) -> None:
@@ -134,8 +146,64 @@ def run(args: argparse.Namespace) -> int:
         args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=args.out,
         resume=args.resume, progress=not args.no_progress, torch_threads=args.torch_threads,
     )  # fmt: skip
-    print(json.dumps(summary, indent=2))
+    print(format_summary(summary, args.out))
     return 0
+
+
+def format_summary(summary: dict[str, Any], out: Path) -> str:
+    """A few lines for the terminal: what was trained, how fast, the evaluations and where
+    the files are (the whole summary is ``<out>/train.json``)."""
+    asked = summary.get("timesteps_requested")
+    trained = summary["timesteps_trained"]
+    rounded = f" (asked {asked})" if asked is not None and asked != trained else ""
+    lines = [
+        f"{summary['env']}: {summary['algo'].upper()} trained {trained} timesteps{rounded} "
+        f"in {summary['train_time_s']:.1f} s, {summary['timesteps_per_s']:.0f} timesteps/s "
+        "(training only)",
+        f"evaluations: {summary['evaluations']} (the last of {summary['last_eval_episodes']} "
+        f"episodes) in {summary['eval_time_s']:.1f} s; best mean "
+        f"return {summary['best_mean_return']:.2f} at {summary['best_model_timesteps']} timesteps",
+        f"wall time {summary['wall_time_s']:.1f} s; run folder {out} (model.zip, "
+        "best_model.zip, train.json with the full summary, eval/, tb/)",
+    ]
+    return "\n".join(lines)
+
+
+def budget_granule(algo_kwargs: dict[str, Any], n_envs: int) -> tuple[int | None, str]:
+    """The multiple a stable-baselines3 run's timesteps come in, and why: SB3 stops only
+    between collections, so ``learn(total_timesteps=N)`` trains N rounded up to it. An
+    on-policy algorithm (PPO) collects whole rollouts of ``n_envs x n_steps``; an
+    off-policy one (SAC) steps every env together, ``train_freq`` vector steps a
+    collection. None where it collects whole episodes (``train_freq`` in episodes)."""
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+
+    from bbgym.sb3 import algorithm_class
+
+    algo_class = algorithm_class(algo_kwargs.get("algo", "ppo"))
+    if not issubclass(algo_class, OffPolicyAlgorithm):
+        import inspect
+
+        default = inspect.signature(algo_class).parameters["n_steps"].default
+        n_steps = int(algo_kwargs.get("n_steps", default))
+        return n_envs * n_steps, f"whole rollouts of n_envs {n_envs} x n_steps {n_steps}"
+    freq = algo_kwargs.get("train_freq", 1)
+    if isinstance(freq, (list, tuple)):
+        if str(freq[1]).startswith("episode"):
+            return None, ""
+        freq = freq[0]
+    return n_envs * int(freq), f"the {n_envs} envs step together, train_freq {freq} step(s)"
+
+
+def round_budget(algo: str, algo_kwargs: dict[str, Any], n_envs: int, budget: int) -> int:
+    """The timesteps a run of ``budget`` will train (:func:`budget_granule`); prints one
+    line saying so where that is more than ``budget``."""
+    granule, why = budget_granule({**algo_kwargs, "algo": algo}, n_envs)
+    if granule is None or budget % granule == 0:
+        return budget
+    rounded = -(-budget // granule) * granule
+    print(f"{budget} timesteps round up to {rounded}: stable-baselines3 {algo.upper()} stops "
+          f"only between collections of {granule} timesteps ({why})")  # fmt: skip
+    return rounded
 
 
 def resolve_preset(env: str, preset: str | Path | None) -> tuple[Path, dict[str, Any]]:
@@ -167,7 +235,7 @@ def train_sb3(
     ``set_random_seed``), the training envs (``seed + i``) and the evaluation envs
     (``seed + 10000 + i``); the same command and seed on the same machine give the same
     model. ``train.json`` records the seed, threads, versions, machine and command."""
-    require("stable_baselines3", "train")
+    require_all(extra_needs("train"))
     from bbgym.config import load_training
 
     path, env_kwargs = resolve_preset(env, preset)
@@ -184,6 +252,9 @@ def train_sb3(
     vec_env, eval_env = _training_envs(env, env_kwargs, settings, seed, gamma, out, resume)
     evaluation, checkpoints = _training_callbacks(eval_env, settings, out)
     model = _load_or_build_model(algo, algo_kwargs, vec_env, seed, out, resume)
+    round_budget(algo, {k: v for k, v in algo_kwargs.items() if k != "policy"},
+                 settings["n_envs"], budget)  # fmt: skip
+    first = int(model.num_timesteps)  # 0, or where --resume continues
     start = time.perf_counter()
     model.learn(
         total_timesteps=budget,
@@ -193,14 +264,23 @@ def train_sb3(
     )
     wall = time.perf_counter() - start
     _save_run(model, vec_env, out, settings["normalize_reward"])
+    trained = int(model.num_timesteps) - first
+    train_time = max(wall - evaluation.eval_time_s, 1e-9)
     summary = {
         "env": env,
         "engine": "sb3",
         "algo": algo,
         "seed": seed,
         "timesteps": int(model.num_timesteps),
+        "timesteps_requested": budget,
+        "timesteps_trained": trained,
         "wall_time_s": wall,
-        "timesteps_per_s": budget / wall,
+        # The rate of training alone: the evaluations' time is reported apart.
+        "train_time_s": train_time,
+        "timesteps_per_s": trained / train_time,
+        "eval_time_s": evaluation.eval_time_s,
+        "evaluations": len(evaluation.evaluations_timesteps),
+        "last_eval_episodes": len(evaluation.evaluations_results[-1]),
         "config": str(path),
         "model": str(out / MODEL_FILE),
         "best_model": str(out / "best_model.zip"),
@@ -339,10 +419,14 @@ def _final_eval_callback() -> type:
 
     class FinalEvalCallback(EvalCallback):
         best_timesteps: int | None = None
+        eval_time_s: float = 0.0
+        """Seconds spent evaluating (and saving the best model), apart from training."""
 
         def _on_step(self) -> bool:
             best = self.best_mean_reward
+            start = time.perf_counter()
             keep_going = super()._on_step()
+            self.eval_time_s += time.perf_counter() - start
             if self.best_mean_reward > best:
                 self.best_timesteps = int(self.num_timesteps)
             return keep_going
@@ -350,17 +434,26 @@ def _final_eval_callback() -> type:
         def _on_training_end(self) -> None:
             if self.evaluations_timesteps and self.evaluations_timesteps[-1] == self.num_timesteps:
                 return
+            # A run that ended before its first scheduled evaluation has one model only:
+            # the evaluation chooses nothing, it only gives best_model.zip (which baseline
+            # and evaluate read) and one point of the learning curve. It runs one episode
+            # per evaluation env (one batch), not the preset's eval_episodes: a 10-step
+            # smoke run does not spend 13 s on 50 episodes. A run that had scheduled
+            # evaluations gets a full one, comparable with them for the best model.
+            episodes = self.n_eval_episodes
+            if not self.evaluations_timesteps:
+                self.n_eval_episodes = min(episodes, self.eval_env.num_envs)
             period, self.eval_freq = self.eval_freq, 1  # n_calls % 1 == 0: evaluate now
             try:
                 self._on_step()
             finally:
-                self.eval_freq = period
+                self.eval_freq, self.n_eval_episodes = period, episodes
 
     return FinalEvalCallback
 
 
 def _run_rllib(args: argparse.Namespace) -> int:
-    require("ray", "rllib")
+    require_all(extra_needs("rllib"))
     from bbgym import rllib
     from bbgym.config import load_training
 

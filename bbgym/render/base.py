@@ -5,7 +5,7 @@ A renderer subclasses :class:`PygameRenderer` and implements ``_draw_scene(scene
 the off-screen surface (and, in human mode, the window and its clock), handing the frame back as
 an RGB array or showing it, fonts, and ``close()``.
 
-pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
+pygame is an optional dependency (bbgym's ``render`` extra). It is imported only when a
 renderer is created, so importing this module (or a view module built on it) never needs it.
 
 The rest lives by concern: :mod:`bbgym.render.geometry` (pure clipping geometry),

@@ -1,6 +1,6 @@
 """pygame, imported on demand, with its ``draw`` module made safe for any coordinates.
 
-pygame is an optional dependency (``pip install "bbgym[render]"``): :func:`import_pygame`
+pygame is an optional dependency (bbgym's ``render`` extra): :func:`import_pygame`
 imports it only when a renderer (or a captioner) is created. :class:`SafePygame` is pygame with
 ``draw`` replaced by :class:`SafeDraw`: the same calls, which hand pygame exactly what they
 were given whenever every coordinate lies within :func:`~bbgym.render.geometry.safe_box` (a
@@ -40,8 +40,10 @@ def import_pygame() -> Any:
     try:
         import pygame
     except ImportError as err:
+        from bbgym._extras import install_hint
+
         raise DependencyNotInstalled(
-            'pygame is not installed, run `pip install "bbgym[render]"`'
+            f"pygame (bbgym's 'render' extra) is not installed: {install_hint('render')}"
         ) from err
     return pygame
 

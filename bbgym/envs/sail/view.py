@@ -9,7 +9,7 @@ Conventions (shared with the physics):
 * body frame: x forward (towards the bow), y to port (left);
 * angles are counterclockwise, radians.
 
-pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
+pygame is an optional dependency (bbgym's ``render`` extra). It is imported only when a
 :class:`SailRenderer` is created (see :mod:`bbgym.render.base`), so importing this module never
 needs it.
 """

@@ -17,7 +17,7 @@ nothing of the throw's outcome shows: the readout gives the time since the launc
 ball's height, the results (hit or miss, miss distance, flight time, apex) and the landing
 only on the landing frame (:func:`readout_text`).
 
-pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
+pygame is an optional dependency (bbgym's ``render`` extra). It is imported only when a
 :class:`ThrowRenderer` is created, so importing this module never needs it.
 """
 

@@ -25,7 +25,7 @@ banner across the side view (:func:`banner`): "WALL DOWN!" or "BROKE LOOSE!" (su
 "FAILED: wall fell toward you" / "FAILED: out of throws" (the wall still stands after the
 last throw).
 
-pygame is an optional dependency (``pip install "bbgym[render]"``). It is imported only when a
+pygame is an optional dependency (bbgym's ``render`` extra). It is imported only when a
 :class:`ToppleRenderer` is created, so importing this module never needs it.
 """
 
