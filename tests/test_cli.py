@@ -4,7 +4,6 @@ the evaluation period (which once crashed with "best_model.zip.zip not found")."
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 
@@ -246,19 +245,3 @@ def test_a_mean_over_few_finished_episodes_shows_their_count():
     random_line, oracle_line = table.splitlines()[2:]
     assert "| 72.0 s (2 ep.) | 1.80 (2 ep.) |" in random_line
     assert "| 40.0 s | 1.00 |" in oracle_line
-
-
-@pytest.mark.parametrize(("given", "expected"), [(None, "PASSIVE"), ("ACTIVE", "ACTIVE")])
-def test_the_command_lets_waiting_openmp_threads_sleep_unless_told(given, expected):
-    # Set before torch is imported (it reads the variable once): torch threads spinning for
-    # a core that another process holds slowed a training's updates 2.3x.
-    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
-    if given is not None:
-        env["OMP_WAIT_POLICY"] = given
-    code = (
-        "import os, sys, bbgym.cli; "
-        "assert 'torch' not in sys.modules; print(os.environ['OMP_WAIT_POLICY'])"
-    )
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.strip() == expected

@@ -23,18 +23,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import os
 import re
 import sys
 from collections.abc import Sequence
 from typing import Any
-
-# OpenMP threads that wait sleep rather than spin (set before torch is imported, which
-# reads it once): a torch thread spinning for a core that another process holds made each
-# small op of a training wait for the scheduler. Measured on 2 cores with one other busy
-# process: 29 ms a SAC update (128-unit nets, batch 512) spinning, 12.6 ms passive. The
-# waiting policy changes no result, only the time; a value the user set is kept.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 COMMANDS: dict[str, str] = {
     "train": "train the preset's algorithm, PPO or SAC (stable-baselines3; PPO also on Ray "
