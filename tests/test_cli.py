@@ -4,6 +4,7 @@ the evaluation period (which once crashed with "best_model.zip.zip not found")."
 from __future__ import annotations
 
 import json
+import logging
 import subprocess
 import sys
 
@@ -50,6 +51,20 @@ def test_bad_arguments_say_what_is_wrong(capsys, argv, message):
         cli.main(argv)
     assert exit_info.value.code == 2
     assert message in capsys.readouterr().err
+
+
+def test_the_command_shows_bbgym_info_lines_and_leaves_no_handler(capsys):
+    """``bbgym`` prints the library's INFO lines (the torch backend's compile notice) on
+    stderr while it runs; the library itself configures no logging."""
+    logger = logging.getLogger("bbgym.backends")
+    handlers = list(logging.getLogger("bbgym").handlers)
+    with cli.show_bbgym_logs():
+        logger.info("compiling the step")
+        logger.debug("not shown")
+    logger.info("after the command")
+    err = capsys.readouterr().err
+    assert err == "bbgym: compiling the step\n"
+    assert logging.getLogger("bbgym").handlers == handlers
 
 
 def test_a_missing_extra_names_it(capsys, monkeypatch):
