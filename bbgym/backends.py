@@ -171,6 +171,9 @@ def compiled(fn: Any, backend: Backend) -> Any:
     config = torch._dynamo.config
     config.recompile_limit = max(config.recompile_limit, 256)
     config.accumulated_recompile_limit = max(config.accumulated_recompile_limit, 4096)
+    # A static graph per batch size: dynamic=True let one graph serve every num_envs, with
+    # the same bits, but its steps were 30-51% slower on CPU (docs/pages/speed.md,
+    # scripts/bench_compile.py), and a warm cache recompiles a new size in seconds.
     compiled_fn = torch.compile(fn, dynamic=False)
     name = getattr(fn, "__qualname__", repr(fn))
 
