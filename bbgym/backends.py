@@ -14,7 +14,11 @@ deterministic under a seed, and the generator's state is one counter per env.
 
 from __future__ import annotations
 
+import logging
 import math
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any
@@ -26,6 +30,8 @@ DTYPES = ("float64", "float32")
 OUTPUTS = ("numpy", "torch")
 
 _MASK32 = 0xFFFFFFFF
+
+logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -167,6 +173,9 @@ def compiled(fn: Any, backend: Backend) -> Any:
     config = torch._dynamo.config
     config.recompile_limit = max(config.recompile_limit, 256)
     config.accumulated_recompile_limit = max(config.accumulated_recompile_limit, 4096)
+    # A static graph per batch size: dynamic=True let one graph serve every num_envs, with
+    # the same bits, but its steps were 30-51% slower on CPU (docs/pages/speed.md,
+    # scripts/bench_compile.py), and a warm cache recompiles a new size in seconds.
     compiled_fn = torch.compile(fn, dynamic=False)
     name = getattr(fn, "__qualname__", repr(fn))
 
@@ -180,6 +189,38 @@ def compiled(fn: Any, backend: Backend) -> Any:
             ) from error
 
     return call
+
+
+def compile_cache_dir() -> str:
+    """Where torch's inductor keeps its on-disk compile cache (``TORCHINDUCTOR_CACHE_DIR``,
+    by default a folder under the temp dir): a later process that compiles the same graph
+    reads its kernels from there instead of generating and compiling them again."""
+    try:  # a private module of torch: where it moves, say where to look instead
+        from torch._inductor.runtime.cache_dir_utils import cache_dir
+    except ImportError:
+        return "torch's inductor cache, TORCHINDUCTOR_CACHE_DIR"
+    return str(cache_dir())
+
+
+@contextmanager
+def compile_logged(what: str, backend: Backend, batch: int) -> Iterator[None]:
+    """Log (INFO, logger ``bbgym.backends``) that the block compiles ``what`` and, after
+    it, how long that took and how many graphs Dynamo traced: a cold first step runs for
+    a minute or more with no output of its own, which looks like a hang."""
+    from torch._dynamo.utils import counters
+
+    logger.info(
+        "compiling %s for torch (%s, %s, batch %d): the first call can take a minute or "
+        "two; later calls and runs reuse the compile cache (%s)",
+        what, backend.device, backend.dtype, batch, compile_cache_dir(),
+    )  # fmt: skip
+    graphs = counters["stats"]["unique_graphs"]
+    start = time.perf_counter()
+    yield
+    logger.info(
+        "compiled %s in %.1f s (%d new graphs)",
+        what, time.perf_counter() - start, counters["stats"]["unique_graphs"] - graphs,
+    )  # fmt: skip
 
 
 # -- counter-based random numbers -----------------------------------------------------------

@@ -6,7 +6,9 @@ Written for BeachballSail-v0; the ball envs have their own files
 from __future__ import annotations
 
 import contextlib
+import logging
 import math
+import re
 
 import backend_replica
 import gymnasium as gym
@@ -81,7 +83,13 @@ def test_torch_float32_tracks_float64() -> None:
     assert np.max(np.abs(p64)) > 10.0  # the boats did sail
 
 
-def test_compiled_equals_eager() -> None:
+def compile_lines(caplog) -> list[str]:
+    return [r.getMessage() for r in caplog.records if r.name == "bbgym.backends"]
+
+
+def test_compiled_equals_eager(caplog) -> None:
+    """... and the compiled env says so on its first step (and on no later one)."""
+    caplog.set_level(logging.INFO, logger="bbgym")
     env_id = "BeachballSail-v0"
     actions = actions_for(env_id, 12)
     results = []
@@ -89,9 +97,36 @@ def test_compiled_equals_eager() -> None:
         with backend_replica.compiles() if compile else contextlib.nullcontext():
             venv = make_torch(env_id, compile=compile, max_episode_steps=5)
             out = [venv.reset(seed=2)[0]]
-            out += [venv.step(a)[0] for a in actions]
+            out.append(venv.step(actions[0])[0])
+            first = compile_lines(caplog)
+            caplog.clear()
+            out += [venv.step(a)[0] for a in actions[1:]]
         results.append(np.array(out))
+        if compile:
+            assert len(first) == 2, first
+            assert first[0].startswith(f"compiling the {env_id} step for torch (cpu, float64, "
+                                       f"batch {N})"), first  # fmt: skip
+            assert re.fullmatch(r"compiled the .* step in [0-9.]+ s \([1-9][0-9]* new graphs\)",
+                                first[1]), first  # fmt: skip
+        else:
+            assert first == []  # eager torch compiles nothing, so says nothing
+        assert compile_lines(caplog) == []  # later steps reuse the graphs
     np.testing.assert_allclose(results[0], results[1], rtol=0, atol=1e-6)
+
+
+def test_compile_logged_names_the_shape_and_the_cache(caplog, monkeypatch, tmp_path) -> None:
+    """The two lines around a compile: what, where, which dtype and batch, the cache folder
+    (torch's, moved by ``TORCHINDUCTOR_CACHE_DIR``) and how long it took."""
+    monkeypatch.setenv("TORCHINDUCTOR_CACHE_DIR", str(tmp_path / "inductor"))
+    caplog.set_level(logging.INFO, logger="bbgym")
+    backend = backends.Backend("torch", dtype="float32")
+    step = backends.compiled(lambda x: x * 2.0 + 1.0, backend)
+    with backend_replica.compiles(), backends.compile_logged("tiny", backend, 3):
+        step(torch.ones(3))
+    start, end = compile_lines(caplog)
+    assert start.startswith("compiling tiny for torch (cpu, float32, batch 3): ")
+    assert start.endswith(f"reuse the compile cache ({tmp_path / 'inductor'})")
+    assert re.fullmatch(r"compiled tiny in [0-9.]+ s \(1 new graphs\)", end), end
 
 
 def test_a_failing_compile_raises_and_names_the_eager_switch(monkeypatch) -> None:

@@ -4,6 +4,7 @@ the evaluation period (which once crashed with "best_model.zip.zip not found")."
 from __future__ import annotations
 
 import json
+import logging
 import subprocess
 import sys
 
@@ -82,6 +83,20 @@ def test_evaluating_an_id_of_no_bbgym_family_from_python_says_so():
 
     with pytest.raises(ValueError, match="unknown env id 'CartPole-v1'; known: BeachballSail"):
         evaluate("CartPole-v1", "random", 1, 0, None)
+
+
+def test_the_command_shows_bbgym_info_lines_and_leaves_no_handler(capsys):
+    """``bbgym`` prints the library's INFO lines (the torch backend's compile notice) on
+    stderr while it runs; the library itself configures no logging."""
+    logger = logging.getLogger("bbgym.backends")
+    handlers = list(logging.getLogger("bbgym").handlers)
+    with cli.show_bbgym_logs():
+        logger.info("compiling the step")
+        logger.debug("not shown")
+    logger.info("after the command")
+    err = capsys.readouterr().err
+    assert err == "bbgym: compiling the step\n"
+    assert logging.getLogger("bbgym").handlers == handlers
 
 
 def test_a_missing_extra_names_it(capsys, monkeypatch):

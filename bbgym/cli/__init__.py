@@ -23,9 +23,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
 COMMANDS: dict[str, str] = {
@@ -197,13 +199,33 @@ def main(argv: Sequence[str] | None = None) -> int:
         # baseline does not train for an hour and then fail for want of pygame.
         if args._needs is not None:
             require_all(args._needs(args))
-        status = args._run(args)
+        with show_bbgym_logs():
+            status = args._run(args)
     except UsageError as err:
         args._parser.error(str(err))  # exits with status 2
     except MissingExtra as err:
         print(f"bbgym {args.command}: {err}", file=sys.stderr)
         return 3
     return int(status or 0)
+
+
+@contextmanager
+def show_bbgym_logs() -> Iterator[None]:
+    """bbgym's INFO log lines (such as the torch backend's "compiling ...") on stderr while a
+    command runs. Only the command does this: the library leaves logging to its user, and the
+    handler goes again afterwards, so ``main()`` called in a process (the tests) leaves no
+    handler behind on a stream that may since have been closed."""
+    logger = logging.getLogger("bbgym")
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("bbgym: %(message)s"))
+    level = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(min(level or logging.INFO, logging.INFO))
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(level)
 
 
 def script_main(command: str) -> int:

@@ -7,6 +7,7 @@ autoreset is :func:`~bbgym.envs.functional.settle` and
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from typing import Any
 
 import gymnasium as gym
@@ -445,14 +446,16 @@ class CoreVectorEnv(VectorEnv):
             a = self._tensor(self.task.check_action(actions, self.num_envs),
                              self.backend.float_dtype)  # fmt: skip
         any_restarting = self._any_restarting
-        if self._compiled_step is None:
+        first = self._compiled_step is None
+        if first:
             self._compiled_step = self._make_compiled_step()
             # The first step runs the restart part too (where no env restarts it changes
             # nothing), so every part compiles now rather than when the first episode ends.
             any_restarting = True
         restarting = self._autoreset
-        out = self._compiled_step(self.state, a, self._keys, self._counter, self._steps, restarting,
-                          any_restarting=any_restarting)  # fmt: skip
+        with self._compile_logged() if first and self.backend.compile else nullcontext():
+            out = self._compiled_step(self.state, a, self._keys, self._counter, self._steps,
+                                      restarting, any_restarting=any_restarting)  # fmt: skip
         self.state, obs, reward, terminated, truncated, info, self._counter, self._steps = out
         self._autoreset = terminated | truncated
         self._any_restarting = None
@@ -466,6 +469,12 @@ class CoreVectorEnv(VectorEnv):
             self._collect(np.asarray(backends.to_numpy(restarting), dtype=bool))
         return (self._out(obs), self._out(reward), self._out(terminated),
                 self._out(truncated), self._vector_info(info))  # fmt: skip
+
+    def _compile_logged(self) -> Any:
+        """:func:`backends.compile_logged` for this env's first step (where its parts
+        compile, for its task, batch size and dtype)."""
+        name = self.spec.id if self.spec is not None else type(self.task).__name__
+        return backends.compile_logged(f"the {name} step", self.backend, self.num_envs)
 
     _wants_reset_hook = False
     """Subclasses that keep per-env host state (render wakes) set this."""
