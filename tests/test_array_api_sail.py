@@ -14,6 +14,7 @@ from bbgym.envs.functional import InitialNoise, VectorStep, tree_map
 from bbgym.envs.sail import SailTask
 from bbgym.physics import sailing, sailing_step
 from bbgym.physics.dinghy import DinghyParams, dinghy_at_rest
+from bbgym.physics.water import Sea, WaterParams, sea_at_start
 from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
 
 strict = pytest.importorskip("array_api_strict")
@@ -77,6 +78,22 @@ def test_sailing_step_and_energy(xp, sail_model: str) -> None:
     aw = (wx - ref[0].vx_mps, wy - ref[0].vy_mps)
     same(sailing.sail_force(p, s, *aw, np), sailing.sail_force(p, to_xp(s, xp),
                                                               *to_xp(aw, xp), xp))  # fmt: skip
+
+
+@pytest.mark.parametrize("xp", namespaces())
+def test_sailing_step_in_moving_water(xp) -> None:
+    """A sheared current and a three-component sea, each env its own draws."""
+    water = WaterParams(current_variation=0.4, current_variation_length_m=80.0,
+                        wave_amplitude_m=0.4, wave_components=3, wave_spread_rad=0.5)  # fmt: skip
+    rng = np.random.default_rng(4)
+    sea = sea_at_start(water, rng.uniform(0, 1.5, N), rng.uniform(-3, 3, N),
+                       rng.uniform(-3, 3, N), rng.uniform(size=(3, N)))  # fmt: skip
+    sea = sea._replace(time_s=rng.uniform(0, 100, N))
+    s, controls = boats(5)
+    ref = sailing_step.step(DinghyParams(), s, *controls, 0.05, 5, np, water, sea)
+    got = sailing_step.step(DinghyParams(), to_xp(s, xp), *to_xp(controls, xp), 0.05, 5, xp,
+                            water, Sea(*to_xp(tuple(sea), xp)))  # fmt: skip
+    same(ref, got)
 
 
 @pytest.mark.parametrize("xp", namespaces())

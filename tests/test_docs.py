@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -159,3 +160,14 @@ def test_each_env_page_lists_its_family_versions_with_the_envs_own_spaces():
             env.close()
     with pytest.raises(LookupError, match="unknown env family"):
         tables.versions_table("nonsense")
+
+
+def test_every_test_the_physics_page_cites_exists():
+    """The Physics page says which test checks each law: each name it cites is a test."""
+    page = (DOCS / "pages" / "physics.md").read_text()
+    cited = set(re.findall(r"`(test_\w+)`", page))
+    defined = set()
+    for path in (ROOT / "tests").glob("test_*.py"):
+        defined |= set(re.findall(r"^def (test_\w+)", path.read_text(), re.MULTILINE))
+    assert len(cited) > 40
+    assert sorted(cited - defined) == []

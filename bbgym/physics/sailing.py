@@ -17,6 +17,7 @@ heel and capsize            :func:`heel_moment`             cos(heel) area, hiki
 crew hiking and its lag     :func:`crew_step`               exact first-order lag
 sheet stop and jibes        :func:`apply_sheet_stop`        boom jolt (§9 "jibing")
 integration                 :mod:`bbgym.physics.sailing_step` semi-implicit Euler (§1, §3)
+moving water                :mod:`bbgym.physics.water`        current, Gerstner waves (§10)
 energy of a passive boat    :func:`mechanical_energy`       (for tests)
 ==========================  ============================================================
 

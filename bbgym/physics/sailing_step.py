@@ -61,6 +61,7 @@ from bbgym.physics.sailing import (
     sail_force_linearised,
     yaw_moment_linearised,
 )
+from bbgym.physics.water import Sea, WaterFlow, WaterParams, water_over
 
 
 def substep(
@@ -72,9 +73,20 @@ def substep(
     wind_y: Array,
     dt_s: float,
     xp: Any = np,
+    water: WaterFlow | None = None,
 ) -> tuple[DinghyState, Array, Array]:
     """One semi-implicit Euler step (seed §1, §3): velocities first, then positions, with
     the stiff terms linearised and integrated implicitly (see the module docstring).
+
+    ``water`` is the water where the boat is over the substep
+    (:func:`bbgym.physics.water.water_over`); None is still water (the first versions'
+    boat, whose bits it keeps). Hull, centreboard and rudder act on the velocity through
+    the water (seed §9: "relative the water, if that moves"), the sail and windage on the
+    velocity through the air (the apparent wind), and the pressure that accelerates the
+    water in a wave accelerates the boat floating in it by as much (the Froude-Krylov force
+    ``m a_water`` of a body whose displaced water weighs what it does). The boat moves with
+    the water particle it floats on plus its velocity relative to it: with nothing else
+    pushing, it follows the particle's orbit exactly, at any step size.
 
     The forces come from the state at the start of the substep; then each velocity takes
     its implicit update, one law each: the hull (:func:`_hull_velocity`), the boom and its
@@ -85,7 +97,11 @@ def substep(
     """
     h = dt_s
     cos_h, sin_h = xp.cos(state.heading_rad), xp.sin(state.heading_rad)
-    surge, sway = split_along(state.vx_mps, state.vy_mps, cos_h, sin_h)
+    if water is None:
+        surge, sway = split_along(state.vx_mps, state.vy_mps, cos_h, sin_h)
+    else:  # through the water
+        rel_x, rel_y = state.vx_mps - water.vx_mps, state.vy_mps - water.vy_mps
+        surge, sway = split_along(rel_x, rel_y, cos_h, sin_h)
     aw_u, aw_v = apparent_wind_body(state, wind_x, wind_y, cos_h, sin_h)
     cos_heel, sin_heel = xp.cos(state.heel_rad), xp.sin(state.heel_rad)
     upright = xp.logical_not(state.capsized)
@@ -93,8 +109,14 @@ def substep(
     drive, side, normal, c_sail, k_boom, aw_speed = sail_force_linearised(
         p, state.boom_rad, cos_heel, upright, aw_u, aw_v, xp
     )
+    push_u, push_v = drive, side
+    if water is not None:  # the Froude-Krylov force (body frame); it does not heel the boat
+        accel_x = (water.next_vx_mps - water.vx_mps) * (1.0 / h)
+        accel_y = (water.next_vy_mps - water.vy_mps) * (1.0 / h)
+        accel_u, accel_v = split_along(accel_x, accel_y, cos_h, sin_h)
+        push_u, push_v = drive + p.mass_kg * accel_u, side + p.mass_kg * accel_v
     vx, vy = _hull_velocity(
-        p, state, cos_h, sin_h, surge, sway, aw_u, aw_v, aw_speed, drive, side, c_sail, h, xp
+        p, state, cos_h, sin_h, surge, sway, aw_u, aw_v, aw_speed, push_u, push_v, c_sail, h, xp
     )
     boom, boom_rate, impact = _boom_update(p, state, normal, k_boom, boom_limit_rad, h, xp)
     # The sheet hands the sail's angular momentum to the hull: all of it to yaw, and a roll
@@ -107,9 +129,14 @@ def substep(
     heel, heel_rate, crew, capsized = _heel_update(
         p, state, cos_heel, sin_heel, upright, side, impulse, h, xp
     )
+    if water is None:
+        x, y = state.x_m + h * vx, state.y_m + h * vy
+    else:  # the water particle's own move, and the boat's relative to it
+        x = state.x_m + water.shift_x_m + h * (vx - water.next_vx_mps)
+        y = state.y_m + water.shift_y_m + h * (vy - water.next_vy_mps)
     new_state = DinghyState(
-        state.x_m + h * vx, state.y_m + h * vy, state.heading_rad + h * yaw_rate, vx, vy,
-        yaw_rate, heel, heel_rate, boom, boom_rate, crew, capsized,
+        x, y, state.heading_rad + h * yaw_rate, vx, vy, yaw_rate, heel, heel_rate, boom,
+        boom_rate, crew, capsized,
     )  # fmt: skip
     jibe = (state.boom_rad * boom < 0.0) & (aw_u > 0.0)
     return new_state, impact, jibe
@@ -120,8 +147,9 @@ def _hull_velocity(
     sway: Array, aw_u: Array, aw_v: Array, aw_speed: Array, drive: Array, side: Array,
     c_sail: Array, h: float, xp: Any,
 ) -> tuple[Array, Array]:  # fmt: skip
-    """The boat's new world velocity: sail, hull and windage forces, linearly implicit in
-    the body frame (module docstring)."""
+    """The boat's new world velocity: sail (``drive``, ``side``, with any force on the
+    boat as a whole), hull and windage forces, linearly implicit in the body frame (module
+    docstring); ``surge`` and ``sway`` are through the water."""
     hull_u, hull_v, c_u, c_v = hull_force_linearised(p, surge, sway, xp)
     # Windage of hull, mast and crew, quadratic drag against the air (-k v_rel with v_rel =
     # -v_a): the only force that pushes a boat in irons astern. Its derivative is at most
@@ -231,30 +259,41 @@ class StepCarry(NamedTuple):
     wind_y: Array
     jibes: Array
     jibe_severity_rps: Array
+    sea: Sea | None = None
+    """The water's state (its clock runs with the substeps); None for still water."""
 
 
 def step_begin(
     p: DinghyParams, state: DinghyState, rudder_rad: Array, sheet: Array, wind_x: Array,
-    wind_y: Array, xp: Any = np,
+    wind_y: Array, xp: Any = np, sea: Sea | None = None,
 ) -> StepCarry:  # fmt: skip
-    """Start a :func:`step`: clip the controls and hold them, with the wind."""
+    """Start a :func:`step`: clip the controls and hold them, with the wind; ``sea`` is
+    the water at the start (None: still water)."""
     rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
     limit = boom_limit_from_sheet(p, sheet, xp)
     jibes = xp.zeros_like(state.x_m, dtype=xp.int64)
-    return StepCarry(state, rudder, limit, wind_x, wind_y, jibes, xp.zeros_like(state.x_m))
+    return StepCarry(state, rudder, limit, wind_x, wind_y, jibes, xp.zeros_like(state.x_m), sea)
 
 
-def step_substep(p: DinghyParams, carry: StepCarry, dt_s: float, xp: Any = np) -> StepCarry:
+def step_substep(
+    p: DinghyParams, carry: StepCarry, dt_s: float, xp: Any = np,
+    water: WaterParams | None = None,
+) -> StepCarry:  # fmt: skip
     """One substep of a :func:`step`, counting jibes (the boom crosses the centerline while
     the apparent wind comes from aft, checked every substep: a boom crosses in a fraction
-    of a second) and keeping the fastest boom speed at one."""
+    of a second) and keeping the fastest boom speed at one. With a sea, ``water`` says how
+    it moves; the water where the boat is holds over the substep."""
+    flow, sea = None, carry.sea
+    if sea is not None:
+        flow = water_over(water, sea, carry.boat.x_m, carry.boat.y_m, dt_s, xp)
+        sea = sea._replace(time_s=sea.time_s + dt_s)
     state, _impact, jibe = substep(
         p, carry.boat, carry.rudder_rad, carry.boom_limit_rad, carry.wind_x, carry.wind_y,
-        dt_s, xp,
+        dt_s, xp, flow,
     )  # fmt: skip
     jibes = carry.jibes + xp.astype(jibe, xp.int64)
     severity = xp.maximum(carry.jibe_severity_rps, xp.where(jibe, xp.abs(state.boom_rate_rps), 0.0))
-    return carry._replace(boat=state, jibes=jibes, jibe_severity_rps=severity)
+    return carry._replace(boat=state, jibes=jibes, jibe_severity_rps=severity, sea=sea)
 
 
 def step_end(
@@ -281,15 +320,18 @@ def step(
     dt_s: float,
     n_substeps: int,
     xp: Any = np,
+    water: WaterParams | None = None,
+    sea: Sea | None = None,
 ) -> tuple[DinghyState, StepEvents]:
-    """Advance ``n_substeps`` substeps of ``dt_s`` (:func:`substep`) with the controls held.
+    """Advance ``n_substeps`` substeps of ``dt_s`` (:func:`substep`) with the controls held;
+    in moving water, ``water`` and the ``sea`` at the start (its clock is the caller's).
 
     ``rudder_rad`` is clipped to ``+-rudder_max_rad``; ``sheet`` in [0, 1] is how far the
     sheet is eased (0 fully in). Counts jibes and tacks (:func:`step_substep`,
     :func:`step_end`). A compiled backend runs the same three parts, compiling the substep
     once rather than unrolling the loop.
     """
-    carry = step_begin(p, state, rudder_rad, sheet, wind_x, wind_y, xp)
+    carry = step_begin(p, state, rudder_rad, sheet, wind_x, wind_y, xp, sea)
     for _ in range(n_substeps):
-        carry = step_substep(p, carry, dt_s, xp)
+        carry = step_substep(p, carry, dt_s, xp, water)
     return step_end(p, state, carry, xp)

@@ -2,13 +2,20 @@
 moves", §10 "Gerstner waves").
 
 The hull, centreboard and rudder of a boat push against the water, not the ground, so they
-need the water's velocity where the boat is. This module gives it as a pure function of
-position and time: :func:`water_velocity` is the current plus the waves' orbital velocity.
+need the water's velocity where the boat is; and the pressure that accelerates the water in
+a wave accelerates a floating boat with it. :func:`water_velocity` gives the velocity at
+any point and time (the current plus the waves' orbital velocity), :func:`water_over`
+follows the water particle at a boat through a substep.
 
-**The current** flows toward ``current_set_rad`` (a sailor's *set*; its speed is the
-*drift*). It may vary across its own direction, ``1 + variation * sin(2 pi n / L)`` where
-``n`` is the distance across the flow: a shear like a tidal channel's. A speed that changes
-only across the flow keeps the field divergence free (no water appears or vanishes).
+What is fixed for a run (wave sizes, how the current varies) is :class:`WaterParams`,
+Python floats; what each env draws per episode (the current's drift and set, the waves'
+direction and phases) and the time is :class:`Sea`, arrays of the batch.
+
+**The current** flows along ``(current_x, current_y)`` (toward a sailor's *set*, at its
+*drift*). It may vary across its own direction, ``1 + variation sin(2 pi n / L)`` where ``n``
+is the distance across the flow: a shear like a tidal channel's. A speed that changes only
+across the flow keeps the field divergence free (no water appears or vanishes) and gives
+its particles no acceleration.
 
 **Gerstner waves** (trochoidal waves, seed §10) are kinematic: each surface particle with
 rest position ``a`` circles about it,
@@ -25,15 +32,16 @@ The text warns that the surface self-intersects for some parameters. That happen
 map ``a -> x`` folds: its Jacobian ``I - sum_i k_i A_i cos(theta_i) d_i d_i^T`` is
 singular once ``sum_i k_i A_i`` reaches 1 (for one wave, ``k A = 1``, the cusped trochoid).
 The accepted waves keep ``sum_i k_i A_i`` at most :data:`MAX_WAVE_STEEPNESS`, below the
-fold and near the steepness at which real deep-water waves break (about 0.44, wave height
-1/7 of the wavelength).
+fold and above the steepness at which real deep-water waves break (about 0.44, a wave
+height of 1/7 of the wavelength).
 
 A boat sits at a fixed point ``p`` of the surface, not on a particle, so the water's
 velocity there needs the particle that is at ``p`` now: the label ``a`` with ``x(a) = p``.
 It is found by the fixed-point iteration ``a <- p + sum_i d_i A_i sin(theta_i(a))``, a
 contraction by ``sum_i k_i A_i`` per iteration; :class:`WaterParams` picks the number of
-iterations that brings the error below 1e-4 of the amplitude (4 for gentle waves, 19 at
-the steepest accepted). The count is fixed per params: the step keeps static shapes.
+iterations that brings the error below 1e-6 of the amplitude (4 at steepness 0.03, 11 at
+0.26, 28 at the steepest accepted): a boat riding a wave for minutes strays from its orbit
+by no more. The count is fixed per params: the step keeps static shapes.
 
 Everything here runs on any namespace of :mod:`bbgym.physics.namespace`.
 """
@@ -48,50 +56,47 @@ import numpy as np
 
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import ANGLE_RAD, check_fields, interval, param
+from bbgym.physics.validation import check_fields, interval, param
 
 MAX_WAVE_STEEPNESS = 0.6
 """The largest accepted ``sum_i k_i A_i``: real waves break near 0.44, the Gerstner surface
 folds at 1; the margin keeps the label iteration a contraction by 0.6."""
 
-LABEL_TOLERANCE = 1e-4
+LABEL_TOLERANCE = 1e-6
 """Error of the particle label found by :func:`particle_label`, as a fraction of the sum
 of the amplitudes (the iteration's error shrinks by the steepness each time)."""
 
 
 class WaveComponent(NamedTuple):
-    """One Gerstner component, its constants precomputed (Python floats)."""
+    """One Gerstner component's constants (Python floats); its direction is the sea's
+    (per env, :class:`Sea`) turned by ``offset_rad``."""
 
     amplitude_m: float
     wavenumber_rad_per_m: float
     angular_frequency_rps: float
-    direction_x: float
-    direction_y: float
+    offset_rad: float
 
 
 @dataclass(frozen=True)
 class WaterParams:
-    """A current and a sea of Gerstner waves (all zero by default: still water).
+    """How the water moves, apart from what each episode draws (:class:`Sea`): the current's
+    variation and the sea's waves. The default is a uniform current and a flat sea.
 
-    The sea is ``wave_components`` waves spread evenly over ``wave_spread_rad`` about
-    ``wave_direction_rad`` (each a direction of travel), with wavelengths from
-    ``wavelength_m`` (the middle one) to 0.6 of it (the outermost ones: shorter waves off
-    the main direction) and amplitudes ``wave_amplitude_m / sqrt(n)`` each, so the sea's
-    rms height is that of one wave of ``wave_amplitude_m``. Each env draws its components'
-    phases (:func:`wave_phases`).
+    The sea is ``wave_components`` waves spread evenly over ``wave_spread_rad`` about the
+    episode's wave direction, with wavelengths from ``wavelength_m`` (the middle one) to 0.6
+    of it (the outermost ones: shorter waves off the main direction) and amplitudes
+    ``wave_amplitude_m / sqrt(n)`` each, so the sea's rms height is that of one wave of
+    ``wave_amplitude_m``.
 
     Accepted intervals (checked on construction, errors name ``WaterParams.<field>``):
 
     ==========================  ===============  ==========================================
     field                       interval         why the bounds
     ==========================  ===============  ==========================================
-    current_mps                 [0, 3]           3 m/s (6 kn) is a strong tidal race
-    current_set_rad             any angle        where the current flows to
     current_variation           [0, 1]           1 stops the current at the channel's edges
-    current_variation_length_m  [10, 1e5]        shorter than a boat's lengths means nothing
+    current_variation_length_m  [10, 1e5]        shorter than a few boat lengths means nothing
     wave_amplitude_m            [0, 5]           5 m is a storm sea; steepness bounds it too
     wavelength_m                [1, 500]         from ripples on a hull to ocean swell
-    wave_direction_rad          any angle        where the waves travel to
     wave_components             1 .. 8 (int)     a few components make a sea (seed §10)
     wave_spread_rad             [0, pi/2]        beyond, waves meet from opposite sides
     ==========================  ===============  ==========================================
@@ -99,10 +104,6 @@ class WaterParams:
     Together: the steepness ``sum_i k_i A_i`` is at most 0.6 (see the module docstring).
     """
 
-    current_mps: float = param(0.0, interval(0.0, 3.0))
-    """Speed of the current (its drift), at the middle of its variation."""
-    current_set_rad: float = param(0.0, ANGLE_RAD)
-    """Direction the current flows toward, counterclockwise from +x."""
     current_variation: float = param(0.0, interval(0.0, 1.0))
     """Relative change of the current's speed across its direction."""
     current_variation_length_m: float = param(400.0, interval(10.0, 1e5))
@@ -111,8 +112,6 @@ class WaterParams:
     """Amplitude of a single wave of the same rms height as the sea."""
     wavelength_m: float = param(12.0, interval(1.0, 500.0))
     """Wavelength of the main component."""
-    wave_direction_rad: float = param(0.0, ANGLE_RAD)
-    """Direction the main component travels toward, counterclockwise from +x."""
     wave_components: int = param(1, interval(1, 8), integer=True)
     """Number of Gerstner components."""
     wave_spread_rad: float = param(0.0, interval(0.0, 0.5 * math.pi))
@@ -140,17 +139,10 @@ class WaterParams:
         object.__setattr__(self, "components", components if steepness > 0.0 else ())
         object.__setattr__(self, "steepness", steepness)
         object.__setattr__(self, "label_iterations", iterations)
-        set_x, set_y = math.cos(self.current_set_rad), math.sin(self.current_set_rad)
-        object.__setattr__(self, "_current_set", (set_x, set_y))
 
     def replace(self, **changes: object) -> WaterParams:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
-
-    @property
-    def still(self) -> bool:
-        """No current and no waves: the water's velocity is zero everywhere."""
-        return self.current_mps == 0.0 and not self.components
 
 
 def _components(p: WaterParams) -> tuple[WaveComponent, ...]:
@@ -162,16 +154,7 @@ def _components(p: WaterParams) -> tuple[WaveComponent, ...]:
         offset = 0.0 if n == 1 else 2.0 * i / (n - 1) - 1.0
         wavelength = p.wavelength_m * (1.0 - 0.4 * abs(offset))
         k = 2.0 * math.pi / wavelength
-        direction = p.wave_direction_rad + offset * p.wave_spread_rad
-        out.append(
-            WaveComponent(
-                amplitude_m=amplitude,
-                wavenumber_rad_per_m=k,
-                angular_frequency_rps=deep_water_frequency(k),
-                direction_x=math.cos(direction),
-                direction_y=math.sin(direction),
-            )
-        )
+        out.append(WaveComponent(amplitude, k, deep_water_frequency(k), offset * p.wave_spread_rad))
     return tuple(out)
 
 
@@ -182,97 +165,170 @@ def deep_water_frequency(wavenumber_rad_per_m: float) -> float:
 
 
 class Sea(NamedTuple):
-    """Where each env's waves are in their cycle: the time since the episode began and each
-    component's phase (constant over an episode, drawn by :func:`sea_at_start`)."""
+    """The water of each env: what its episode drew and the time since it began (arrays of
+    the batch; Python floats for one env)."""
 
     time_s: Array
+    current_x_mps: Array
+    """The current's velocity at the middle of its variation (world frame)."""
+    current_y_mps: Array
+    wave_x: tuple[Array, ...]
+    """Each component's unit direction of travel (empty for a flat sea)."""
+    wave_y: tuple[Array, ...]
     phases: tuple[Array, ...]
 
 
-def sea_at_start(p: WaterParams, uniform: Any) -> Sea:
-    """A sea at time 0 with phases ``2 pi u`` for the caller's uniform draws ``uniform`` of
-    shape ``(components, batch)`` (the caller owns the randomness)."""
-    phases = tuple(2.0 * math.pi * uniform[i] for i in range(len(p.components)))
-    return Sea(time_s=0.0 * uniform[0], phases=phases)
+class WaterFlow(NamedTuple):
+    """The water at a boat over one substep (world frame): the velocity of the water
+    particle that is there at the start, its velocity at the end, and how far it moves
+    (from :func:`water_over`). For a steady current the two velocities are equal and the
+    shift is the velocity times the substep."""
+
+    vx_mps: Array
+    vy_mps: Array
+    next_vx_mps: Array
+    next_vy_mps: Array
+    shift_x_m: Array
+    shift_y_m: Array
 
 
-def current_velocity(p: WaterParams, x_m: Array, y_m: Array, xp: Any = np) -> tuple[Array, Array]:
-    """The current at ``(x, y)``: along its set, its speed varying across it only."""
-    set_x, set_y = p._current_set
-    speed = p.current_mps + 0.0 * x_m  # shaped like the positions even where uniform
-    if p.current_variation > 0.0:
-        across = -x_m * set_y + y_m * set_x
-        wave = xp.sin((2.0 * math.pi / p.current_variation_length_m) * across)
-        speed = p.current_mps * (1.0 + p.current_variation * wave)
-    return speed * set_x, speed * set_y
-
-
-def _phase_angle(c: WaveComponent, phase: Array, a_x: Array, a_y: Array, time_s: Array) -> Array:
-    """``theta = k (d . a) - omega t + phase``: where a particle is in its orbit."""
-    k = c.wavenumber_rad_per_m
-    return (
-        k * (c.direction_x * a_x + c.direction_y * a_y) - c.angular_frequency_rps * time_s + phase
+def sea_at_start(
+    p: WaterParams,
+    current_mps: Array,
+    current_set_rad: Array,
+    wave_direction_rad: Array,
+    uniform: Any,
+    xp: Any = np,
+) -> Sea:
+    """The water of fresh episodes: a current of ``current_mps`` toward ``current_set_rad``,
+    waves travelling toward ``wave_direction_rad`` (the main component), and each
+    component's phase ``2 pi u`` from the caller's uniform draws ``uniform``, one row per
+    component (the caller owns the randomness)."""
+    zero = 0.0 * current_mps
+    wave_x, wave_y, phases = [], [], []
+    for i, c in enumerate(p.components):
+        direction = wave_direction_rad + c.offset_rad
+        wave_x.append(xp.cos(direction))
+        wave_y.append(xp.sin(direction))
+        phases.append(2.0 * math.pi * uniform[i])
+    return Sea(
+        time_s=zero,
+        current_x_mps=current_mps * xp.cos(current_set_rad),
+        current_y_mps=current_mps * xp.sin(current_set_rad),
+        wave_x=tuple(wave_x),
+        wave_y=tuple(wave_y),
+        phases=tuple(phases),
     )
 
 
+def current_velocity(
+    p: WaterParams, sea: Sea, x_m: Array, y_m: Array, xp: Any = np
+) -> tuple[Array, Array]:
+    """The current at ``(x, y)``: along its set, its speed varying across it only."""
+    if p.current_variation == 0.0:
+        return sea.current_x_mps + 0.0 * x_m, sea.current_y_mps + 0.0 * x_m
+    drift = xp.hypot(sea.current_x_mps, sea.current_y_mps)
+    # distance across the flow, toward its left (any direction will do for no current)
+    across = (y_m * sea.current_x_mps - x_m * sea.current_y_mps) / xp.maximum(drift, 1e-12)
+    factor = 1.0 + p.current_variation * xp.sin(
+        (2.0 * math.pi / p.current_variation_length_m) * across
+    )
+    return factor * sea.current_x_mps, factor * sea.current_y_mps
+
+
+def _phase_angles(p: WaterParams, sea: Sea, a_x: Array, a_y: Array) -> list[Array]:
+    """``theta_i = k_i (d_i . a) - omega_i t + phase_i``: where the particle labelled ``a``
+    is in each component's orbit."""
+    return [
+        c.wavenumber_rad_per_m * (d_x * a_x + d_y * a_y) - c.angular_frequency_rps * sea.time_s
+        + phase
+        for c, d_x, d_y, phase in zip(p.components, sea.wave_x, sea.wave_y, sea.phases, strict=True)
+    ]  # fmt: skip
+
+
 def _displacement(
-    p: WaterParams, a_x: Array, a_y: Array, sea: Sea, xp: Any
+    p: WaterParams, sea: Sea, a_x: Array, a_y: Array, xp: Any
 ) -> tuple[Array, Array, Array]:
     """``sum_i d_i A_i sin(theta_i)`` (the particle's offset against the waves' travel,
     with the opposite sign) and the height ``sum_i A_i cos(theta_i)``, at labels ``a``."""
     shift_x, shift_y, z = 0.0, 0.0, 0.0
-    for c, phase in zip(p.components, sea.phases, strict=True):
-        theta = _phase_angle(c, phase, a_x, a_y, sea.time_s)
+    thetas = _phase_angles(p, sea, a_x, a_y)
+    for c, d_x, d_y, theta in zip(p.components, sea.wave_x, sea.wave_y, thetas, strict=True):
         s = c.amplitude_m * xp.sin(theta)
-        shift_x = shift_x + c.direction_x * s
-        shift_y = shift_y + c.direction_y * s
+        shift_x = shift_x + d_x * s
+        shift_y = shift_y + d_y * s
         z = z + c.amplitude_m * xp.cos(theta)
     return shift_x, shift_y, z
 
 
-def particle_label(p: WaterParams, x_m: Array, y_m: Array, sea: Sea, xp: Any = np) -> tuple:
+def particle_label(p: WaterParams, sea: Sea, x_m: Array, y_m: Array, xp: Any = np) -> tuple:
     """The rest position ``a`` of the surface particle that is at ``(x, y)`` now: the fixed
     point of ``a = p + sum_i d_i A_i sin(theta_i(a))`` (module docstring)."""
     a_x, a_y = x_m, y_m
     for _ in range(p.label_iterations):
-        shift_x, shift_y, _ = _displacement(p, a_x, a_y, sea, xp)
+        shift_x, shift_y, _ = _displacement(p, sea, a_x, a_y, xp)
         a_x, a_y = x_m + shift_x, y_m + shift_y
     return a_x, a_y
 
 
-def particle_position(p: WaterParams, a_x: Array, a_y: Array, sea: Sea, xp: Any = np) -> tuple:
+def particle_position(p: WaterParams, sea: Sea, a_x: Array, a_y: Array, xp: Any = np) -> tuple:
     """Where the surface particle with rest position ``a`` is now: ``(x, y, z)`` (the
     Gerstner map, module docstring); ``z`` is the height above the still level."""
-    shift_x, shift_y, z = _displacement(p, a_x, a_y, sea, xp)
+    shift_x, shift_y, z = _displacement(p, sea, a_x, a_y, xp)
     return a_x - shift_x, a_y - shift_y, z
 
 
-def orbital_velocity(p: WaterParams, x_m: Array, y_m: Array, sea: Sea, xp: Any = np) -> tuple:
-    """The waves at the fixed point ``(x, y)``: the water's orbital velocity there
-    ``(vx, vy, vz)`` and the surface's height ``z`` (of the particle at that point now).
-    A particle's velocity is its offset's time derivative, ``d_i A_i omega_i cos(theta_i)``
-    across and ``A_i omega_i sin(theta_i)`` up (``d theta / dt = -omega``)."""
-    zero = 0.0 * x_m
-    if not p.components:
-        return zero, zero, zero, zero
-    a_x, a_y = particle_label(p, x_m, y_m, sea, xp)
+def waves_at(p: WaterParams, sea: Sea, x_m: Array, y_m: Array, xp: Any = np) -> tuple:
+    """The waves at the fixed point ``(x, y)``, from the particle there now: its velocity
+    ``(vx, vy, vz)`` and the surface's height ``z``. Differentiating the offsets in time
+    (``d theta / dt = -omega``): ``d_i A_i omega_i cos(theta_i)`` across and
+    ``A_i omega_i sin(theta_i)`` up."""
+    a_x, a_y = particle_label(p, sea, x_m, y_m, xp)
+    return _particle_velocity(p, sea, a_x, a_y, xp)
+
+
+def _particle_velocity(p: WaterParams, sea: Sea, a_x: Array, a_y: Array, xp: Any) -> tuple:
+    """``(vx, vy, vz, z)`` of the particle labelled ``a`` (see :func:`waves_at`)."""
+    zero = 0.0 * a_x
     vx, vy, vz, z = zero, zero, zero, zero
-    for c, phase in zip(p.components, sea.phases, strict=True):
-        theta = _phase_angle(c, phase, a_x, a_y, sea.time_s)
+    thetas = _phase_angles(p, sea, a_x, a_y)
+    for c, d_x, d_y, theta in zip(p.components, sea.wave_x, sea.wave_y, thetas, strict=True):
         cos_t, sin_t = xp.cos(theta), xp.sin(theta)
         speed = c.amplitude_m * c.angular_frequency_rps
-        vx = vx + c.direction_x * speed * cos_t
-        vy = vy + c.direction_y * speed * cos_t
-        vz = vz + speed * sin_t
+        vx, vy, vz = vx + d_x * speed * cos_t, vy + d_y * speed * cos_t, vz + speed * sin_t
         z = z + c.amplitude_m * cos_t
     return vx, vy, vz, z
 
 
-def water_velocity(p: WaterParams, x_m: Array, y_m: Array, sea: Sea, xp: Any = np) -> tuple:
-    """The horizontal velocity ``(vx, vy)`` of the surface water at ``(x, y)``: the current
-    plus the waves' orbital velocity."""
-    current_x, current_y = current_velocity(p, x_m, y_m, xp)
+def water_over(
+    p: WaterParams, sea: Sea, x_m: Array, y_m: Array, dt_s: float, xp: Any = np
+) -> WaterFlow:
+    """The surface water at ``(x, y)`` over the next ``dt_s``: the particle there now (the
+    waves' orbital velocity plus the current), followed exactly along its orbit. A boat
+    integrated relative to this particle stays on it when nothing else pushes it: the
+    orbit closes at any step size (:func:`bbgym.physics.sailing_step.substep`). The waves
+    are defined over the ground; the current carries the boat across them (their
+    Doppler shift is left out)."""
+    current_x, current_y = current_velocity(p, sea, x_m, y_m, xp)
+    if not p.components:
+        return WaterFlow(current_x, current_y, current_x, current_y, dt_s * current_x,
+                         dt_s * current_y)  # fmt: skip
+    a_x, a_y = particle_label(p, sea, x_m, y_m, xp)
+    vx, vy, _, _ = _particle_velocity(p, sea, a_x, a_y, xp)
+    later = sea._replace(time_s=sea.time_s + dt_s)
+    next_vx, next_vy, _, _ = _particle_velocity(p, later, a_x, a_y, xp)
+    next_x, next_y, _ = particle_position(p, later, a_x, a_y, xp)
+    return WaterFlow(
+        current_x + vx, current_y + vy, current_x + next_vx, current_y + next_vy,
+        next_x - x_m + dt_s * current_x, next_y - y_m + dt_s * current_y,
+    )  # fmt: skip
+
+
+def water_velocity(p: WaterParams, sea: Sea, x_m: Array, y_m: Array, xp: Any = np) -> tuple:
+    """The horizontal velocity ``(vx, vy)`` of the surface water at ``(x, y)``: the
+    current plus the waves' orbital velocity."""
+    current_x, current_y = current_velocity(p, sea, x_m, y_m, xp)
     if not p.components:
         return current_x, current_y
-    wave_x, wave_y, _, _ = orbital_velocity(p, x_m, y_m, sea, xp)
+    wave_x, wave_y, _, _ = waves_at(p, sea, x_m, y_m, xp)
     return current_x + wave_x, current_y + wave_y
