@@ -109,11 +109,15 @@ def sample_params(draw: Draw, cls: type, prefix: str) -> dict[str, Any]:
             continue
         values[f.name] = draw(f"{prefix}.{f.name}", accepted, lo > 0.0 or accepted.low_open)
     order = {
-        DinghyParams: ("sheet_min_rad", "sheet_max_rad"),
-        WallParams: ("thickness_m", "base_depth_m"),
+        DinghyParams: (
+            ("sheet_min_rad", "sheet_max_rad"),
+            ("jib_sheet_min_rad", "jib_sheet_max_rad"),
+        ),
+        WallParams: (("thickness_m", "base_depth_m"),),
     }
-    if cls in order and all(name in values for name in order[cls]):
-        small, large = order[cls]
+    for small, large in order.get(cls, ()):
+        if not (small in values and large in values):
+            continue
         lo, hi = sorted((values[small], values[large]))
         if lo == hi:  # strict order needed: fall back to the defaults' pair
             defaults = cls()

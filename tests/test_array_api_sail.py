@@ -81,6 +81,18 @@ def test_sailing_step_and_energy(xp, sail_model: str) -> None:
 
 
 @pytest.mark.parametrize("xp", namespaces())
+def test_sloop_step(xp) -> None:
+    """Main and jib, the jib's sheets pulled either side, eased and backed."""
+    p = DinghyParams(rig="sloop")
+    s, controls = boats(6)
+    jib = np.random.default_rng(7).uniform(-1, 1, N)
+    ref = sailing_step.step(p, s, *controls, 0.05, 5, np, jib_sheet=jib)
+    got = sailing_step.step(p, to_xp(s, xp), *to_xp(controls, xp), 0.05, 5, xp,
+                            jib_sheet=to_xp(jib, xp))  # fmt: skip
+    same(ref, got)
+
+
+@pytest.mark.parametrize("xp", namespaces())
 def test_sailing_step_in_moving_water(xp) -> None:
     """A sheared current and a three-component sea, each env its own draws."""
     water = WaterParams(current_variation=0.4, current_variation_length_m=80.0,

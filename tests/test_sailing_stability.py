@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import bbgym  # noqa: F401  (registers the ids)
-from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams, DinghyState, dinghy_at_rest
+from bbgym.physics.dinghy import RIGS, SAIL_MODELS, DinghyParams, DinghyState, dinghy_at_rest
 from bbgym.physics.namespace import floats
 from bbgym.physics.sailing import hull_force, mechanical_energy, sail_normal_coefficient
 from bbgym.physics.sailing_step import step, substep
@@ -238,12 +238,18 @@ def dinghy_params(draw: st.DrawFn) -> DinghyParams:
         if accepted.high_open and value >= hi:
             value = math.nextafter(hi, 0.0)
         values[f.name] = min(max(value, lo), hi) if accepted.contains(value) else floor
-    lo, hi = sorted((values["sheet_min_rad"], values["sheet_max_rad"]))
-    if lo == hi:
-        lo = 0.5 * hi
-    values["sheet_min_rad"], values["sheet_max_rad"] = lo, hi
+    for small, large in SHEET_PAIRS:
+        lo, hi = sorted((values[small], values[large]))
+        if lo == hi:
+            lo = 0.5 * hi
+        values[small], values[large] = lo, hi
     sail_model = draw(st.sampled_from(SAIL_MODELS), label="sail_model")
-    return DinghyParams(sail_model=sail_model, **values)
+    rig = draw(st.sampled_from(RIGS), label="rig")
+    return DinghyParams(sail_model=sail_model, rig=rig, **values)
+
+
+SHEET_PAIRS = (("sheet_min_rad", "sheet_max_rad"), ("jib_sheet_min_rad", "jib_sheet_max_rad"))
+"""Fields that must stay in order (``min < max``)."""
 
 
 @settings(max_examples=24, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -267,7 +273,9 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
     s = dinghy_at_rest(n, heading_rad=rng.uniform(-math.pi, math.pi, n), speed_mps=speed0)
     for t in range(200):
         rudder = rng.uniform(-1.0, 1.0, n) * p.rudder_max_rad
-        s, events = step(p, s, rudder, rng.uniform(0.0, 1.0, n), wx, wy, dt, round(0.25 / dt))
+        jib = rng.uniform(-1.0, 1.0, n)
+        s, events = step(p, s, rudder, rng.uniform(0.0, 1.0, n), wx, wy, dt, round(0.25 / dt),
+                         jib_sheet=jib)  # fmt: skip
         state = np.stack([np.asarray(getattr(s, f), dtype=float) for f in s._fields])
         assert np.isfinite(state).all(), t
         assert np.isfinite(events.jibe_severity_rps).all(), t
@@ -280,7 +288,7 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
     f = f._replace(capsized=False, heel_rad=0.0, heel_rate_rps=0.0)
     for _ in range(50):
         f, _ = step(p, f, 0.5 * p.rudder_max_rad, 0.5, float(wx[0]), float(wy[0]), dt,
-                    round(0.25 / dt), floats)  # fmt: skip
+                    round(0.25 / dt), floats, jib_sheet=-0.5)  # fmt: skip
         assert all(math.isfinite(getattr(f, k)) for k in f._fields)
 
 
@@ -343,7 +351,7 @@ def test_implicit_damping_never_creates_energy(p, dt, seed):
 def test_every_field_has_a_documented_interval():
     doc = DinghyParams.__doc__
     for f in fields(DinghyParams):
-        if f.name == "sail_model":
+        if f.name in ("sail_model", "rig"):
             continue
         accepted = accepted_interval(DinghyParams, f.name)
         assert accepted is not None, f.name
@@ -360,17 +368,23 @@ def test_values_outside_an_interval_raise_naming_the_field(name):
         with pytest.raises(ValueError, match=rf"^DinghyParams\.{name} "):
             DinghyParams(**{name: outside})
     for end, is_open in ((accepted.low, accepted.low_open), (accepted.high, accepted.high_open)):
-        if is_open or name == "sheet_min_rad" and end >= DinghyParams.sheet_max_rad:
+        if is_open or any(name == small and end >= getattr(DinghyParams, large)
+                          for small, large in SHEET_PAIRS):  # fmt: skip
             continue
         changes = {name: end}
-        if name == "sheet_max_rad" and end <= DinghyParams.sheet_min_rad:
-            changes["sheet_min_rad"] = 0.0
+        for small, large in SHEET_PAIRS:
+            if name == large and end <= getattr(DinghyParams, small):
+                changes[small] = 0.0
         assert getattr(DinghyParams(**changes), name) == end
 
 
 def test_cross_field_errors_name_the_field():
     with pytest.raises(ValueError, match=r"^DinghyParams\.sheet_min_rad "):
         DinghyParams(sheet_min_rad=0.5, sheet_max_rad=0.5)
+    with pytest.raises(ValueError, match=r"^DinghyParams\.jib_sheet_min_rad "):
+        DinghyParams(jib_sheet_min_rad=0.5, jib_sheet_max_rad=0.4)
+    with pytest.raises(ValueError, match=r"^DinghyParams\.rig "):
+        DinghyParams(rig="ketch")
     with pytest.raises(ValueError, match=r"^DinghyParams\.sail_model "):
         DinghyParams(sail_model="wing")
     with pytest.raises(TypeError, match=r"^DinghyParams\.mass_kg "):

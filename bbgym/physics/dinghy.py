@@ -21,6 +21,10 @@ from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_choice, check_fields, interval, param
 
 SAIL_MODELS = ("lift", "seed")
+RIGS = ("cat", "sloop")
+"""``"cat"``: one sail whose force acts at the hull's centre of lateral resistance, so only
+the rudder steers (the first sailing versions). ``"sloop"``: a main and a jib (foresail), each
+force at its centre of effort: the sails steer too (seed §9 "Controlling the sail")."""
 
 
 @dataclass(frozen=True)
@@ -36,7 +40,8 @@ class DinghyParams:
     is a meaningful degenerate boat (no windage, no centreboard, no damping: the implicit
     integration needs no damping to stay stable). Every combination is stable at any
     ``dt <= 0.25 s`` (``tests/test_sailing_stability.py``). Cross-field rules:
-    ``sheet_min_rad < sheet_max_rad <= pi/2``, ``capsize_heel_rad < pi/2``.
+    ``sheet_min_rad < sheet_max_rad <= pi/2``, ``jib_sheet_min_rad < jib_sheet_max_rad``,
+    ``capsize_heel_rad < pi/2``. The fields marked (sloop) act only with ``rig="sloop"``.
 
     ======================  ================  =============================================
     field                   interval          why the bounds
@@ -54,6 +59,13 @@ class DinghyParams:
     sail_drag_coefficient   [0.1, 3]          (seed model) flat plate: about 1.1
     sail_ce_height_m        [0.1, 25]         centre of effort above the heel axis
     sail_ce_aft_m           [0.05, 10]        centre of effort aft of the mast
+    mast_ahead_m            [-5, 10]          (sloop) mast ahead of the centreboard's centre
+    jib_area_m2             [0.1, 100]        (sloop) a small foresail .. a genoa
+    jib_tack_ahead_m        [0, 15]           (sloop) forestay ahead of the centreboard
+    jib_ce_aft_m            [0.05, 10]        (sloop) centre of effort aft of the tack
+    jib_ce_height_m         [0.1, 25]         (sloop) centre of effort above the heel axis
+    jib_sheet_min_rad       [0, 90] deg       (sloop) jib sheeted in .. square
+    jib_sheet_max_rad       (0, 90] deg       (sloop) jib eased out
     boom_length_m           [0.3, 10]         (drawing only)
     boom_impact_heel_arm_m  [0, 25]           0: a jibe gives no roll jolt
     boom_inertia_kgm2       [0.05, 1e4]       a sailboard rig .. a keelboat's main
@@ -82,6 +94,9 @@ class DinghyParams:
 
     sail_model: str = "lift"
     """``"lift"``: flat-plate normal coefficient with stall; ``"seed"``: drag formula (§9)."""
+    rig: str = "cat"
+    """``"cat"``: one sail acting at the centreboard (the first versions); ``"sloop"``: main
+    and jib, each acting at its centre of effort (:data:`RIGS`)."""
     mass_kg: float = param(135.0, interval(20.0, 5000.0))
     """Hull (59 kg) plus helmsman (76 kg). Accepted: [20, 5000]."""
     yaw_inertia_kgm2: float = param(180.0, interval(1.0, 1e5))
@@ -113,6 +128,26 @@ class DinghyParams:
     """Height of the sail's centre of effort above the heel axis. Accepted: [0.1, 25]."""
     sail_ce_aft_m: float = param(1.0, interval(0.05, 10.0))
     """Distance of the centre of effort from the mast along the boom. Accepted: [0.05, 10]."""
+    mast_ahead_m: float = param(0.6, interval(-5.0, 10.0))
+    """Sloop: how far the mast stands ahead of the hull's centre of lateral resistance (the
+    centreboard). With the main's centre of effort ``sail_ce_aft_m`` aft of the mast, a
+    main sheeted in pulls the stern to leeward: weather helm. Accepted: [-5, 10]."""
+    jib_area_m2: float = param(1.3, interval(0.1, 100.0))
+    """Sloop: area of the jib. Accepted: [0.1, 100]."""
+    jib_tack_ahead_m: float = param(1.9, interval(0.0, 15.0))
+    """Sloop: how far the jib's tack (the forestay at the bow) is ahead of the centre of
+    lateral resistance. Accepted: [0, 15]."""
+    jib_ce_aft_m: float = param(0.5, interval(0.05, 10.0))
+    """Sloop: distance of the jib's centre of effort from its tack along its foot.
+    Accepted: [0.05, 10]."""
+    jib_ce_height_m: float = param(1.6, interval(0.1, 25.0))
+    """Sloop: height of the jib's centre of effort above the heel axis. Accepted:
+    [0.1, 25]."""
+    jib_sheet_min_rad: float = param(math.radians(10.0), interval(0.0, math.pi / 2))
+    """Sloop: jib angle off the centreline with a sheet fully in (on that sheet's side,
+    leeward or, backed, windward). Accepted: [0, 90] deg, below jib_sheet_max_rad."""
+    jib_sheet_max_rad: float = param(math.radians(60.0), interval(0.0, math.pi / 2, low_open=True))
+    """Sloop: how far out the jib may go with its sheet fully eased. Accepted: (0, 90] deg."""
 
     boom_length_m: float = param(2.7, interval(0.3, 10.0))
     """Drawing only. Accepted: [0.3, 10]."""
@@ -189,6 +224,12 @@ class DinghyParams:
     def __post_init__(self) -> None:
         check_fields(self)
         check_choice("DinghyParams.sail_model", self.sail_model, SAIL_MODELS)
+        check_choice("DinghyParams.rig", self.rig, RIGS)
+        if not self.jib_sheet_min_rad < self.jib_sheet_max_rad:
+            raise ValueError(
+                "DinghyParams.jib_sheet_min_rad must be < jib_sheet_max_rad, got "
+                f"{self.jib_sheet_min_rad!r}, {self.jib_sheet_max_rad!r}"
+            )
         if not self.sheet_min_rad < self.sheet_max_rad <= math.pi / 2:
             raise ValueError(
                 "DinghyParams.sheet_min_rad must be < sheet_max_rad <= pi/2, got "
@@ -205,6 +246,8 @@ class DinghyParams:
         half_rho = 0.5 * WATER_DENSITY_KGM3
         derived = {
             "_sail_q": 0.5 * AIR_DENSITY_KGM3 * self.sail_area_m2,
+            "_jib_q": 0.5 * AIR_DENSITY_KGM3 * self.jib_area_m2,
+            "_jib_heel_ratio": self.jib_ce_height_m / self.sail_ce_height_m,
             "_minus_sin_by_the_lee": -math.sin(self.by_the_lee_rad),
             # Lift model: C_N / sin(alpha) = flat + half_excess * (1 - tanh(x / 2)).
             "_lift": (

@@ -11,6 +11,8 @@ law                         function
 apparent wind               :func:`apparent_wind_body`      ``v_a = v_w - v_s`` (§9)
 sail normal coefficient     :func:`sail_normal_coefficient` ``"seed"`` / ``"lift"``
 sail force and boom torque  :func:`sail_force`              planar, friction-free (§9)
+the jib's angle             :func:`jib_angle`               two sheets; backed (§9)
+sails that steer            :func:`sail_yaw_moment`         force at the centre of effort
 hull and keel drag          :func:`hull_force`              split along/across hull (§9)
 rudder and yaw damping      :func:`yaw_moment`              moment ~ forward speed^2
 heel and capsize            :func:`heel_moment`             cos(heel) area, hiking (§9)
@@ -103,8 +105,12 @@ def sail_force_linearised(
     aw_u: Array,
     aw_v: Array,
     xp: Any = np,
+    sail_q: float | None = None,
 ) -> tuple[Array, Array, Array, Array, Array, Array]:
     """Force of the planar, friction-free sail (seed §9) and its stiffnesses.
+
+    ``boom_rad`` is the sail's angle off the aft-pointing centreline (the main's boom, or
+    the jib's foot with ``sail_q`` its ``1/2 rho A``; the main's by default).
 
     Only the apparent-wind component perpendicular to the sail, ``w_n = v_a . n``, pushes
     it, so the force is along the sail's normal ``n``; it pushes the sail (and the boat) to
@@ -150,7 +156,8 @@ def sail_force_linearised(
     sin_attack = wind_normal_abs * inv_speed
     cos_attack = xp.abs(wind_chord) * inv_speed
     secant, sin_d_secant = sail_normal_coefficients(p, sin_attack, cos_attack, xp)
-    q_speed = xp.where(upright, p._sail_q * cos_heel * speed, 0.0)
+    q = p._sail_q if sail_q is None else sail_q
+    q_speed = xp.where(upright, q * cos_heel * speed, 0.0)
     # |F_N| = q |v_a|^2 C_N = q |v_a| (C_N / sin(alpha)) |w_n|, along sign(w_n).
     pressure = (q_speed * secant) * wind_normal
     # By the lee the boom is blown across, toward -sign(boom).
@@ -180,6 +187,56 @@ def sail_force(
         p, state.boom_rad, xp.cos(state.heel_rad), upright, aw_u, aw_v, xp
     )
     return forces[0], forces[1], forces[2]
+
+
+def jib_angle(p: DinghyParams, jib_sheet: Array, aw_u: Array, aw_v: Array, xp: Any = np) -> Array:
+    """The jib's angle off the aft-pointing centreline (``> 0``: clew to port) for its
+    sheets and the apparent wind (body frame).
+
+    A jib has two sheets, one to each side, and no boom. ``jib_sheet`` in [-1, 1] pulls the
+    port sheet (``> 0``) or the starboard one (``< 0``), ``|jib_sheet|`` how hard: 1 holds
+    the clew at ``jib_sheet_min_rad`` on that side, 0 lets it out to ``jib_sheet_max_rad``.
+    The sheet is a rope from a fairlead on its side: the more it is eased, the further the
+    clew can swing out on that side and across to the other, to ``2 min - limit`` (the
+    angles it reaches are symmetric about the fairlead's). Within that range the light
+    cloth takes its place at once (no state), along the flow to leeward, where it luffs
+    unless the range stops it.
+
+    Pulled on the leeward side, the sheet trims the jib. Pulled on the windward side, it
+    holds the jib against the wind: backed. The wind then pushes the jib, and the bow, to
+    leeward: seed §9's trick for a boat stopped head to wind, and what a jib kept on the
+    old sheet does in a tack as the bow passes through the wind.
+    """
+    leeward = xp.where(aw_v >= 0.0, 1.0 + 0.0 * aw_v, -1.0)  # where the air flows (+ port)
+    free = leeward * xp.atan2(xp.abs(aw_v), -aw_u)  # the foot along the flow: luffing
+    pull = xp.abs(jib_sheet)
+    limit = p.jib_sheet_max_rad - pull * (p.jib_sheet_max_rad - p.jib_sheet_min_rad)
+    across = 2.0 * p.jib_sheet_min_rad - limit  # how far it reaches on the other side
+    port = jib_sheet >= 0.0
+    high = xp.where(port, limit, -across)
+    low = xp.where(port, across, -limit)
+    return xp.minimum(xp.maximum(free, low), high)
+
+
+def sail_yaw_moment(
+    ahead_m: float, along_m: float, height_m: float, angle_rad: Array, sin_heel: Array,
+    drive: Array, side: Array, xp: Any = np,
+) -> Array:  # fmt: skip
+    """Yaw moment about the hull's centre of lateral resistance of a sail's force
+    (``drive`` ahead, ``side`` to port) acting at its centre of effort: ``along_m`` from
+    the sail's foot end (mast or tack, ``ahead_m`` ahead of the centre) along a foot at
+    ``angle_rad``, and ``height_m`` up the mast, which heel leans to the low side:
+    ``x = ahead - along cos(angle)``, ``y = along sin(angle) + height sin(heel)``,
+    ``M = x side - y drive`` (counterclockwise: the bow to port).
+
+    A sail sheeted in, its centre aft of the centreboard, turns the bow into the wind
+    (weather helm); the jib, ahead of it, turns it away; eased, the main's drive acts out
+    to leeward; heeled, both act further to leeward: more weather helm (seed §9, "Controlling
+    the sail").
+    """
+    x = ahead_m - along_m * xp.cos(angle_rad)
+    y = along_m * xp.sin(angle_rad) + height_m * sin_heel
+    return x * side - y * drive
 
 
 def hull_force_linearised(

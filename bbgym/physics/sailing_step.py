@@ -58,7 +58,9 @@ from bbgym.physics.sailing import (
     crew_step,
     heel_moment_linearised,
     hull_force_linearised,
+    jib_angle,
     sail_force_linearised,
+    sail_yaw_moment,
     yaw_moment_linearised,
 )
 from bbgym.physics.water import Sea, WaterFlow, WaterParams, water_over
@@ -74,6 +76,7 @@ def substep(
     dt_s: float,
     xp: Any = np,
     water: WaterFlow | None = None,
+    jib_sheet: Array | None = None,
 ) -> tuple[DinghyState, Array, Array]:
     """One semi-implicit Euler step (seed §1, §3): velocities first, then positions, with
     the stiff terms linearised and integrated implicitly (see the module docstring).
@@ -87,6 +90,12 @@ def substep(
     ``m a_water`` of a body whose displaced water weighs what it does). The boat moves with
     the water particle it floats on plus its velocity relative to it: with nothing else
     pushing, it follows the particle's orbit exactly, at any step size.
+
+    A sloop (``p.rig``) has a jib as well, trimmed by ``jib_sheet``
+    (:func:`~bbgym.physics.sailing.jib_angle`; None: its sheets eased, 0), and each sail's
+    force acts at its centre of
+    effort: the sails turn the boat (:func:`~bbgym.physics.sailing.sail_yaw_moment`) and
+    the jib heels it from its own height.
 
     The forces come from the state at the start of the substep; then each velocity takes
     its implicit update, one law each: the hull (:func:`_hull_velocity`), the boom and its
@@ -109,6 +118,22 @@ def substep(
     drive, side, normal, c_sail, k_boom, aw_speed = sail_force_linearised(
         p, state.boom_rad, cos_heel, upright, aw_u, aw_v, xp
     )
+    heeling_side, sail_moment = side, None
+    if p.rig == "sloop":
+        jib = jib_angle(p, 0.0 * aw_u if jib_sheet is None else jib_sheet, aw_u, aw_v, xp)
+        jib_drive, jib_side, _, c_jib, _, _ = sail_force_linearised(
+            p, jib, cos_heel, upright, aw_u, aw_v, xp, p._jib_q
+        )
+        sail_moment = sail_yaw_moment(
+            p.mast_ahead_m, p.sail_ce_aft_m, p.sail_ce_height_m, state.boom_rad, sin_heel,
+            drive, side, xp,
+        ) + sail_yaw_moment(
+            p.jib_tack_ahead_m, p.jib_ce_aft_m, p.jib_ce_height_m, jib, sin_heel, jib_drive,
+            jib_side, xp,
+        )  # fmt: skip
+        # the heel moment takes the side force at the main's height: the jib's, scaled
+        heeling_side = side + p._jib_heel_ratio * jib_side
+        drive, side, c_sail = drive + jib_drive, side + jib_side, c_sail + c_jib
     push_u, push_v = drive, side
     if water is not None:  # the Froude-Krylov force (body frame); it does not heel the boat
         accel_x = (water.next_vx_mps - water.vx_mps) * (1.0 / h)
@@ -125,9 +150,9 @@ def substep(
     # the damping acts on them as on any moment (added after the damping, a jolt would
     # turn the boat by h * its rate more than the continuous motion does).
     impulse = p.boom_inertia_kgm2 * impact
-    yaw_rate = _yaw_rate(p, state, surge, rudder_rad, impulse, h, xp)
+    yaw_rate = _yaw_rate(p, state, surge, rudder_rad, impulse, h, xp, sail_moment)
     heel, heel_rate, crew, capsized = _heel_update(
-        p, state, cos_heel, sin_heel, upright, side, impulse, h, xp
+        p, state, cos_heel, sin_heel, upright, heeling_side, impulse, h, xp
     )
     if water is None:
         x, y = state.x_m + h * vx, state.y_m + h * vy
@@ -204,11 +229,13 @@ def _boom_update(
 
 def _yaw_rate(
     p: DinghyParams, state: DinghyState, surge: Array, rudder_rad: Array, impulse: Array,
-    h: float, xp: Any,
+    h: float, xp: Any, sail_moment: Array | None = None,
 ) -> Array:  # fmt: skip
     """The new yaw rate: rudder and damping (:func:`yaw_moment_linearised`), implicit, with
-    the sheet's angular ``impulse``."""
+    the sheet's angular ``impulse`` and the sails' moment (a sloop's; explicit)."""
     yaw, c_yaw = yaw_moment_linearised(p, surge, state.yaw_rate_rps, rudder_rad, xp)
+    if sail_moment is not None:
+        yaw = yaw + sail_moment
     return state.yaw_rate_rps + (h * yaw - impulse) / (p.yaw_inertia_kgm2 + h * c_yaw)
 
 
@@ -261,18 +288,26 @@ class StepCarry(NamedTuple):
     jibe_severity_rps: Array
     sea: Sea | None = None
     """The water's state (its clock runs with the substeps); None for still water."""
+    jib_sheet: Array | None = None
+    """A sloop's jib sheet, held (None for a cat rig)."""
 
 
 def step_begin(
     p: DinghyParams, state: DinghyState, rudder_rad: Array, sheet: Array, wind_x: Array,
-    wind_y: Array, xp: Any = np, sea: Sea | None = None,
+    wind_y: Array, xp: Any = np, sea: Sea | None = None, jib_sheet: Array | None = None,
 ) -> StepCarry:  # fmt: skip
     """Start a :func:`step`: clip the controls and hold them, with the wind; ``sea`` is
-    the water at the start (None: still water)."""
+    the water at the start (None: still water); ``jib_sheet`` in [-1, 1] a sloop's."""
     rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
     limit = boom_limit_from_sheet(p, sheet, xp)
     jibes = xp.zeros_like(state.x_m, dtype=xp.int64)
-    return StepCarry(state, rudder, limit, wind_x, wind_y, jibes, xp.zeros_like(state.x_m), sea)
+    if p.rig == "sloop" and jib_sheet is not None:
+        jib_sheet = xp.clip(jib_sheet, -1.0, 1.0)
+    elif p.rig == "cat":
+        jib_sheet = None
+    return StepCarry(
+        state, rudder, limit, wind_x, wind_y, jibes, xp.zeros_like(state.x_m), sea, jib_sheet
+    )
 
 
 def step_substep(
@@ -289,7 +324,7 @@ def step_substep(
         sea = sea._replace(time_s=sea.time_s + dt_s)
     state, _impact, jibe = substep(
         p, carry.boat, carry.rudder_rad, carry.boom_limit_rad, carry.wind_x, carry.wind_y,
-        dt_s, xp, flow,
+        dt_s, xp, flow, carry.jib_sheet,
     )  # fmt: skip
     jibes = carry.jibes + xp.astype(jibe, xp.int64)
     severity = xp.maximum(carry.jibe_severity_rps, xp.where(jibe, xp.abs(state.boom_rate_rps), 0.0))
@@ -322,16 +357,19 @@ def step(
     xp: Any = np,
     water: WaterParams | None = None,
     sea: Sea | None = None,
+    jib_sheet: Array | None = None,
 ) -> tuple[DinghyState, StepEvents]:
     """Advance ``n_substeps`` substeps of ``dt_s`` (:func:`substep`) with the controls held;
-    in moving water, ``water`` and the ``sea`` at the start (its clock is the caller's).
+    in moving water, ``water`` and the ``sea`` at the start (its clock is the caller's); a
+    sloop's ``jib_sheet`` in [-1, 1] (the port sheet above 0, the starboard one below,
+    :func:`~bbgym.physics.sailing.jib_angle`).
 
     ``rudder_rad`` is clipped to ``+-rudder_max_rad``; ``sheet`` in [0, 1] is how far the
     sheet is eased (0 fully in). Counts jibes and tacks (:func:`step_substep`,
     :func:`step_end`). A compiled backend runs the same three parts, compiling the substep
     once rather than unrolling the loop.
     """
-    carry = step_begin(p, state, rudder_rad, sheet, wind_x, wind_y, xp, sea)
+    carry = step_begin(p, state, rudder_rad, sheet, wind_x, wind_y, xp, sea, jib_sheet)
     for _ in range(n_substeps):
         carry = step_substep(p, carry, dt_s, xp, water)
     return step_end(p, state, carry, xp)

@@ -139,6 +139,12 @@ class SailTask(TaskCore):
         time_penalty: float = 0.01,
     ) -> None:
         self.params = build_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
+        if self.params.rig != "cat":
+            # The two actions are rudder and main sheet: a jib would have no sheet.
+            raise ValueError(
+                f"dinghy.rig must be 'cat' for this env (rudder and main sheet), got "
+                f"{self.params.rig!r}"
+            )
         self.gust_params = build_params(GustParams, "gust_params", gust_params)
         self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
         self.gusts = check_bool("gusts", gusts)
