@@ -8,6 +8,7 @@ typed by hand and none can go stale:
     <!-- table: speed -->                    docs/results/speed/bench.json (bbgym bench)
     <!-- table: backends -->                 docs/results/speed/bench-backends-0.3.1.json
     <!-- table: polar -->                    docs/results/polar/polar.csv (bbgym polar)
+    <!-- table: polar-compare -->            docs/results/polar/compare.csv (bbgym polar --compare)
     <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
     <!-- table: params GROUP -->             the intervals of a physics parameter dataclass
     <!-- include: CHANGELOG.md -->           a file of docs/, as it is
@@ -290,6 +291,43 @@ def polar_table(path: Path | None = None) -> str:
     )  # fmt: skip
 
 
+COMPARE_FILE = "polar/compare.csv"
+
+
+def polar_compare_table(path: Path | None = None) -> str:
+    """The calibrated sloop against a Laser's reference polar, from the CSV of
+    ``bbgym polar --compare``."""
+    path = path or RESULTS / COMPARE_FILE
+    if not path.is_file():
+        raise ResultsError(f"{_name(path)}: results file missing")
+    try:
+        with path.open(newline="") as f:
+            rows = list(csv.DictReader(f))
+        lines = [
+            "| source | wind (kn) | figure | TWA | reference | bbgym | error | within |",
+            "|---|---:|---|---:|---:|---:|---:|---|",
+        ]
+        for r in rows:
+            ref, ours, err = float(r["reference"]), float(r["bbgym"]), float(r["error"])
+            if r["quantity"] == "best TWA":
+                cells = f"best TWA | | {ref:.1f} deg | {ours:.0f} deg | {err:+.1f} deg"
+            else:
+                cells = (
+                    f"{r['quantity']} | {float(r['true_wind_angle_deg']):g} deg | {ref:.2f} kn "
+                    f"| {ours:.2f} kn | {100 * err:+.1f}%"
+                )
+            within = "yes" if int(r["within"]) else "**no**"
+            lines.append(f"| {r['source']} | {float(r['wind_kn']):g} | {cells} | {within} |")
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(path)}: malformed comparison CSV ({err!r})") from None
+    if len(lines) == 2:
+        raise ResultsError(f"{_name(path)}: no rows")
+    return "\n".join(
+        [*lines, "", f"Generated from `{_name(path)}`, written by "
+         "`bbgym polar --compare --out docs/results/polar`."]
+    )  # fmt: skip
+
+
 def families() -> dict[str, Any]:
     """The registered env families' specs by name (:mod:`bbgym.spec`)."""
     import bbgym  # noqa: F401  (registers the families)
@@ -378,6 +416,8 @@ def table(spec: str) -> str:
         return backends_table()
     if kind == "polar" and not arg:
         return polar_table()
+    if kind == "polar-compare" and not arg:
+        return polar_compare_table()
     if kind == "arguments":
         return arguments_table(arg)
     if kind == "params":

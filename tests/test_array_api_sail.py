@@ -13,7 +13,8 @@ from bbgym import backends
 from bbgym.envs.functional import InitialNoise, VectorStep, tree_map
 from bbgym.envs.sail import SailTask
 from bbgym.physics import sailing, sailing_step
-from bbgym.physics.dinghy import DinghyParams, dinghy_at_rest
+from bbgym.physics.calibration import calibrated_sloop
+from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams, dinghy_at_rest
 from bbgym.physics.water import Sea, WaterParams, sea_at_start
 from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
 
@@ -67,9 +68,11 @@ def boats(seed: int = 0):
 
 
 @pytest.mark.parametrize("xp", namespaces())
-@pytest.mark.parametrize("sail_model", ["lift", "seed"])
+@pytest.mark.parametrize("sail_model", SAIL_MODELS)
 def test_sailing_step_and_energy(xp, sail_model: str) -> None:
-    p = DinghyParams(sail_model=sail_model)
+    # (the cambered sail on a planing hull, so both branches run)
+    planing = 3.0 if sail_model == "cambered" else 0.0
+    p = DinghyParams(sail_model=sail_model, hull_planing_speed_mps=planing)
     s, (rudder, sheet, wx, wy) = boats()
     ref = sailing_step.step(p, s, rudder, sheet, wx, wy, 0.05, 5, np)
     got = sailing_step.step(p, to_xp(s, xp), *to_xp((rudder, sheet, wx, wy), xp), 0.05, 5, xp)
@@ -82,8 +85,9 @@ def test_sailing_step_and_energy(xp, sail_model: str) -> None:
 
 @pytest.mark.parametrize("xp", namespaces())
 def test_sloop_step(xp) -> None:
-    """Main and jib, the jib's sheets pulled either side, eased and backed."""
-    p = DinghyParams(rig="sloop")
+    """Main and jib, the jib's sheets pulled either side, eased and backed: the calibrated
+    sloop (cambered sails, planing hull)."""
+    p = calibrated_sloop()
     s, controls = boats(6)
     jib = np.random.default_rng(7).uniform(-1, 1, N)
     ref = sailing_step.step(p, s, *controls, 0.05, 5, np, jib_sheet=jib)

@@ -107,6 +107,27 @@ def test_a_malformed_results_file_fails_naming_it(tmp_path):
     csv_path.write_text("true_wind_angle_deg,boat_speed_mps\n0,fast\n")
     with pytest.raises(tables.ResultsError, match="polar.csv: malformed"):
         tables.polar_table(results / "polar" / "polar.json")
+    compare_path = results / "polar" / "compare.csv"
+    compare_path.write_text("source,wind_kn,quantity\nDay 2017,6,VMG\n")
+    with pytest.raises(tables.ResultsError, match="compare.csv: malformed"):
+        tables.polar_compare_table(compare_path)
+    compare_path.unlink()
+    with pytest.raises(tables.ResultsError, match="compare.csv: results file missing"):
+        tables.polar_compare_table(compare_path)
+
+
+def test_the_polar_comparison_table_marks_every_miss():
+    table = tables.polar_compare_table()
+    rows = [
+        line
+        for line in table.splitlines()
+        if line.startswith("| Day") or line.startswith("| Binns")
+    ]
+    assert len(rows) == 20
+    assert "`bbgym polar --compare --out docs/results/polar`" in table
+    with (tables.RESULTS / "polar" / "compare.csv").open() as f:
+        misses = sum(line.rstrip().endswith(",0") for line in f)
+    assert sum(row.endswith("| **no** |") for row in rows) == misses
 
 
 def test_every_marker_of_every_page_expands_and_an_unknown_one_fails():

@@ -1,9 +1,16 @@
 """Compute and plot the dinghy's polar diagram from the physics.
 
-    bbgym polar [--wind-speed 5] [--sail-model lift|seed] [--out runs/polar]
+    bbgym polar [--wind-speed 5] [--sail-model lift|seed|cambered] [--out runs/polar]
+    bbgym polar --compare [--out runs/polar]
 
 Writes ``<out>/polar.png`` (boat speed by true wind angle, 0 deg = upwind at the top,
 mirrored to both tacks) and ``<out>/polar.csv``, and prints a summary.
+
+``--compare`` sails the calibrated sloop (:func:`bbgym.physics.calibration.calibrated_sloop`)
+at every reference wind speed of a real Laser's polar and writes ``<out>/compare.png`` (its
+polars over the reference points, in knots) and ``<out>/compare.csv`` (each reference
+point, bbgym's figure, the error and whether it is within the tolerance), and prints the
+table.
 """
 
 from __future__ import annotations
@@ -19,6 +26,17 @@ from typing import Any
 import numpy as np
 
 from bbgym.cli import UsageError, positive_float, require_all
+from bbgym.physics.calibration import (
+    BINNS_2002,
+    DAY_2017,
+    KNOT_MPS,
+    Comparison,
+    calibrated_sloop,
+    compare,
+    comparison_table,
+    polar_angles_deg,
+    polars,
+)
 from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams
 from bbgym.physics.polar import Polar, compute_polar
 
@@ -258,9 +276,100 @@ def summary(polar: Polar) -> list[str]:
     ]
 
 
+COMPARE_COLUMNS = (
+    "source",
+    "wind_kn",
+    "quantity",
+    "true_wind_angle_deg",
+    "reference",
+    "bbgym",
+    "error",
+    "within",
+)
+"""Columns of ``compare.csv``: ``error`` is in degrees for ``best TWA``, a fraction of the
+reference for the speeds (``VMG``, ``speed``, in knots)."""
+
+
+def write_compare_csv(path: Path, rows: list[Comparison]) -> None:
+    with path.open("w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(COMPARE_COLUMNS)
+        for r in rows:
+            writer.writerow(
+                [r.source, f"{r.wind_kn:g}", r.quantity, f"{r.true_wind_angle_deg:g}",
+                 f"{r.reference:g}", f"{r.bbgym:.6g}", f"{r.error:.6g}", int(r.within)]
+            )  # fmt: skip
+
+
+def compare_figure(by_wind: dict[float, Polar]) -> Any:
+    """The calibrated sloop's polar at each reference wind (knots) over the reference points:
+    a half polar (starboard tack), 0 deg at the top."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(7.5, 7.5))
+    ax = fig.add_subplot(projection="polar")
+    ax.set_theta_zero_location("N")
+    ax.set_theta_direction(-1)
+    ax.set_thetamin(0)
+    ax.set_thetamax(180)
+    colors = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(by_wind)))
+    for color, (kn, polar) in zip(colors, sorted(by_wind.items()), strict=True):
+        order = np.argsort(polar.true_wind_angle_rad)
+        ax.plot(polar.true_wind_angle_rad[order], polar.boat_speed_mps[order] / KNOT_MPS,
+                color=color, lw=1.8, label=f"bbgym, {kn:g} kn")  # fmt: skip
+        day = [pt for pt in DAY_2017 if pt.wind_kn == kn]
+        binns = [pt for pt in BINNS_2002 if pt.wind_kn == kn]
+        if day:
+            ax.plot([math.radians(pt.true_wind_angle_deg) for pt in day],
+                    [pt.boat_speed_kn for pt in day], "^", color=color, ms=9, mec="black",
+                    label=f"Day 2017 best upwind, {kn:g} kn")  # fmt: skip
+        if binns:
+            ax.plot([math.radians(pt.true_wind_angle_deg) for pt in binns],
+                    [pt.boat_speed_kn for pt in binns], "o", color=color, ms=7, mec="black",
+                    label=f"Binns 2002, {kn:g} kn")  # fmt: skip
+    ax.set_thetagrids(range(0, 181, 30), [f"{a}{DEG}" for a in range(0, 181, 30)])
+    ax.set_xlabel(f"true wind angle: 0{DEG} head to wind; boat speed in knots", labelpad=8)
+    ax.set_title("The calibrated sloop against a Laser's polar", pad=16)
+    ax.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
+    return fig
+
+
+def run_compare(out: Path) -> int:
+    """``bbgym polar --compare``."""
+    import matplotlib.pyplot as plt
+
+    params = calibrated_sloop()
+    t0 = time.perf_counter()
+    sail_angles = np.union1d(polar_angles_deg(), np.arange(20.0, 181.0, 2.0))
+    by_wind = polars(params, angles_deg=sail_angles)
+    rows = compare(params, by_wind)
+    seconds = time.perf_counter() - t0
+    out.mkdir(parents=True, exist_ok=True)
+    png, csv_path = out / "compare.png", out / "compare.csv"
+    write_compare_csv(csv_path, rows)
+    fig = compare_figure(by_wind)
+    fig.savefig(png, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+    print(f"polar --compare: the calibrated sloop at {len(by_wind)} wind speeds, "
+          f"computed in {seconds:.1f} s")  # fmt: skip
+    print(comparison_table(rows))
+    missed = sum(not r.within for r in rows)
+    print(f"{len(rows) - missed} of {len(rows)} reference figures within tolerance")
+    print(f"wrote {png}")
+    print(f"wrote {csv_path}")
+    return 0
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--wind-speed", type=positive_float, default=5.0, help="true wind, m/s")
-    parser.add_argument("--sail-model", choices=SAIL_MODELS, default="lift", help="sail model")
+    parser.add_argument("--wind-speed", type=positive_float, default=None,
+                        help="true wind, m/s (default 5)")  # fmt: skip
+    parser.add_argument("--sail-model", choices=SAIL_MODELS, default=None,
+                        help="sail model (default lift)")  # fmt: skip
+    parser.add_argument("--compare", action="store_true",
+                        help="the calibrated sloop against a Laser's reference polar")  # fmt: skip
     parser.add_argument("--out", type=Path, default=Path("runs/polar"), help="output folder")
     parser.add_argument("--step-deg", type=positive_float, default=1.0,
                         help="angle grid step, deg, in (0, 90]")  # fmt: skip
@@ -274,7 +383,22 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
 def run(args: argparse.Namespace) -> int:
     if not (0 < args.step_deg <= 90):
         raise UsageError("--step-deg must be in (0, 90]")
+    if args.compare:
+        given = [
+            f
+            for f, v in (("--wind-speed", args.wind_speed), ("--sail-model", args.sail_model))
+            if v is not None
+        ]
+        if given:
+            raise UsageError(
+                f"{given[0]} does not go with --compare (it sails the calibrated sloop at "
+                "the reference winds)"
+            )
     require_all(needs(args))
+    if args.compare:
+        return run_compare(args.out)
+    args.wind_speed = 5.0 if args.wind_speed is None else args.wind_speed
+    args.sail_model = args.sail_model or "lift"
 
     angles = np.radians(np.arange(0.0, 180.0 + 1e-9, args.step_deg))
     t0 = time.perf_counter()

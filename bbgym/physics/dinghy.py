@@ -20,7 +20,7 @@ from bbgym.physics.common import AIR_DENSITY_KGM3, WATER_DENSITY_KGM3
 from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_choice, check_fields, interval, param
 
-SAIL_MODELS = ("lift", "seed")
+SAIL_MODELS = ("lift", "seed", "cambered")
 RIGS = ("cat", "sloop")
 """``"cat"``: one sail whose force acts at the hull's centre of lateral resistance, so only
 the rudder steers (the first sailing versions). ``"sloop"``: a main and a jib (foresail), each
@@ -41,7 +41,8 @@ class DinghyParams:
     integration needs no damping to stay stable). Every combination is stable at any
     ``dt <= 0.25 s`` (``tests/test_sailing_stability.py``). Cross-field rules:
     ``sheet_min_rad < sheet_max_rad <= pi/2``, ``jib_sheet_min_rad < jib_sheet_max_rad``,
-    ``capsize_heel_rad < pi/2``. The fields marked (sloop) act only with ``rig="sloop"``.
+    ``capsize_heel_rad < pi/2``. The fields marked (sloop) act only with ``rig="sloop"``,
+    those marked (cambered) only with ``sail_model="cambered"``.
 
     ======================  ================  =============================================
     field                   interval          why the bounds
@@ -57,6 +58,9 @@ class DinghyParams:
     sail_stall_width_rad    [1e-4, 0.5]       abrupt (a step) .. very gradual stall
     sail_cn_flat            [0.1, 3]          flat plate broadside: about 1.2
     sail_drag_coefficient   [0.1, 3]          (seed model) flat plate: about 1.1
+    sail_cl_peak            [0.1, 3]          (cambered) lift of real sails: 1 .. 2
+    sail_drag_parasitic     [0, 0.5]          (cambered) a clean foil .. a flogging sail
+    sail_drag_induced       [0, 1]            (cambered) ``1 / (pi AR)``: AR 0.3 .. any
     sail_ce_height_m        [0.1, 25]         centre of effort above the heel axis
     sail_ce_aft_m           [0.05, 10]        centre of effort aft of the mast
     mast_ahead_m            [-5, 10]          (sloop) mast ahead of the centreboard's centre
@@ -75,6 +79,7 @@ class DinghyParams:
     sheet_max_rad           (0, 90] deg       (past 90 deg the boom would point forward)
     hull_drag_forward       [1e-3, 2]         skin of a 0.5 m^2 board .. a keelboat's hull
     hull_wave_speed_mps     [0.5, 20]         ``sqrt(g L / 2 pi)`` of 0.2 m .. a planing hull
+    hull_planing_speed_mps  [0, 30]           0: no planing (wave drag grows forever)
     hull_drag_backward      [1e-3, 5]         as forward (0 would sail astern without limit)
     hull_drag_sideways      [1e-3, 30]        hull and foils broadside
     keel_lift_slope         [0, 2e4]          0: no centreboard (a raft)
@@ -93,7 +98,9 @@ class DinghyParams:
     """
 
     sail_model: str = "lift"
-    """``"lift"``: flat-plate normal coefficient with stall; ``"seed"``: drag formula (§9)."""
+    """``"lift"``: flat-plate normal coefficient with stall; ``"seed"``: drag formula (§9);
+    ``"cambered"``: lift and drag of a cambered sail (the force leans forward of the
+    normal)."""
     rig: str = "cat"
     """``"cat"``: one sail acting at the centreboard (the first versions); ``"sloop"``: main
     and jib, each acting at its centre of effort (:data:`RIGS`)."""
@@ -124,6 +131,16 @@ class DinghyParams:
     sail_drag_coefficient: float = param(1.1, interval(0.1, 3.0))
     """Seed model: drag coefficient of a flat surface facing the wind (§8: about 1.1).
     Accepted: [0.1, 3]."""
+    sail_cl_peak: float = param(1.4, interval(0.1, 3.0))
+    """Cambered model: lift coefficient of attached flow at ``sail_stall_rad`` (the flow
+    then separates toward ``sail_cn_flat``). Accepted: [0.1, 3]."""
+    sail_drag_parasitic: float = param(0.03, interval(0.0, 0.5))
+    """Cambered model: drag coefficient of the sail at zero lift (skin friction, mast).
+    Accepted: [0, 0.5]."""
+    sail_drag_induced: float = param(0.08, interval(0.0, 1.0))
+    """Cambered model: induced drag per lift squared, ``C_D = C_D0 + k C_L^2`` with
+    ``k = 1 / (pi AR)``; a Laser's sail (AR about 3.7, doubled by its mirror in the water)
+    about 0.04, more with twist. Accepted: [0, 1]."""
     sail_ce_height_m: float = param(2.9, interval(0.1, 25.0))
     """Height of the sail's centre of effort above the heel axis. Accepted: [0.1, 25]."""
     sail_ce_aft_m: float = param(1.0, interval(0.05, 10.0))
@@ -180,6 +197,11 @@ class DinghyParams:
 
     A 4 m hull makes a bow wave as long as itself near ``sqrt(g L / 2 pi)`` ~ 2.6 m/s;
     past it the boat climbs its own wave and the drag grows much faster than ``u^2``."""
+    hull_planing_speed_mps: float = param(0.0, interval(0.0, 30.0))
+    """Speed past which a planing hull rises out of its wave: the wave drag levels off at
+    ``(u_p / u_w)^2`` times the skin drag, ``drag * (1 + (u/u_w)^2 / (1 + (u/u_p)^2))``.
+    0: a displacement hull, whose wave drag keeps growing (the first versions). Accepted:
+    [0, 30]."""
     hull_drag_backward: float = param(0.08, interval(1e-3, 5.0))
     """C_d * A (m^2) moving astern: larger (transom first). Accepted: [1e-3, 5]."""
     hull_drag_sideways: float = param(1.2, interval(1e-3, 30.0))
@@ -262,6 +284,15 @@ class DinghyParams:
                 half_rho * self.hull_drag_backward,
                 1.0 / (self.hull_wave_speed_mps * self.hull_wave_speed_mps),
                 half_rho * self.hull_drag_sideways,
+            ),
+            # 1 / u_p^2 (0: no planing)
+            "_inv_planing_sq": (
+                1.0 / self.hull_planing_speed_mps**2 if self.hull_planing_speed_mps else 0.0
+            ),
+            # Cambered model: attached lift slope a = C_L / sin(alpha) and k a^2.
+            "_cambered": (
+                self.sail_cl_peak / math.sin(self.sail_stall_rad),
+                self.sail_drag_induced * (self.sail_cl_peak / math.sin(self.sail_stall_rad)) ** 2,
             ),
             "_roll_arm": self.boom_impact_heel_arm_m / self.sail_ce_aft_m,
         }

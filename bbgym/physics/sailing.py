@@ -10,6 +10,7 @@ law                         function
 ==========================  ============================================================
 apparent wind               :func:`apparent_wind_body`      ``v_a = v_w - v_s`` (§9)
 sail normal coefficient     :func:`sail_normal_coefficient` ``"seed"`` / ``"lift"``
+cambered sail lift, drag    :func:`cambered_sail_coefficients` ``"cambered"``
 sail force and boom torque  :func:`sail_force`              planar, friction-free (§9)
 the jib's angle             :func:`jib_angle`               two sheets; backed (§9)
 sails that steer            :func:`sail_yaw_moment`         force at the centre of effort
@@ -82,6 +83,9 @@ def sail_normal_coefficients(
     if p.sail_model == "seed":
         secant = p.sail_drag_coefficient * sin_attack
         return secant, secant * cos_attack
+    if p.sail_model == "cambered":
+        secant, sin_d_secant, _, _ = cambered_sail_coefficients(p, sin_attack, cos_attack, xp)
+        return secant, sin_d_secant
     stall, half_inv_width, flat, half_excess, d_coefficient = p._lift
     # (sin_attack may round past 1: clip, or arcsin has a domain error)
     half_x = xp.tanh((xp.asin(xp.clip(sin_attack, 0.0, 1.0)) - stall) * half_inv_width)
@@ -89,6 +93,51 @@ def sail_normal_coefficients(
     # flat plate's (sail_cn_flat) above it.
     secant = flat + half_excess * (1.0 - half_x)
     return secant, sin_attack * d_coefficient * (1.0 - half_x * half_x)
+
+
+def cambered_sail_coefficients(
+    p: DinghyParams, sin_attack: Array, cos_attack: Array, xp: Any = np
+) -> tuple[Array, Array, Array, Array]:
+    """A cambered sail's force as normal and chordwise coefficients, from its lift and
+    drag: ``(S, sin(alpha) dS/dalpha, C_T, dC_T/dalpha)`` with ``S = C_N / sin(alpha)`` (see
+    :func:`sail_normal_coefficients`) and ``C_T`` the force along the chord toward the luff
+    (the leading edge).
+
+    Lift is across the apparent wind, drag along it. Attached flow (below
+    ``sail_stall_rad``): ``C_L = a sin(alpha)`` with ``a = sail_cl_peak / sin(stall)``, and
+    ``C_D = C_D0 + k C_L^2`` (parasitic plus induced drag). Separated flow: a flat plate,
+    whose force ``sail_cn_flat sin(alpha)`` is normal to it (``C_L = cn sin cos``,
+    ``C_D = C_D0 + cn sin^2``). The same logistic blend as the ``"lift"`` model joins them.
+    In the sail's axes ``C_N = C_L cos + C_D sin`` and ``C_T = C_L sin - C_D cos``: where
+    the lift-to-drag ratio beats ``cot(alpha)`` the force leans forward of the normal and
+    pulls the sail (and the boat) along its chord, which a flat sail's cannot. Both
+    coefficients are symmetric in the side the wind is on, as a soft sail's camber flips
+    with it; at ``alpha = 0`` the sail luffs (``C_N = 0``) and only the parasitic drag pulls.
+    """
+    stall, half_inv_width = p._lift[0], p._lift[1]
+    slope, induced = p._cambered
+    flat, parasitic = p.sail_cn_flat, p.sail_drag_parasitic
+    s, c = sin_attack, cos_attack
+    t = xp.tanh((xp.asin(xp.clip(s, 0.0, 1.0)) - stall) * half_inv_width)
+    attached = 0.5 * (1.0 - t)
+    d_attached = (-0.5 * half_inv_width) * (1.0 - t * t)
+    # C_L = s L, C_D = C_D0 + s^2 D; their derivatives in alpha dL, dD
+    lift = attached * slope + (1.0 - attached) * flat * c
+    drag = attached * induced + (1.0 - attached) * flat
+    d_lift = d_attached * (slope - flat * c) - (1.0 - attached) * flat * s
+    d_drag = d_attached * (induced - flat)
+    s2 = s * s
+    drag_coefficient = parasitic + s2 * drag
+    secant = lift * c + drag_coefficient
+    d_secant = d_lift * c - lift * s + 2.0 * s * c * drag + s2 * d_drag
+    chord = s2 * lift - c * drag_coefficient
+    d_chord = (
+        2.0 * s * c * lift
+        + s2 * d_lift
+        + s * drag_coefficient
+        - c * (2.0 * s * c * drag + s2 * d_drag)
+    )
+    return secant, s * d_secant, chord, d_chord
 
 
 def sail_normal_coefficient(p: DinghyParams, sin_attack: Array, xp: Any = np) -> Array:
@@ -141,6 +190,11 @@ def sail_force_linearised(
       angles: the trapezoidal boom update keeps a swing's energy with the exact stiffness,
       damps it with a larger one, and would feed it with a smaller one.
 
+    A cambered sail (``sail_model="cambered"``) adds the chordwise part of its lift and
+    drag (:func:`cambered_sail_coefficients`), toward the leading edge where lift beats
+    drag: it drives the boat but passes through the mast, so it does not turn the boom, and
+    its rate of change bounds ``c_n`` from above as well.
+
     ``k_boom`` is 0 by the lee (the jibing boom is left explicit). Where the slope is negative
     (in the stall) the physics itself destabilises; the implicit update then counts the
     slope's magnitude as damping, which only slows that divergence: a linearly implicit
@@ -171,7 +225,17 @@ def sail_force_linearised(
     k_boom = xp.where(luff_to_leech, p.sail_ce_aft_m * q_speed * speed, 0.0) * (
         secant + xp.abs(sin_d_secant)
     )
-    return pressure * normal_u, pressure * normal_v, normal, c_n, k_boom, speed
+    drive, side = pressure * normal_u, pressure * normal_v
+    if p.sail_model == "cambered":
+        # The chordwise force (toward the leading edge, upwind along the chord) acts
+        # through the mast and does not turn the boom. Its rate of change with the boat's
+        # velocity is at most q |v_a| (2 |C_T| + |dC_T/dalpha|): added to the damping
+        # bound, so the step stays linearly implicit.
+        _, _, chord, d_chord = cambered_sail_coefficients(p, sin_attack, cos_attack, xp)
+        pull = (q_speed * speed) * chord * xp.sign(wind_chord)
+        drive, side = drive + pull * normal_v, side - pull * normal_u
+        c_n = c_n + q_speed * (2.0 * xp.abs(chord) + xp.abs(d_chord))
+    return drive, side, normal, c_n, k_boom, speed
 
 
 def sail_force(
@@ -246,7 +310,9 @@ def hull_force_linearised(
     its derivatives ``(along, across, -d along/d surge, -d across/d sway)``.
 
     Ahead the hull is slippery, astern less so, with wave making past ``u_w``:
-    ``along = -1/2 rho CdA (1 + u^2/u_w^2) u |u|``. Sideways the centreboard resists
+    ``along = -1/2 rho CdA (1 + W) u |u|``, ``W = u^2/u_w^2``; a planing hull
+    (``hull_planing_speed_mps`` ``u_p > 0``) rises out of its wave, ``W = (u/u_w)^2 /
+    (1 + (u/u_p)^2)``, which levels off at ``(u_p/u_w)^2``. Sideways the centreboard resists
     strongly (foil lift ~ ``u * v`` while moving ahead, plus quadratic drag of the hull):
     ``across = -(k |u| + 1/2 rho CdA_side |v|) v``, so the boat drifts (leeway) only a
     little. The derivatives (>= 0) are the damping rates :func:`substep` integrates
@@ -255,12 +321,24 @@ def hull_force_linearised(
     ahead_minus_astern, astern, inv_wave_speed_sq, side = p._hull
     speed_u = xp.abs(surge)
     drag_u = (astern + xp.where(surge >= 0.0, ahead_minus_astern, 0.0 * surge)) * speed_u
-    wave = surge * surge * inv_wave_speed_sq
+    surge_sq = surge * surge
+    wave = surge_sq * inv_wave_speed_sq
     keel = p.keel_lift_slope * speed_u
     drag_v = side * xp.abs(sway)
-    along = -drag_u * (1.0 + wave) * surge
     across = -(keel + drag_v) * sway
-    return along, across, drag_u * (2.0 + 4.0 * wave), keel + 2.0 * drag_v
+    if not p._inv_planing_sq:  # a displacement hull: d(u^2 (1 + W))/du = u (2 + 4 W)
+        return (
+            -drag_u * (1.0 + wave) * surge,
+            across,
+            drag_u * (2.0 + 4.0 * wave),
+            keel + 2.0 * drag_v,
+        )
+    # Planing: W = (u/u_w)^2 / (1 + (u/u_p)^2) levels off, and
+    # d(u^2 (1 + W))/du = u (2 + 2 W + 2 W / (1 + (u/u_p)^2)).
+    inv_rise = 1.0 / (1.0 + surge_sq * p._inv_planing_sq)
+    wave = wave * inv_rise
+    rate = drag_u * (2.0 + 2.0 * wave * (1.0 + inv_rise))
+    return -drag_u * (1.0 + wave) * surge, across, rate, keel + 2.0 * drag_v
 
 
 def hull_force(p: DinghyParams, surge: Array, sway: Array, xp: Any = np) -> tuple[Array, Array]:

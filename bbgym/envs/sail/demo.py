@@ -88,12 +88,10 @@ def format_table(stats: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def demo(seed: int | None, frame_skip: int) -> tuple[str, str, dict[str, Any], list[np.ndarray]]:
+def demo(seed: int, frame_skip: int) -> tuple[str, str, dict[str, Any], list[np.ndarray]]:
     """The family's demo for ``bbgym demo``: ``(caption, statistics table, statistics,
-    frames)`` of one episode sailed by the simple helmsman (``seed`` None: seed 16)."""
-    from bbgym.envs.sail.spec import SHOWCASE  # (the spec imports this module lazily)
-
-    seed = SHOWCASE.seed if seed is None else seed
+    frames)`` of one episode sailed by the simple helmsman (the spec picks the seed when
+    the user gives none)."""
     stats, frames = sail_episode(seed, frame_skip)
     caption = f"{SPEC_ENV_ID}, seed {seed}, SimpleSailController"
     return caption, format_table(stats), stats, frames

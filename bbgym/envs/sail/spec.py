@@ -47,7 +47,7 @@ def _keyboard(env: Any, seed: int | None) -> Any:
 def _demo(seed: int | None, frame_skip: int) -> tuple:
     from bbgym.envs.sail.demo import demo
 
-    return demo(seed, frame_skip)
+    return demo(SHOWCASE.seed if seed is None else seed, frame_skip)
 
 
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
