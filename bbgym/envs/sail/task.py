@@ -21,7 +21,7 @@ from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 from bbgym.physics.common import wrap_angle
 from bbgym.physics.dinghy import DinghyParams, DinghyState, StepEvents, dinghy_moving
 from bbgym.physics.namespace import Array, floats
-from bbgym.physics.sailing import apparent_wind_body, split_along
+from bbgym.physics.sailing import apparent_wind_body, jib_angle, split_along
 from bbgym.physics.sailing_step import step_begin, step_end, step_substep
 from bbgym.physics.validation import (
     ANGLE_RAD,
@@ -33,15 +33,29 @@ from bbgym.physics.validation import (
     check_range,
     interval,
 )
+from bbgym.physics.water import (
+    Sea,
+    WaterParams,
+    current_velocity,
+    sea_at_start,
+    waves_at,
+)
 from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
 
 RESET_OPTIONS = ("wind_speed", "wind_from", "mark", "heading", "speed", "gusts")
+SEA_OPTIONS = ("current_speed", "current_set", "wave_direction", "wave_phase")
+"""Reset options of an env whose water moves (a current range or waves)."""
 OBS_SIZE = 16
+SEA_OBS_SIZE = 7
+"""Columns 16-22, there when the boat is a sloop or the water moves: the jib and the sea."""
 # Scales that bring each observation into roughly [-1, 1]; values beyond are clipped.
 WIND_SCALE_MPS = 15.0
 BOAT_SPEED_SCALE_MPS = 6.0
 YAW_RATE_SCALE_RPS = 1.5
 HEEL_RATE_SCALE_RPS = 2.0
+WAVE_OFF_WIND_RAD = math.radians(30.0)
+"""Waves raised by the wind run within this angle of its direction: an episode's waves
+travel downwind, turned by a uniform draw in [-30, 30] deg."""
 # Accepted intervals of the task's arguments and reset options (the documentation's
 # "Validation and errors" page shows them). The physics is stable for any boat at any of
 # these (tests/test_sailing_stability.py).
@@ -50,6 +64,8 @@ WIND_SPEED_MPS = interval(0.0, 25.0)
 INITIAL_SPEED_MPS = interval(0.0, 15.0)
 """Boat speed ahead at the start: at rest to a planing skiff's top speed."""
 MARK_RADIUS_M = interval(0.0, 100.0, low_open=True)
+CURRENT_SPEED_MPS = interval(0.0, 3.0)
+"""A tidal stream: still water to 6 knots, as in the fastest sounds dinghies race in."""
 MARK_DISTANCE_MAX_M = 5000.0
 CTRL_DT_S = interval(0.0, 5.0, low_open=True)
 SIM_DT_S = interval(1e-3, 0.25)
@@ -65,6 +81,12 @@ ARGUMENT_TABLE = (
         f"(mark_radius, {MARK_DISTANCE_MAX_M:g}] m",
     ),
     ("`options['wind_from']`, `options['heading']`", f"{ANGLE_RAD} rad"),
+    ("`water`", "a mapping of `WaterParams` fields (table below), or the dataclass"),
+    ("`current_speed_range`, `options['current_speed']`", f"{CURRENT_SPEED_MPS} m/s"),
+    (
+        "`options['current_set']`, `options['wave_direction']`, `options['wave_phase']`",
+        f"{ANGLE_RAD} rad (water that moves only)",
+    ),
     ("`sim_dt`", f"{SIM_DT_S} s"),
     ("`ctrl_dt`", f"{CTRL_DT_S} s, a whole multiple of `sim_dt`"),
     ("`progress_weight`, `arrival_bonus`, `capsize_penalty`, `time_penalty`", f"{REWARD_WEIGHT}"),
@@ -103,6 +125,10 @@ class SailState(NamedTuple):
     arrival: Array
     capsize: Array
     time: Array
+    sea: Sea
+    """The water: its current and waves (static zeros and no waves for still water)."""
+    jib_sheet: Array
+    """The jib sheet held over the last step (0 for a cat rig and at a reset)."""
 
 
 REWARD_TERMS = ("progress", "arrival", "capsize", "time")
@@ -137,14 +163,21 @@ class SailTask(TaskCore):
         arrival_bonus: float = 10.0,
         capsize_penalty: float = 10.0,
         time_penalty: float = 0.01,
+        water: Mapping[str, Any] | WaterParams | None = None,
+        current_speed_range: tuple[float, float] = (0.0, 0.0),
     ) -> None:
         self.params = build_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
-        if self.params.rig != "cat":
-            # The two actions are rudder and main sheet: a jib would have no sheet.
-            raise ValueError(
-                f"dinghy.rig must be 'cat' for this env (rudder and main sheet), got "
-                f"{self.params.rig!r}"
-            )
+        self.sloop = self.params.rig == "sloop"
+        self.water = build_params(WaterParams, "water", water)
+        self.current_speed_range = check_range(
+            "current_speed_range", current_speed_range, CURRENT_SPEED_MPS
+        )
+        # Still water (no current can be drawn, no waves) runs the first versions' physics
+        # bit for bit: no sea in the step, no extra draws, the 16 observations.
+        self.moving_water = self.current_speed_range[1] > 0.0 or bool(self.water.components)
+        self.extended = self.sloop or self.moving_water
+        if self.moving_water:
+            self.initial_noise_counts = (9 + len(self.water.components), 2)
         self.gust_params = build_params(GustParams, "gust_params", gust_params)
         self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
         self.gusts = check_bool("gusts", gusts)
@@ -173,8 +206,15 @@ class SailTask(TaskCore):
         # term stays within [-1, 1] per step.
         self.progress_scale_m = BOAT_SPEED_SCALE_MPS * self.ctrl_dt
 
-        self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
-        self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+        obs_size = OBS_SIZE + (SEA_OBS_SIZE if self.extended else 0)
+        self.observation_space = spaces.Box(-1.0, 1.0, (obs_size,), np.float32)
+        # rudder, main sheet, and a sloop's jib sheet
+        self.action_space = spaces.Box(-1.0, 1.0, (3 if self.sloop else 2,), np.float32)
+        amplitudes = [c.amplitude_m for c in self.water.components]
+        self._wave_scales = (
+            max(sum(amplitudes), 1e-9),
+            max(sum(c.amplitude_m * c.angular_frequency_rps for c in self.water.components), 1e-9),
+        )
         self.reward_range = (
             -(self.progress_weight + self.time_penalty + self.capsize_penalty),
             self.progress_weight + self.arrival_bonus,
@@ -183,7 +223,9 @@ class SailTask(TaskCore):
     # -- scenario ---------------------------------------------------------------------------
     def initial(self, noise: InitialNoise, options: Mapping[str, Any], xp: Any) -> SailState:
         """A fresh episode per env from its draws (``noise.uniform[0..5]``,
-        ``noise.normal[0..1]``); checked ``options`` pin any of the draws' results."""
+        ``noise.normal[0..1]``; in moving water also ``uniform[6..8]`` for the current's
+        drift and set and the waves' direction and ``uniform[9..]`` for each wave's phase);
+        checked ``options`` pin any of the draws' results."""
         draws = noise.uniform
         zero = 0.0 * draws[0]
 
@@ -211,6 +253,19 @@ class SailTask(TaskCore):
         )
         scenario = Scenario(wind_speed, wind_from, mark_x, mark_y, gusts)
         count = xp.zeros_like(zero, dtype=xp.int64)
+        if self.moving_water:
+            c_lo, c_hi = self.current_speed_range
+            drift = pinned("current_speed", c_lo + (c_hi - c_lo) * draws[6])
+            set_rad = pinned("current_set", 2.0 * math.pi * draws[7])
+            downwind = wind_from + math.pi + WAVE_OFF_WIND_RAD * (2.0 * draws[8] - 1.0)
+            waves = pinned("wave_direction", downwind)
+            # sea_at_start takes each phase as a fraction of a turn
+            turns = [pinned("wave_phase", 0.0) / (2.0 * math.pi) for _ in draws[9:]]
+            if "wave_phase" not in options:
+                turns = list(draws[9:])
+            sea = sea_at_start(self.water, drift, set_rad, waves, turns, xp)
+        else:
+            sea = Sea(zero, zero, zero, (), (), ())
         return SailState(
             boat=dinghy_moving(heading, speed, boom, xp),
             gust=gust_init(self.gust_params, noise.normal, gusts, xp),
@@ -225,20 +280,33 @@ class SailTask(TaskCore):
             arrival=zero,
             capsize=zero,
             time=zero,
+            sea=sea,
+            jib_sheet=zero,
         )
 
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
         """Validate ``reset`` options against the same intervals as the constructor's
         ranges; unknown keys raise ``TypeError``, bad values name ``options[key]``."""
-        checked = check_option_keys(options, RESET_OPTIONS)
+        checked = check_option_keys(options, RESET_OPTIONS + SEA_OPTIONS)
         accepted = {
             "wind_speed": WIND_SPEED_MPS,
             "speed": INITIAL_SPEED_MPS,
             "wind_from": ANGLE_RAD,
             "heading": ANGLE_RAD,
+            "current_speed": CURRENT_SPEED_MPS,
+            "current_set": ANGLE_RAD,
+            "wave_direction": ANGLE_RAD,
+            "wave_phase": ANGLE_RAD,
         }
         for key, value in checked.items():
             path = option_path(key)
+            if key in SEA_OPTIONS and not self.moving_water:
+                raise ValueError(
+                    f"{path} needs water that moves; this env's is still "
+                    f"(current_speed_range=(0, 0) and water.wave_amplitude_m=0)"
+                )
+            if key in ("wave_direction", "wave_phase") and not self.water.components:
+                raise ValueError(f"{path} needs waves; this env has water.wave_amplitude_m=0")
             if key == "gusts":
                 checked[key] = check_bool(path, value)
             elif key == "mark":
@@ -249,9 +317,9 @@ class SailTask(TaskCore):
 
     # -- dynamics ---------------------------------------------------------------------------
     def check_action(self, action: Any, batch: int) -> Any:
-        """Validate and clip actions to [-1, 1]: a ``(rudder, sheet)`` tuple of floats for one
-        env (``batch == 0``), a float64 ``(batch, 2)`` array for a batch. NaN/inf or a wrong
-        shape raise ``ValueError``."""
+        """Validate and clip actions to [-1, 1]: a ``(rudder, sheet[, jib sheet])`` tuple of
+        floats for one env (``batch == 0``), a float64 ``(batch, 2 or 3)`` array for a batch.
+        NaN/inf or a wrong shape raise ``ValueError``."""
         a = check_box_action(action, self.action_space.shape[0], batch)
         return tuple(a.tolist()) if batch == 0 else a
 
@@ -268,17 +336,24 @@ class SailTask(TaskCore):
     def begin(
         self, state: SailState, action: Any, noise: Any, xp: Any, record: bool = False
     ) -> tuple:
-        """Start a transition: hold rudder and sheet (actions in [-1, 1]: a ``(rudder,
-        sheet)`` pair of floats or a ``(batch, 2)`` array) and the wind for ``ctrl_dt``;
-        ``noise`` (a pair of standard normals per env) moves the gusts at the end."""
+        """Start a transition: hold rudder and sheets (actions in [-1, 1]: a ``(rudder,
+        sheet[, jib sheet])`` tuple of floats or a ``(batch, 2 or 3)`` array) and the wind
+        for ``ctrl_dt``; ``noise`` (a pair of standard normals per env) moves the gusts at
+        the end."""
         if xp is floats:
-            rudder_action, sheet_action = action
+            rudder_action, sheet_action = action[0], action[1]
         else:
             rudder_action, sheet_action = action[:, 0], action[:, 1]
+        jib_sheet = None
+        if self.sloop:
+            jib_sheet = action[2] if xp is floats else action[:, 2]
         rudder = rudder_action * self.params.rudder_max_rad
         sheet = 0.5 * (sheet_action + 1.0)
         wind_x, wind_y, _, _ = self.wind(state, xp)
-        carry = step_begin(self.params, state.boat, rudder, sheet, wind_x, wind_y, xp)
+        sea = state.sea if self.moving_water else None
+        carry = step_begin(
+            self.params, state.boat, rudder, sheet, wind_x, wind_y, xp, sea, jib_sheet
+        )
         return (carry, noise[0], noise[1])
 
     @property
@@ -292,7 +367,7 @@ class SailTask(TaskCore):
         """``substeps_per_chunk`` physics substeps."""
         boat = carry[0]
         for _ in range(self.substeps_per_chunk):
-            boat = step_substep(self.params, boat, self.sim_dt, xp)
+            boat = step_substep(self.params, boat, self.sim_dt, xp, self.water)
         return (boat, carry[1], carry[2])
 
     def end(self, state: SailState, carry: tuple, xp: Any) -> tuple[SailState, StepEvents]:
@@ -321,6 +396,8 @@ class SailTask(TaskCore):
             arrival=xp.where(arrived, self.arrival_bonus + 0.0 * progress, 0.0),
             capsize=xp.where(capsized, -self.capsize_penalty + 0.0 * progress, 0.0),
             time=0.0 * progress - self.time_penalty,  # same shape as the others
+            sea=carry[0].sea if self.moving_water else state.sea,
+            jib_sheet=state.jib_sheet if carry[0].jib_sheet is None else carry[0].jib_sheet,
         )
         return new, events
 
@@ -341,7 +418,7 @@ class SailTask(TaskCore):
         surge, sway = split_along(boat.vx_mps, boat.vy_mps, cos_h, sin_h)
         dx, dy = sc.mark_x_m - boat.x_m, sc.mark_y_m - boat.y_m
         distance = xp.hypot(dx, dy)
-        return {
+        m = {
             "surge": surge,
             "sway": sway,
             "boat_speed": xp.hypot(boat.vx_mps, boat.vy_mps),
@@ -356,11 +433,32 @@ class SailTask(TaskCore):
             # Drift angle: positive to port of the course steered.
             "leeway": xp.atan2(sway, xp.maximum(xp.abs(surge), 1e-9)) * xp.sign(surge),
         }
+        if not self.extended:
+            return m
+        zero = 0.0 * surge
+        m["jib_angle"] = (
+            jib_angle(self.params, state.jib_sheet, aw_u, aw_v, xp) if self.sloop else zero
+        )
+        water_x, water_y, heave, height = zero, zero, zero, zero
+        if self.moving_water:
+            water_x, water_y = current_velocity(self.water, state.sea, boat.x_m, boat.y_m, xp)
+        if self.water.components:
+            wave_x, wave_y, heave, height = waves_at(self.water, state.sea, boat.x_m, boat.y_m, xp)
+            water_x, water_y = water_x + wave_x, water_y + wave_y
+            # Where the main wave comes from, relative to the bow (+ = from port).
+            from_rad = xp.atan2(-state.sea.wave_y[0], -state.sea.wave_x[0])
+            m["waves_from_angle"] = wrap_angle(from_rad - boat.heading_rad, xp)
+        else:
+            m["waves_from_angle"] = zero
+        m["water_velocity"] = (water_x, water_y)
+        m["water_surge"], m["water_sway"] = split_along(water_x, water_y, cos_h, sin_h)
+        m["wave_height"], m["wave_heave"] = height, heave
+        return m
 
     def observation(self, state: SailState, m: dict, xp: Any) -> tuple:
-        """The 16 observation values (unclipped), in the order of the env's table."""
+        """The 16 (or 23) observation values (unclipped), in the order of the env's table."""
         p, boat = self.params, state.boat
-        return (
+        columns = (
             xp.cos(m["apparent_wind_angle"]),
             xp.sin(m["apparent_wind_angle"]),
             m["apparent_wind_speed"] / WIND_SCALE_MPS,
@@ -378,11 +476,24 @@ class SailTask(TaskCore):
             m["distance_to_mark"] / (2.0 * self.mark_distance_range[1]),
             m["vmg_to_mark"] / BOAT_SPEED_SCALE_MPS,
         )
+        if not self.extended:
+            return columns
+        waves = bool(self.water.components)
+        height_scale, heave_scale = self._wave_scales
+        return columns + (
+            m["jib_angle"] / p.jib_sheet_max_rad,
+            m["water_surge"] / BOAT_SPEED_SCALE_MPS,
+            m["water_sway"] / BOAT_SPEED_SCALE_MPS,
+            m["wave_height"] / height_scale,
+            m["wave_heave"] / heave_scale,
+            xp.cos(m["waves_from_angle"]) if waves else m["waves_from_angle"],
+            xp.sin(m["waves_from_angle"]),
+        )
 
     def info(self, state: SailState, m: dict, xp: Any) -> dict[str, Any]:
         """Physical quantities: Python scalars for one env, arrays ``(batch,)`` for a batch."""
         boat, sc = state.boat, state.scenario
-        return {
+        info = {
             "position": stack_pair(boat.x_m, boat.y_m, xp),
             "velocity": stack_pair(boat.vx_mps, boat.vy_mps, xp),
             "boat_speed": m["boat_speed"],
@@ -406,3 +517,8 @@ class SailTask(TaskCore):
             "is_success": state.arrived,
             "reward_terms": {k: getattr(state, k) for k in REWARD_TERMS},
         }
+        if self.extended:
+            info["jib_angle"] = m["jib_angle"]
+            info["water_velocity"] = stack_pair(*m["water_velocity"], xp)
+            info["wave_height"] = m["wave_height"]
+        return info
