@@ -107,6 +107,9 @@ def sample_params(draw: Draw, cls: type, prefix: str) -> dict[str, Any]:
         lo, hi = accepted.low, accepted.high
         if math.isinf(lo) or math.isinf(hi):
             continue
+        if f.metadata.get("integer"):
+            values[f.name] = draw_int(draw, f"{prefix}.{f.name}", int(lo), int(hi))
+            continue
         values[f.name] = draw(f"{prefix}.{f.name}", accepted, lo > 0.0 or accepted.low_open)
     order = {
         DinghyParams: (

@@ -88,7 +88,8 @@ def main() -> None:
         value = objective(params, coarse=not args.fine)
         if value < best[0]:
             best[:] = [value, params]
-            print(f"{time.perf_counter() - began:7.0f} s  cost {value:8.3f}", flush=True)
+            changed = {name: getattr(params, name) for name in fitted}
+            print(f"{time.perf_counter() - began:7.0f} s  cost {value:8.3f}  {changed}", flush=True)
         return value
 
     minimize(

@@ -138,3 +138,25 @@ def test_planing_hull_levels_its_wave_drag_off():
     u_w2 = DinghyParams().hull_wave_speed_mps ** 2
     np.testing.assert_allclose(-displacement[0], skin * (1.0 + surge**2 / u_w2), rtol=1e-12)
     assert (-along <= -displacement[0] + 1e-9).all()
+
+
+@pytest.mark.parametrize("planing_mps", [1e-200, 1e-7, 1e-3])
+def test_a_hull_that_planes_at_once_has_only_skin_drag_and_stays_finite(planing_mps):
+    """u_p -> 0: the wave drag levels off at (u_p / u_w)^2 of the skin drag, nothing. Tiny
+    u_p once divided by zero (found by the fuzzer); float32 must not make inf * 0 at rest."""
+    torch = pytest.importorskip("torch")
+    p = DinghyParams(hull_planing_speed_mps=planing_mps)
+    surge = np.array([0.0, 0.5, 3.0, 12.0])
+    along, _, rate, _ = hull_force_linearised(p, surge, 0.0 * surge)
+    skin = 0.5 * WATER_DENSITY_KGM3 * p.hull_drag_forward * surge**2
+    # W <= (u_p / u_w)^2: 2e-7 of the skin drag at u_p = 1 mm/s, below 1e-11 under 1e-6 m/s
+    np.testing.assert_allclose(
+        -along, skin, rtol=(planing_mps / p.hull_wave_speed_mps) ** 2 + 1e-11
+    )
+    assert np.isfinite(rate).all()
+    from array_api_compat import torch as xp
+
+    t = torch.tensor(surge, dtype=torch.float32)
+    along32, _, rate32, _ = hull_force_linearised(p, t, 0.0 * t, xp)
+    assert torch.isfinite(along32).all() and torch.isfinite(rate32).all()
+    np.testing.assert_allclose(-along32.numpy(), skin, rtol=1e-5)

@@ -285,9 +285,13 @@ class DinghyParams:
                 1.0 / (self.hull_wave_speed_mps * self.hull_wave_speed_mps),
                 half_rho * self.hull_drag_sideways,
             ),
-            # 1 / u_p^2 (0: no planing)
+            # 1 / u_p^2 (0: no planing). Below 1e-6 m/s the wave drag is under 1e-11 of the
+            # skin drag at any speed, so u_p is taken as 1e-6 there: 1 / u_p^2 stays finite
+            # in float32 (1e12), and u^2 / u_p^2 never makes inf * 0 at rest.
             "_inv_planing_sq": (
-                1.0 / self.hull_planing_speed_mps**2 if self.hull_planing_speed_mps else 0.0
+                1.0 / max(self.hull_planing_speed_mps, 1e-6) ** 2
+                if self.hull_planing_speed_mps
+                else 0.0
             ),
             # Cambered model: attached lift slope a = C_L / sin(alpha) and k a^2.
             "_cambered": (

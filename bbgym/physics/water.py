@@ -56,7 +56,7 @@ import numpy as np
 
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import accepted_interval, check_fields, interval, param
 
 MAX_WAVE_STEEPNESS = 0.6
 """The largest accepted ``sum_i k_i A_i``: real waves break near 0.44, the Gerstner surface
@@ -122,7 +122,7 @@ class WaterParams:
         components = _components(self)
         steepness = sum(c.amplitude_m * c.wavenumber_rad_per_m for c in components)
         if steepness > MAX_WAVE_STEEPNESS:
-            most = self.wave_amplitude_m * MAX_WAVE_STEEPNESS / steepness
+            most = max_wave_amplitude(self.wavelength_m, self.wave_components)
             raise ValueError(
                 f"WaterParams.wave_amplitude_m must be at most {most:.4g} m with "
                 f"wavelength_m={self.wavelength_m!r} and wave_components="
@@ -143,6 +143,17 @@ class WaterParams:
     def replace(self, **changes: object) -> WaterParams:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
+
+
+def max_wave_amplitude(wavelength_m: float, wave_components: int) -> float:
+    """The largest accepted ``wave_amplitude_m`` for these wavelength and components: the
+    steepness ``sum_i k_i A_i`` grows in proportion to the amplitude and may reach
+    :data:`MAX_WAVE_STEEPNESS`; the field's own interval caps long waves at 5 m."""
+    unit = WaterParams(wavelength_m=wavelength_m, wave_components=wave_components)
+    per_metre = sum(c.wavenumber_rad_per_m for c in _components(unit)) / math.sqrt(wave_components)
+    return min(
+        MAX_WAVE_STEEPNESS / per_metre, accepted_interval(WaterParams, "wave_amplitude_m").high
+    )
 
 
 def _components(p: WaterParams) -> tuple[WaveComponent, ...]:

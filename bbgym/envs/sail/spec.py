@@ -6,6 +6,7 @@ from typing import Any
 
 from bbgym.envs.sail.task import ARGUMENT_TABLE
 from bbgym.physics.dinghy import DinghyParams
+from bbgym.physics.water import WaterParams
 from bbgym.physics.wind import GustParams
 from bbgym.spec import EnvSpec, FuzzSpec, Showcase, Version, register_spec
 
@@ -55,16 +56,25 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     their cheap ends (:data:`bbgym.fuzz.COST_CAPS`)."""
     from bbgym.envs.sail import task
     from bbgym.fuzz import COST_CAPS, draw_flag, draw_int, draw_pair, sample_params
-    from bbgym.physics.dinghy import SAIL_MODELS
+    from bbgym.physics.dinghy import RIGS, SAIL_MODELS
     from bbgym.physics.validation import interval
+    from bbgym.physics.water import WaterParams, max_wave_amplitude
 
     sim_dt = draw("sim_dt", COST_CAPS["sail_sim_dt"], True)
     substeps = draw_int(draw, "substeps", 1, int(COST_CAPS["sail_substeps"].high))
     mark_radius = draw("mark_radius", task.MARK_RADIUS_M, True)
     far = interval(mark_radius, mark_radius + COST_CAPS["mark_distance"].high, low_open=True)
+    dinghy = sample_params(draw, DinghyParams, "dinghy")
+    dinghy["rig"] = RIGS[draw_int(draw, "dinghy.rig", 0, len(RIGS) - 1)]
+    water = sample_params(draw, WaterParams, "water")
+    # Waves as steep as accepted at most: the amplitude as a share of that.
+    most = max_wave_amplitude(water["wavelength_m"], water["wave_components"])
+    water["wave_amplitude_m"] = draw("water.wave_amplitude_m", interval(0.0, most), False)
     kwargs = {
         "sail_model": SAIL_MODELS[draw_int(draw, "sail_model", 0, len(SAIL_MODELS) - 1)],
-        "dinghy": sample_params(draw, DinghyParams, "dinghy"),
+        "dinghy": dinghy,
+        "water": water,
+        "current_speed_range": draw_pair(draw, "current_speed_range", task.CURRENT_SPEED_MPS),
         "gust_params": sample_params(draw, GustParams, "gust_params"),
         "wind_speed_range": draw_pair(draw, "wind_speed_range", task.WIND_SPEED_MPS),
         "gusts": draw_flag(draw, "gusts"),
@@ -94,7 +104,15 @@ def _sample_options(sail_task: Any, draw: Any) -> dict[str, Any] | None:
     for key, accepted in (("wind_speed", task.WIND_SPEED_MPS), ("speed", task.INITIAL_SPEED_MPS)):
         if maybe(key):
             options[key] = draw(f"options[{key!r}]", accepted, False)
-    for key in ("wind_from", "heading"):
+    angles = ["wind_from", "heading"]
+    if sail_task.moving_water:
+        if maybe("current_speed"):
+            speed = draw("options['current_speed']", task.CURRENT_SPEED_MPS, False)
+            options["current_speed"] = speed
+        angles.append("current_set")
+    if sail_task.water.components:
+        angles += ["wave_direction", "wave_phase"]
+    for key in angles:
         if maybe(key):
             options[key] = draw(f"options[{key!r}]", interval(-10.0, 10.0), False)
     if maybe("mark"):
@@ -128,7 +146,8 @@ SPEC = register_spec(
                 preset="beachball_sail_v1",
             ),
         ),
-        param_groups={"dinghy": DinghyParams, "gust_params": GustParams},
+        param_groups={"dinghy": DinghyParams, "gust_params": GustParams, "water": WaterParams},
+        integer_arguments=("water.wave_components",),
         policies={"scripted": _scripted, "simple": _simple},
         timed_by_oracle=True,
         outcome=_outcome,
