@@ -19,9 +19,13 @@ from gymnasium.error import DependencyNotInstalled  # noqa: E402
 
 from bbgym.envs.sail import view as sail_view  # noqa: E402
 from bbgym.envs.sail.view import (  # noqa: E402
+    CREST_COLOR,
     CREW_COLOR,
+    CURRENT_COLOR,
+    JIB_FILL_COLOR,
     MARK_COLOR,
     SAIL_FILL_COLOR,
+    TROUGH_COLOR,
     SailRenderer,
     SailScene,
     body_to_world,
@@ -275,3 +279,77 @@ def test_the_wind_label_stays_legible_over_the_marks_ring(renderer: SailRenderer
     assert np.array_equal(ring[box], clear[box])  # not a dash in the label
     # The ring is there, just not over the label: it differs from the clear water next to it.
     assert not np.array_equal(ring[top + 30 : top + 60], clear[top + 30 : top + 60])
+
+
+def test_the_jib_is_drawn_on_its_side_of_the_bow(renderer: SailRenderer) -> None:
+    """Heading east, wind from the south-east quarter (from starboard): the jib trimmed to
+    port lies north of the centreline, backed to starboard south of it; a cat rig has none."""
+    box = 60
+    top, left = HEIGHT // 2 - box, WIDTH // 2 - box
+    centre_rows = []
+    for angle in (0.25, -0.25):
+        scene = make_scene(
+            jib_angle_rad=angle, apparent_wind_angle_rad=math.radians(-40.0), boom_angle_rad=0.3
+        )
+        img = renderer.render(scene)
+        mask = color_mask(img, JIB_FILL_COLOR, tol=8)[top : top + 2 * box, left : left + 2 * box]
+        rows, cols = np.nonzero(mask)
+        assert rows.size > 5
+        assert (cols + left - WIDTH / 2).mean() / PPM > 0.8  # ahead of the mast, by the bow
+        centre_rows.append((rows + top).mean())
+    assert centre_rows[0] < HEIGHT / 2 < centre_rows[1]  # port is up on the screen
+    assert not color_mask(renderer.render(make_scene()), JIB_FILL_COLOR, tol=8).any()
+
+
+def test_current_arrows_are_fixed_to_the_world(renderer: SailRenderer) -> None:
+    arrows = tuple(((x, y), (0.5, 0.0)) for x in (-16.0, 0.0, 16.0) for y in (-12.0, 12.0))
+    img = renderer.render(make_scene(current_arrows=arrows, current_mps=0.5))
+    teal = color_mask(img, CURRENT_COLOR, tol=10)
+    assert teal.sum() > 6 * 20  # six arrows, each 3 m long (0.5 m/s for 6 s)
+    # the boat moves 4 m east: the arrows move 4 m west on the screen
+    moved = color_mask(
+        renderer.render(make_scene(current_arrows=arrows, current_mps=0.5, position_m=(4.0, 0.0))),
+        CURRENT_COLOR,
+        tol=10,
+    )
+    shift = np.nonzero(teal)[1].mean() - np.nonzero(moved)[1].mean()
+    assert shift == pytest.approx(4.0 * PPM, abs=2.0)
+    assert not color_mask(renderer.render(make_scene()), CURRENT_COLOR, tol=10).any()
+
+
+@pytest.mark.parametrize(("height", "color"), [(1.0, CREST_COLOR), (-1.0, TROUGH_COLOR)])
+def test_wave_crests_are_light_and_troughs_dark(renderer: SailRenderer, height, color) -> None:
+    rows = tuple(tuple(height for _ in range(60)) for _ in range(50))
+    img = renderer.render(make_scene(wave_cells=((-30.0, -25.0), rows), mark_m=(500.0, 0.0)))
+    # a patch of open water, clear of the boat and the panels
+    patch = img[HEIGHT // 2 + 60 : HEIGHT // 2 + 90, WIDTH // 2 - 200 : WIDTH // 2 - 150]
+    assert color_mask(patch, color, tol=3).mean() > 0.9
+
+
+def test_the_v2_scene_carries_the_jib_current_and_waves() -> None:
+    from bbgym.envs.sail import BeachballSailEnv
+    from bbgym.envs.sail.scene import describe_scene
+    from bbgym.physics.calibration import calibrated_sloop
+
+    water = {"wave_amplitude_m": 0.2, "wavelength_m": 12.0}
+    env = BeachballSailEnv(dinghy=calibrated_sloop(), water=water, current_speed_range=(0.3, 0.3))
+    env.reset(seed=0, options={"wave_direction": 0.0, "wave_phase": 0.0})
+    scene = describe_scene(env.task, env.state, (), np.zeros(3))
+    assert scene.jib_angle_rad is not None and scene.current_mps == pytest.approx(0.3)
+    assert all(math.hypot(*v) == pytest.approx(0.3) for _, v in scene.current_arrows)
+    (x0, _), rows = scene.wave_cells
+    # One wave travelling east with a crest at x = 0 at t = 0, the same in every row: a
+    # trochoid, the particle from a at x = a - A sin(k a) and as high as A cos(k a) (sharper
+    # crests and flatter troughs than cos(k x)).
+    k, amplitude = 2 * math.pi / 12.0, 0.2
+    xs = x0 + np.arange(len(rows[0]))
+    a = xs.copy()
+    for _ in range(60):
+        a = xs + amplitude * np.sin(k * a)
+    np.testing.assert_allclose(rows[0], np.cos(k * a), atol=1e-6)
+    assert np.abs(np.asarray(rows[0]) - np.cos(k * xs)).max() > 0.05
+    np.testing.assert_allclose(rows[-1], rows[0], atol=1e-12)
+    still = BeachballSailEnv()
+    still.reset(seed=0)
+    scene = describe_scene(still.task, still.state, (), np.zeros(2))
+    assert scene.jib_angle_rad is None and scene.wave_cells is None and scene.current_arrows == ()

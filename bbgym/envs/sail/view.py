@@ -59,6 +59,11 @@ TEXT_COLOR: Color = (245, 245, 245)
 WARN_TEXT_COLOR: Color = (255, 90, 80)
 PANEL_COLOR: Color = (16, 52, 88)
 FLY_COLOR: Color = (255, 232, 70)  # masthead wind indicator; not red, to keep it unlike the mark
+JIB_FILL_COLOR: Color = (242, 214, 150)  # straw: told apart from the main and the hull
+JIB_EDGE_COLOR: Color = (150, 110, 60)
+CURRENT_COLOR: Color = (120, 230, 220)  # teal arrows: the water's own motion
+CREST_COLOR: Color = (92, 156, 206)  # a wave's crest is lighter than the mean water...
+TROUGH_COLOR: Color = (14, 62, 112)  # ...and its trough darker
 
 # --- geometry (metres unless noted) ----------------------------------------------------------
 GRID_SPACING_M = 5.0  # world-fixed dots: they scroll past and make the boat's motion visible
@@ -76,6 +81,11 @@ SAIL_SEGMENTS = 16
 LUFF_ZIGZAGS = 9
 LUFF_AMPLITUDE_M = 0.2
 MIN_HEEL_BEAM_SCALE = 0.3  # never let heel squash the hull to a line
+JIB_LUFF_SIN = math.sin(math.radians(4.0))  # the jib luffs with the flow this close along it
+CURRENT_ARROW_SPACING_M = 8.0  # world-fixed arrows, so they scroll past like the grid
+CURRENT_ARROW_M_PER_MPS = 6.0  # an arrow is the water's travel in 6 s
+CURRENT_ARROW_MAX_M = 6.0
+WAVE_CELL_M = 1.0  # the sea's height is shaded on a world-fixed grid of 1 m cells
 
 # --- screen layout (pixels) ------------------------------------------------------------------
 EDGE_ARROW_MARGIN_PX = EDGE_MARKER_MARGIN_PX  # the shared off-screen marker (base.py)
@@ -123,6 +133,14 @@ class SailScene:
     boom_length_m: float = 2.7
     jibes: int = 0
     tacks: int = 0
+    jib_angle_rad: float | None = None  # a sloop's jib, like the boom (+ = clew to port)
+    jib_tack_body_m: Vec2 = (2.0, 0.0)  # the jib's tack (forestay foot), body frame
+    jib_foot_m: float = 1.5
+    current_arrows: tuple[tuple[Vec2, Vec2], ...] = ()  # (world point, water velocity m/s)
+    current_mps: float | None = None  # the current's speed at the boat (None: still water)
+    wave_cells: tuple[Vec2, tuple[tuple[float, ...], ...]] | None = None
+    """The sea's height over the view: the world centre of the first cell and rows (along
+    y) of heights over the sea's amplitude, in [-1, 1], on a grid of ``WAVE_CELL_M``."""
 
 
 # --- pure geometry helpers -------------------------------------------------------------------
@@ -271,7 +289,9 @@ class SailRenderer(PygameRenderer[SailScene]):
     def _draw_scene(self, scene: SailScene) -> None:
         surf = self._surface
         surf.fill(WATER_COLOR)
+        self._draw_waves(scene)
         self._draw_grid(scene)
+        self._draw_current(scene)
         self._draw_mark(scene)
         self._draw_wake(scene)
         if scene.capsized:
@@ -299,6 +319,55 @@ class SailRenderer(PygameRenderer[SailScene]):
                 p = self._to_screen(scene, (i * GRID_SPACING_M, j * GRID_SPACING_M))
                 major = i % GRID_MAJOR_EVERY == 0 and j % GRID_MAJOR_EVERY == 0
                 draw.circle(self._surface, GRID_DOT_COLOR, p, 2 if major else 1)
+
+    def _draw_waves(self, scene: SailScene) -> None:
+        """The sea's surface height as shading: crests light, troughs dark. The heights sit
+        on a grid fixed to the world, so the crests move over it as the waves travel; the
+        grid is drawn as a small image scaled up smoothly (no blocks)."""
+        if scene.wave_cells is None:
+            return
+        import numpy as np
+
+        (x0, y0), rows = scene.wave_cells
+        height = np.clip(np.asarray(rows, dtype=np.float64), -1.0, 1.0)[::-1]  # north on top
+        toward = np.where(height[..., None] > 0.0, CREST_COLOR, TROUGH_COLOR)
+        weight = np.abs(height)[..., None]
+        rgb = (1.0 - weight) * np.asarray(WATER_COLOR) + weight * toward
+        pg = self._pg
+        image = pg.surfarray.make_surface(
+            np.ascontiguousarray(rgb.transpose(1, 0, 2)).astype(np.uint8)
+        )
+        n_rows, n_cols = height.shape
+        size = (
+            round(n_cols * WAVE_CELL_M * self.pixels_per_meter),
+            round(n_rows * WAVE_CELL_M * self.pixels_per_meter),
+        )
+        half = 0.5 * WAVE_CELL_M
+        top_left = self._to_screen(scene, (x0 - half, y0 + (n_rows - 1) * WAVE_CELL_M + half))
+        self._surface.blit(
+            pg.transform.smoothscale(image, size), (round(top_left[0]), round(top_left[1]))
+        )
+
+    def _draw_current(self, scene: SailScene) -> None:
+        """Arrows fixed to the world, each the water's travel over a few seconds."""
+        draw = self._pg.draw
+        for point, (vx, vy) in scene.current_arrows:
+            speed = math.hypot(vx, vy)
+            if speed < 1e-3:
+                continue
+            length = min(speed * CURRENT_ARROW_M_PER_MPS, CURRENT_ARROW_MAX_M)
+            ux, uy = vx / speed, vy / speed
+            tail = self._to_screen(
+                scene, (point[0] - 0.5 * length * ux, point[1] - 0.5 * length * uy)
+            )
+            tip = self._to_screen(
+                scene, (point[0] + 0.5 * length * ux, point[1] + 0.5 * length * uy)
+            )
+            draw.line(self._surface, CURRENT_COLOR, tail, tip, 2)
+            sx, sy = ux, -uy  # screen y points down
+            base = (tip[0] - 7 * sx, tip[1] - 7 * sy)
+            head = [tip, (base[0] - 4 * sy, base[1] + 4 * sx), (base[0] + 4 * sy, base[1] - 4 * sx)]
+            draw.polygon(self._surface, CURRENT_COLOR, head)
 
     def _draw_wake(self, scene: SailScene) -> None:
         """Line through past positions, fading into the water with age."""
@@ -475,11 +544,35 @@ class SailRenderer(PygameRenderer[SailScene]):
             pg.draw.lines(self._surface, SAIL_LINE_COLOR, False, curve, 2)
             pg.draw.lines(self._surface, SAIL_EDGE_COLOR, False, curve, 1)
         pg.draw.circle(self._surface, SPAR_COLOR, mast_px, self._px(0.12, minimum=3))
+        if scene.jib_angle_rad is not None:
+            self._draw_jib(scene, scene.jib_angle_rad)
 
         # Masthead fly: points where the apparent wind blows to (downwind of the mast).
         awa = scene.apparent_wind_angle_rad
         fly_end = (mast[0] - FLY_LENGTH_M * math.cos(awa), mast[1] - FLY_LENGTH_M * math.sin(awa))
         pg.draw.line(self._surface, FLY_COLOR, mast_px, self._body_to_screen(scene, fly_end), 1)
+
+    def _draw_jib(self, scene: SailScene, angle_rad: float) -> None:
+        """The jib from its tack: bellied to leeward when the flow meets it at an angle
+        (trimmed, or backed), a zig-zag when it lies along the flow (luffing)."""
+        pg = self._pg
+        awa = scene.apparent_wind_angle_rad
+        # where the air goes, body frame, against the jib's aft-pointing chord
+        cross = math.cos(angle_rad) * math.sin(awa) - math.sin(angle_rad) * math.cos(awa)
+        tack = scene.jib_tack_body_m
+        if abs(cross) < JIB_LUFF_SIN or scene.apparent_wind_speed_mps < 0.5:
+            flap = luffing_sail_body(tack, angle_rad, scene.jib_foot_m, scene.time_s + 0.37)
+            points = self._body_points(scene, flap)
+            pg.draw.lines(self._surface, JIB_FILL_COLOR, False, points, 3)
+            pg.draw.lines(self._surface, JIB_EDGE_COLOR, False, points, 1)
+            return
+        side = -1.0 if awa > 0 else 1.0  # the belly goes where the air goes: to leeward
+        depth = 0.1 * scene.jib_foot_m
+        curve = self._body_points(
+            scene, sail_curve_body(tack, angle_rad, scene.jib_foot_m, depth, side)
+        )
+        pg.draw.polygon(self._surface, JIB_FILL_COLOR, curve)
+        pg.draw.lines(self._surface, JIB_EDGE_COLOR, False, curve, 2)
 
     def _draw_capsized_boat(self, scene: SailScene) -> None:
         """Boat on its side: mast and sail lie flat in the water on the low side."""
@@ -570,6 +663,8 @@ class SailRenderer(PygameRenderer[SailScene]):
             (f"jibes {scene.jibes}  tacks {scene.tacks}", TEXT_COLOR),
             (f"mark {distance:6.0f} m", TEXT_COLOR),
         ]
+        if scene.current_mps is not None:
+            lines.append((f"current {scene.current_mps:4.2f} m/s", TEXT_COLOR))
         if scene.capsized:
             lines.append(("CAPSIZED", WARN_TEXT_COLOR))
         self._draw_text_panel(lines, (4, 4), PANEL_COLOR)
