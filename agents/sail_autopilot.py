@@ -21,6 +21,12 @@ the heel beyond ``ease_heel_deg`` when a gust heels the boat, to stay upright.
 
 **Rudder.** Proportional to the heading error with yaw-rate damping, reversed while the
 boat moves astern (in irons after a slow tack the rudder acts the other way).
+
+**Jib** (a sloop, BeachballSail-v2). Trimmed with the main on the leeward sheet, as the
+polar sails it: pulled as far as the main is in. Stopped head to wind (the apparent wind
+within ``irons_awa_deg`` of the bow, slower than ``irons_speed_mps``) the rudder cannot
+turn the boat, so the autopilot backs the jib on the side the wind should come from on
+the new course and lets the main out: the wind pushes the bow round (seed §9).
 """
 
 from __future__ import annotations
@@ -46,12 +52,14 @@ from .sail_simple import (
     OBS_TWA_COS,
     OBS_TWA_SIN,
     as_batch,
+    trimmed_jib,
 )
 
 # More observation indices and scales (see the BeachballSail-v0 docstring).
 OBS_TWS = 5
 OBS_YAW_RATE = 8
 WIND_SCALE_MPS = 15.0
+BOAT_SPEED_SCALE_MPS = 6.0
 YAW_RATE_SCALE_RPS = 1.5
 
 DEFAULT_WIND_SPEEDS_MPS = (1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 9.0, 11.0)
@@ -195,6 +203,8 @@ class VMGAutopilot:
         rudder_gain: rudder per radian of heading error.
         yaw_damping: rudder per rad/s of yaw rate (stops weaving after a tack).
         ease_heel_deg, ease_gain: beyond this heel, ease the boom by ``gain x excess``.
+        irons_awa_deg, irons_speed_mps: a sloop this close to the wind and this slow is in
+            irons, and backs its jib.
     """
 
     def __init__(
@@ -206,6 +216,8 @@ class VMGAutopilot:
         yaw_damping: float = 0.5,
         ease_heel_deg: float = 25.0,
         ease_gain: float = 3.0,
+        irons_awa_deg: float = 30.0,
+        irons_speed_mps: float = 0.8,
     ) -> None:
         self.params = dinghy or DinghyParams()
         self.tables = sailing_tables(self.params, tuple(float(w) for w in wind_speeds_mps))
@@ -214,7 +226,11 @@ class VMGAutopilot:
         self.yaw_damping = float(yaw_damping)
         self.ease_heel = math.radians(ease_heel_deg)
         self.ease_gain = float(ease_gain)
+        self.irons_awa = math.radians(irons_awa_deg)
+        self.irons_speed = float(irons_speed_mps)
+        self.sloop = self.params.rig == "sloop"
         self._side = np.zeros(0)  # +1 / -1 per env: the remembered tack or gybe, 0 = none
+        self._backing = np.zeros(0, dtype=bool)  # a sloop backing its jib, per env
 
     @classmethod
     def for_env(cls, env: Any, **kwargs: Any) -> VMGAutopilot:
@@ -225,15 +241,44 @@ class VMGAutopilot:
         """Forget the tack/gybe of every env, or only of ``index``."""
         if index is None:
             self._side = np.zeros(0)
-        elif self._side.size:
-            self._side[index] = 0.0
+            self._backing = np.zeros(0, dtype=bool)
+        else:
+            if self._side.size:
+                self._side[index] = 0.0
+            if self._backing.size:
+                self._backing[index] = False
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
         o, single = as_batch(obs)
         wind = o[:, OBS_TWS] * WIND_SCALE_MPS
-        actions = np.stack([self._rudder(o, wind), self._sheet(o, wind)], axis=1)
-        actions = actions.astype(np.float32)
+        rudder, course = self._rudder(o, wind)
+        sheet = self._sheet(o, wind)
+        columns = [rudder, sheet]
+        if self.sloop:
+            columns = [rudder, *self._sloop_sheets(o, sheet, course)]
+        actions = np.stack(columns, axis=1).astype(np.float32)
         return actions[0] if single else actions
+
+    def _sloop_sheets(
+        self, o: np.ndarray, sheet: np.ndarray, course: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Main and jib sheets of a sloop: the jib trimmed with the main; in irons, the jib
+        backed and the main out until the bow is well off the wind or the boat moves."""
+        awa = np.arctan2(o[:, OBS_AWA_SIN], o[:, OBS_AWA_COS])
+        surge = o[:, OBS_SURGE] * BOAT_SPEED_SCALE_MPS
+        if self._backing.shape != awa.shape:
+            self._backing = np.zeros(awa.shape, dtype=bool)
+        stopped = (np.abs(awa) < self.irons_awa) & (surge < self.irons_speed)
+        free = (np.abs(awa) > self.irons_awa + math.radians(25.0)) | (
+            surge > 1.5 * self.irons_speed
+        )
+        self._backing = stopped | (self._backing & ~free)
+        # A course counterclockwise of the wind (> 0) has the wind from starboard: back the
+        # jib on the starboard sheet (-1), so the wind pushes the bow to port, onto it. The
+        # main goes out: sheeted, it would turn the bow back into the wind.
+        backed = np.where(course > 0.0, -1.0, 1.0)
+        main = np.where(self._backing, 1.0, sheet)
+        return main, np.where(self._backing, backed, trimmed_jib(o, sheet))
 
     def target_course(self, obs: np.ndarray) -> np.ndarray:
         """Course over ground to steer, ``(N,)`` rad from the true wind's direction (signed,
@@ -259,7 +304,8 @@ class VMGAutopilot:
         course = np.clip(np.abs(mark), up, down)
         return self._side * course
 
-    def _rudder(self, o: np.ndarray, wind: np.ndarray) -> np.ndarray:
+    def _rudder(self, o: np.ndarray, wind: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The rudder, and the course it steers (:meth:`target_course`)."""
         course = self.target_course(o)
         heading = np.sign(course) * _lookup(
             self.tables.heading_for_course_rad, self.tables.wind_speeds_mps, wind, course
@@ -269,7 +315,7 @@ class VMGAutopilot:
         yaw_rate = o[:, OBS_YAW_RATE] * YAW_RATE_SCALE_RPS
         command = self.rudder_gain * error - self.yaw_damping * yaw_rate
         astern = o[:, OBS_SURGE] < 0.0
-        return np.clip(np.where(astern, -command, command), -1.0, 1.0)
+        return np.clip(np.where(astern, -command, command), -1.0, 1.0), course
 
     def _sheet(self, o: np.ndarray, wind: np.ndarray) -> np.ndarray:
         p = self.params

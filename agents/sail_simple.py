@@ -38,16 +38,27 @@ OBS_SURGE = 6
 OBS_HEEL = 9
 OBS_MARK_COS, OBS_MARK_SIN = 12, 13
 OBS_SIZE = 16
+OBS_SIZES = (16, 23)
+"""v0 and v1's observation, and v2's (the same 16 columns, then the jib and the sea)."""
 
 
 def as_batch(obs: np.ndarray) -> tuple[np.ndarray, bool]:
-    """``(batch of float64 observations (N, 16), whether a single one was given)``."""
+    """``(batch of float64 observations (N, 16 or 23), whether a single one was given)``."""
     o = np.asarray(obs, dtype=np.float64)
     single = o.ndim == 1
     o = np.atleast_2d(o)
-    if o.ndim != 2 or o.shape[1] != OBS_SIZE:
-        raise ValueError(f"obs must have shape ({OBS_SIZE},) or (N, {OBS_SIZE}), got {o.shape}")
+    if o.ndim != 2 or o.shape[1] not in OBS_SIZES:
+        raise ValueError(f"obs must have shape (16,) or (23,), or (N, 16 or 23), got {o.shape}")
     return o, single
+
+
+def trimmed_jib(o: np.ndarray, sheet: np.ndarray) -> np.ndarray:
+    """A sloop's jib sheet trimmed with the main, as the polar sails it: the leeward sheet
+    (where the air goes: starboard, -, with the wind from port) pulled as far as the main
+    sheet is in (``sheet`` -1 in .. +1 out)."""
+    awa = np.arctan2(o[:, OBS_AWA_SIN], o[:, OBS_AWA_COS])
+    leeward = np.where(awa > 0.0, -1.0, 1.0)
+    return leeward * (1.0 - 0.5 * (sheet + 1.0))
 
 
 class SimpleSailController:
@@ -81,6 +92,7 @@ class SimpleSailController:
         dinghy = dinghy or DinghyParams()
         self.capsize_heel = dinghy.capsize_heel_rad
         self.boom_min, self.boom_max = dinghy.sheet_min_rad, dinghy.sheet_max_rad
+        self.sloop = dinghy.rig == "sloop"  # a sloop's jib is trimmed with the main
         # Side of the no-go sector per env: +1 / -1, 0 = not chosen yet.
         self._upwind_side = np.zeros(0)
         self._downwind_side = np.zeros(0)
@@ -96,7 +108,10 @@ class SimpleSailController:
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
         o, single = as_batch(obs)
-        actions = np.stack([self._rudder(o), self._sheet(o)], axis=1).astype(np.float32)
+        columns = [self._rudder(o), self._sheet(o)]
+        if self.sloop:
+            columns.append(trimmed_jib(o, columns[1]))
+        actions = np.stack(columns, axis=1).astype(np.float32)
         return actions[0] if single else actions
 
     def desired_heading(self, obs: np.ndarray) -> np.ndarray:

@@ -64,6 +64,7 @@ WIND_SPEED_MPS = interval(0.0, 25.0)
 INITIAL_SPEED_MPS = interval(0.0, 15.0)
 """Boat speed ahead at the start: at rest to a planing skiff's top speed."""
 MARK_RADIUS_M = interval(0.0, 100.0, low_open=True)
+UNIT_INTERVAL = interval(0.0, 1.0)
 CURRENT_SPEED_MPS = interval(0.0, 3.0)
 """A tidal stream: still water to 6 knots, as in the fastest sounds dinghies race in."""
 MARK_DISTANCE_MAX_M = 5000.0
@@ -75,6 +76,7 @@ ARGUMENT_TABLE = (
     ("`dinghy`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
     ("`wind_speed_range`, `options['wind_speed']`", f"{WIND_SPEED_MPS} m/s"),
     ("`initial_speed_range`, `options['speed']`", f"{INITIAL_SPEED_MPS} m/s"),
+    ("`initial_sheet`", f"{UNIT_INTERVAL} (0 in, 1 eased)"),
     ("`mark_radius`", f"{MARK_RADIUS_M} m"),
     (
         "`mark_distance_range`, length of `options['mark']`",
@@ -165,6 +167,7 @@ class SailTask(TaskCore):
         time_penalty: float = 0.01,
         water: Mapping[str, Any] | WaterParams | None = None,
         current_speed_range: tuple[float, float] = (0.0, 0.0),
+        initial_sheet: float = 0.0,
     ) -> None:
         self.params = build_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
         self.sloop = self.params.rig == "sloop"
@@ -192,6 +195,7 @@ class SailTask(TaskCore):
         self.initial_speed_range = check_range(
             "initial_speed_range", initial_speed_range, INITIAL_SPEED_MPS
         )
+        self.initial_sheet = check_number("initial_sheet", initial_sheet, UNIT_INTERVAL)
         self.ctrl_dt = check_number("ctrl_dt", ctrl_dt, CTRL_DT_S)
         self.sim_dt = check_number("sim_dt", sim_dt, SIM_DT_S)
         self.n_substeps = check_multiple("ctrl_dt", self.ctrl_dt, "sim_dt", self.sim_dt)
@@ -246,11 +250,12 @@ class SailTask(TaskCore):
         s_lo, s_hi = self.initial_speed_range
         speed = pinned("speed", s_lo + (s_hi - s_lo) * draws[5])
         gusts = xp.full_like(zero, options.get("gusts", self.gusts), dtype=xp.bool)
-        # Start with the boom to leeward, where the wind would put it.
+        # Start with the boom to leeward, where the wind would put it, as far out as the
+        # initial sheet lets it.
+        p = self.params
+        out = p.sheet_min_rad + self.initial_sheet * (p.sheet_max_rad - p.sheet_min_rad)
         wind_side = xp.sin(wind_from - heading)
-        boom = xp.where(
-            wind_side >= 0.0, zero - self.params.sheet_min_rad, self.params.sheet_min_rad
-        )
+        boom = xp.where(wind_side >= 0.0, zero - out, out)
         scenario = Scenario(wind_speed, wind_from, mark_x, mark_y, gusts)
         count = xp.zeros_like(zero, dtype=xp.int64)
         if self.moving_water:
