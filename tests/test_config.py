@@ -10,6 +10,7 @@ import pytest
 from bbgym.config import CONFIG_DIR, load_preset
 from bbgym.envs.sail import SailTask
 from bbgym.physics.dinghy import DinghyParams
+from bbgym.physics.water import WaterParams
 from bbgym.physics.wind import GustParams
 
 
@@ -19,10 +20,11 @@ def test_sail_preset_matches_code_defaults():
     assert kwargs.pop("max_episode_steps") == gym.spec(env_id).max_episode_steps
     assert DinghyParams(**kwargs.pop("dinghy")) == DinghyParams()
     assert GustParams(**kwargs.pop("gust_params")) == GustParams()
+    assert WaterParams(**kwargs.pop("water")) == WaterParams()
     defaults = {
         k: p.default
         for k, p in inspect.signature(SailTask.__init__).parameters.items()
-        if k not in ("self", "dinghy", "gust_params")
+        if k not in ("self", "dinghy", "gust_params", "water")
     }
     assert kwargs == defaults
 

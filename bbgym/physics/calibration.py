@@ -181,24 +181,29 @@ def comparison_table(rows: list[Comparison]) -> str:
     return "\n".join(lines)
 
 
+CALIBRATED_SLOOP = {
+    "rig": "sloop",
+    "sail_model": "cambered",
+    "sail_area_m2": 5.76,
+    "jib_area_m2": 1.3,
+    "sail_cl_peak": 1.13948,
+    "sail_stall_rad": 0.341207,
+    "sail_drag_parasitic": 0.0149414,
+    "sail_drag_induced": 0.156036,
+    "sail_cn_flat": 2.85592,
+    "hull_drag_forward": 0.00294925,
+    "hull_wave_speed_mps": 1.54929,
+    "hull_planing_speed_mps": 24.3507,
+    "keel_lift_slope": 3369.87,
+    "windage": 0.999286,
+    "crew_righting_nm": 700.0,
+}
+"""The fields of :func:`calibrated_sloop` that differ from the default boat (the
+``dinghy`` argument BeachballSail-v2 is registered with)."""
+
+
 def calibrated_sloop() -> DinghyParams:
     """A Laser-sized sloop (the Laser's 7.06 m^2 shared by a main and a jib) with a
     cambered sail and a planing hull, its constants fitted to :data:`DAY_2017` and
     :data:`BINNS_2002` by ``scripts/calibrate_sloop.py``."""
-    return DinghyParams(
-        rig="sloop",
-        sail_model="cambered",
-        sail_area_m2=5.76,
-        jib_area_m2=1.3,
-        sail_cl_peak=1.13948,
-        sail_stall_rad=0.341207,
-        sail_drag_parasitic=0.0149414,
-        sail_drag_induced=0.156036,
-        sail_cn_flat=2.85592,
-        hull_drag_forward=0.00294925,
-        hull_wave_speed_mps=1.54929,
-        hull_planing_speed_mps=24.3507,
-        keel_lift_slope=3369.87,
-        windage=0.999286,
-        crew_righting_nm=700,
-    )
+    return DinghyParams(**CALIBRATED_SLOOP)

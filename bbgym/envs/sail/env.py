@@ -1,4 +1,4 @@
-"""BeachballSail-v0 and -v1: the Gymnasium adapters (single and native vector env) over
+"""BeachballSail-v0, -v1 and -v2: the Gymnasium adapters (single and native vector env) over
 :class:`~bbgym.envs.sail.task.SailTask`, with the docstring tables of the spaces.
 """
 
@@ -21,7 +21,12 @@ _DOC_ARGS = """
     All are keyword arguments of ``gym.make("BeachballSail-v0", ...)`` (and of
     ``gym.make_vec``); the defaults are the preset in ``configs/beachball_sail.yaml``.
     ``BeachballSail-v1`` is registered with ``time_penalty=0.1, capsize_penalty=30.0``
-    (its preset, ``configs/beachball_sail_v1.yaml``, trains SAC); any argument overrides them.
+    (its preset, ``configs/beachball_sail_v1.yaml``, trains SAC); ``BeachballSail-v2`` with
+    v1's reward, ``sail_model="cambered"``, the calibrated sloop as ``dinghy``
+    (``bbgym.physics.calibration.CALIBRATED_SLOOP``), small waves as ``water`` (0.1 m, 10
+    m long, 3 components over 0.5 rad), ``current_speed_range=(0.0, 0.3)`` and
+    ``initial_sheet=1.0`` (its preset, ``configs/beachball_sail_v2.yaml``). Any argument
+    overrides them.
 
     | argument | default | meaning |
     |---|---|---|
@@ -34,6 +39,9 @@ _DOC_ARGS = """
     | `mark_distance_range` | `(40.0, 100.0)` | distance of the mark from the start, m |
     | `mark_radius` | `5.0` | arrival radius, m |
     | `initial_speed_range` | `(0.5, 2.0)` | initial speed ahead, m/s |
+    | `initial_sheet` | `0.0` | how far the sheets start eased, 0 (in) .. 1 (out) |
+    | `water` | `None` | mapping of `WaterParams` fields (current's variation, waves) |
+    | `current_speed_range` | `(0.0, 0.0)` | current's speed drawn per episode, m/s |
     | `ctrl_dt` | `0.25` | seconds per env step |
     | `sim_dt` | `0.05` | physics substep, s (`ctrl_dt` must be a multiple) |
     | `progress_weight` | `1.0` | weight of the dense progress term |
@@ -54,8 +62,9 @@ class BeachballSailEnv(CoreEnv):
     ## Description
 
     A Laser-like single-handed dinghy (seed §9) floats on still water in a true wind with
-    gusts and shifts. The helmsman steers with the rudder and trims the sail with the
-    sheet; the crew hikes automatically. The wind drives the boat through the apparent
+    gusts and shifts (v2: a sloop calibrated to a Laser's polar, in a light current and
+    small Gerstner waves, seed §10). The helmsman steers with the rudder and trims the sail
+    with the sheet (v2: and the jib with its two sheets); the crew hikes automatically. The wind drives the boat through the apparent
     wind on a flat sail; the centreboard resists sideways drift; the side force heels the
     boat, and too much heel capsizes it. A mark lies 40-100 m away in any direction,
     upwind included, so the boat must beat and tack to reach some marks; downwind it may
@@ -66,17 +75,25 @@ class BeachballSailEnv(CoreEnv):
 
     ## Action Space
 
-    `Box(-1, 1, (2,), float32)`; values beyond [-1, 1] are clipped, NaN/inf raise.
+    `Box(-1, 1, (2,), float32)`, v2 (a sloop) `Box(-1, 1, (3,), float32)`; values beyond
+    [-1, 1] are clipped, NaN/inf raise.
 
     | Num | Action | Min | Max | Physical |
     |-----|--------|-----|-----|----------|
     | 0 | rudder | -1 | 1 | x 30 deg; + turns the bow counterclockwise (to port) going ahead |
     | 1 | sheet | -1 | 1 | -1 fully in (boom out 4 deg at most), +1 out (boom free to 85 deg) |
+    | 2 | jib sheets (v2) | -1 | 1 | + pulls the port sheet, - the starboard one, 0 both free |
+
+    The jib has a sheet on each side. Pulled hard (`|a| = 1`) the sheet holds the clew 10
+    deg off the centreline on its side, released (`a = 0`) the jib swings free to 60 deg.
+    The leeward sheet trims the jib; the windward one backs it, and the wind then pushes
+    the bow away from the wind (seed §9: how a sloop stopped head to wind gets going).
 
     ## Observation Space
 
-    `Box(-1, 1, (16,), float32)`, egocentric; angles relative to the bow, counterclockwise
-    positive (toward port); each value is clipped to [-1, 1].
+    `Box(-1, 1, (16,), float32)`, v2 `Box(-1, 1, (23,), float32)` (columns 16-22 exist when
+    the boat is a sloop or the water moves); egocentric; angles relative to the bow,
+    counterclockwise positive (toward port); each value is clipped to [-1, 1].
 
     | Num | Observation | Scale | Range of the physical value |
     |-----|-------------|-------|-----------------------------|
@@ -96,6 +113,17 @@ class BeachballSailEnv(CoreEnv):
     | 13 | sin of bearing to the mark | 1 | [-1, 1] |
     | 14 | distance to the mark | / (2 x largest mark distance) | [0, 200] m |
     | 15 | velocity made good toward the mark | / 6 m/s | [-6, 6] m/s |
+    | 16 | jib angle, + clew to port (0 for a cat rig) | / 60 deg | [-60, 60] deg |
+    | 17 | water's velocity along the hull (current + waves' orbit) | / 6 m/s | [-6, 6] m/s |
+    | 18 | water's velocity across the hull, to port | / 6 m/s | [-6, 6] m/s |
+    | 19 | sea's height at the boat | / sum of amplitudes (0.1 m) | [-1, 1] |
+    | 20 | sea's rate of rise at the boat (heave) | / sum of A omega | [-1, 1] |
+    | 21 | cos of the angle the main wave comes from | 1 | [-1, 1] |
+    | 22 | sin of that angle | 1 | [-1, 1] |
+
+    Columns 6-7 are the boat's velocity over the ground; minus 17-18 they give its velocity
+    through the water, what the hull, centreboard and rudder feel. 19 and 20 together are
+    the phase of the waves under the boat; a flat sea reads 0 in 19-22.
 
     ## Rewards
 
@@ -122,6 +150,14 @@ class BeachballSailEnv(CoreEnv):
     (rad), `mark` ((x, y) m relative to the start), `heading` (rad), `speed` (m/s ahead),
     `gusts` (bool). Unknown keys raise `TypeError`.
 
+    In moving water (v2) each episode also draws a current of 0-0.3 m/s toward a uniformly
+    random set, waves travelling within 30 deg of the wind's direction and each wave
+    component's phase; the options `current_speed` (m/s), `current_set` (rad, where it
+    flows to), `wave_direction` (rad, where the main wave travels to) and `wave_phase`
+    (rad, every component's) pin them. On still water these options raise `ValueError`.
+    v2's boat starts with the sheets eased (`initial_sheet=1.0`): sheeted in on a reach in
+    a gust, the boat would capsize before any policy could act.
+
     ## Episode End
 
     * Termination: the boat is within `mark_radius` (5 m) of the mark (success,
@@ -135,7 +171,8 @@ class BeachballSailEnv(CoreEnv):
     `heel`, `leeway`, `boom_angle` (rad), `vmg_to_mark`, `distance_to_mark`, `mark`,
     `jibes`, `tacks` (counts this episode), `jibe_severity` (boom angular speed at a jibe
     this step, rad/s), `max_jibe_severity`, `capsized`, `elapsed_time`, `is_success`,
-    `reward_terms`.
+    `reward_terms`; v2 (a sloop or moving water) also `jib_angle` (rad), `water_velocity`
+    (the water's velocity at the boat, world frame, m/s) and `wave_height` (m).
 
     ## Rendering
 
@@ -143,7 +180,8 @@ class BeachballSailEnv(CoreEnv):
     uint8, headless. `"rgb_array_list"` (Gymnasium's convention): the frames since the last
     `render()` or `reset()`, a list (the reset's and one per step), cleared by `render()`;
     `gymnasium.wrappers.RecordVideo` accepts it. `"human"`: a window shows every reset and
-    step at `render_fps` (4, real time).
+    step at `render_fps` (4, real time). v2 draws the jib, the current as arrows fixed to the
+    water's frame and the sea's height (crests light, troughs dark), so the crests travel.
 
     ## Version History
 
@@ -161,6 +199,10 @@ class BeachballSailEnv(CoreEnv):
     * v1, bbgym 0.6.0: the same boat, wind, marks, spaces and dynamics; the reward charges
       time: `time_penalty=0.1` (v0: 0.01) and `capsize_penalty=30` (v0: 10), the kwargs it
       is registered with. Success and time to the mark mean what they mean in v0.
+    * v2 (unreleased, after bbgym 0.8.0): a sloop calibrated to a Laser's polar (cambered sails, a planing
+      hull, a jib whose sheets are a third action, sails that steer), a light current and
+      small Gerstner waves the hull, centreboard and rudder meet, 7 more observations, the
+      sheets eased at the start; v1's reward. v0 and v1 replay as before.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 4}

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from bbgym.envs.sail.task import ARGUMENT_TABLE
+from bbgym.physics.calibration import CALIBRATED_SLOOP
 from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.water import WaterParams
 from bbgym.physics.wind import GustParams
@@ -17,6 +18,28 @@ slow enough to follow the tacks. ``bbgym baseline`` records it, ``bbgym demo`` s
 
 MAX_EPISODE_STEPS = 1200
 """300 s at 0.25 s a step: enough to beat 100 m upwind in light air."""
+
+SMALL_WAVES = {
+    "wave_amplitude_m": 0.1,
+    "wavelength_m": 10.0,
+    "wave_components": 3,
+    "wave_spread_rad": 0.5,
+}
+"""v2's sea: 0.2 m from trough to crest, 10 m long, three components over +-29 deg: the
+short chop 10 to 15 knots raise over a few kilometres of open water."""
+
+V2_KWARGS = {
+    "sail_model": "cambered",
+    "dinghy": dict(CALIBRATED_SLOOP),
+    "water": SMALL_WAVES,
+    "current_speed_range": (0.0, 0.3),
+    "initial_sheet": 1.0,
+    "time_penalty": 0.1,
+    "capsize_penalty": 30.0,
+}
+"""BeachballSail-v2: the sloop calibrated to a Laser, a light current (up to 0.3 m/s, 0.6
+knots) and small waves, the boat starting with its sheets eased (sheeted in on a reach in
+a gust, it would capsize before any policy could act), v1's reward."""
 
 
 def _scripted(env: Any) -> Any:
@@ -129,7 +152,7 @@ SPEC = register_spec(
         vector_env_class="BeachballSailVectorEnv",
         max_episode_steps=MAX_EPISODE_STEPS,
         summary="sail a dinghy to a mark anywhere on the water (beat, tack, jibe) upright",
-        actions="rudder, sheet",
+        actions="rudder, sheet (v2: and jib sheet)",
         versions=(
             Version(
                 "BeachballSail-v0",
@@ -144,6 +167,13 @@ SPEC = register_spec(
                 "v0's physics; time costs 0.1 a step, a capsize 30",
                 kwargs={"time_penalty": 0.1, "capsize_penalty": 30.0},
                 preset="beachball_sail_v1",
+            ),
+            Version(
+                "BeachballSail-v2",
+                "a sloop calibrated to a Laser (cambered sails, a jib sheet as a third action), "
+                "a light current and small waves; v1's reward",
+                kwargs=V2_KWARGS,
+                preset="beachball_sail_v2",
             ),
         ),
         param_groups={"dinghy": DinghyParams, "gust_params": GustParams, "water": WaterParams},
