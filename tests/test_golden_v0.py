@@ -52,14 +52,20 @@ def record(env_id: str) -> dict[str, np.ndarray]:
     return out
 
 
-@pytest.mark.parametrize("env_id", ENV_IDS)
-def test_replays_recorded_v0_episodes(env_id: str) -> None:
-    golden = np.load(GOLDEN)
+def check_replay(golden_file: Path, env_id: str) -> dict[str, np.ndarray]:
+    """Replays ``env_id`` and compares it with ``golden_file``; returns the recording."""
+    golden = np.load(golden_file)
     now = record(env_id)
     for kind in ("single", "vector"):
         expected = golden[f"{env_id}/{kind}"]
         assert now[kind].shape == expected.shape, kind
         np.testing.assert_allclose(now[kind], expected, rtol=0, atol=1e-6, err_msg=kind)
+    return now
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_replays_recorded_v0_episodes(env_id: str) -> None:
+    check_replay(GOLDEN, env_id)
 
 
 if __name__ == "__main__" and "--write" in sys.argv:

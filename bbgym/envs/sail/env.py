@@ -64,11 +64,11 @@ class BeachballSailEnv(CoreEnv):
     A Laser-like single-handed dinghy (seed §9) floats on still water in a true wind with
     gusts and shifts (v2: a sloop calibrated to a Laser's polar, in a light current and
     small Gerstner waves, seed §10). The helmsman steers with the rudder and trims the sail
-    with the sheet (v2: and the jib with its two sheets); the crew hikes automatically. The wind drives the boat through the apparent
-    wind on a flat sail; the centreboard resists sideways drift; the side force heels the
-    boat, and too much heel capsizes it. A mark lies 40-100 m away in any direction,
-    upwind included, so the boat must beat and tack to reach some marks; downwind it may
-    have to jibe.
+    with the sheet (v2: and the jib with its two sheets); the crew hikes automatically. The
+    wind drives the boat through the apparent wind on a flat sail; the centreboard resists
+    sideways drift; the side force heels the boat, and too much heel capsizes it. A mark
+    lies 40-100 m away in any direction, upwind included, so the boat must beat and tack to
+    reach some marks; downwind it may have to jibe.
 
     Conventions: world frame x east, y north, angles counterclockwise from +x in radians;
     `wind_from` is the direction the true wind blows from; body frame x forward, y to port.
@@ -199,10 +199,10 @@ class BeachballSailEnv(CoreEnv):
     * v1, bbgym 0.6.0: the same boat, wind, marks, spaces and dynamics; the reward charges
       time: `time_penalty=0.1` (v0: 0.01) and `capsize_penalty=30` (v0: 10), the kwargs it
       is registered with. Success and time to the mark mean what they mean in v0.
-    * v2 (unreleased, after bbgym 0.8.0): a sloop calibrated to a Laser's polar (cambered sails, a planing
-      hull, a jib whose sheets are a third action, sails that steer), a light current and
-      small Gerstner waves the hull, centreboard and rudder meet, 7 more observations, the
-      sheets eased at the start; v1's reward. v0 and v1 replay as before.
+    * v2 (unreleased, after bbgym 0.8.0): a sloop calibrated to a Laser's polar (cambered
+      sails, a planing hull, a jib whose sheets are a third action, sails that steer), a
+      light current and small Gerstner waves the hull, centreboard and rudder meet, 7 more
+      observations, the sheets eased at the start; v1's reward. v0 and v1 replay as before.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 4}
