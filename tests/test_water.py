@@ -17,6 +17,7 @@ from bbgym.physics.water import (
     Sea,
     WaterParams,
     current_velocity,
+    max_wave_amplitude,
     particle_label,
     particle_position,
     sea_at_start,
@@ -215,3 +216,23 @@ def test_same_numbers_on_every_namespace() -> None:
 
         got = water_over(SEA_PARAMS, Sea(*to(tuple(sea))), to(x), to(y), 0.05, xp)
         assert np.allclose(np.stack([np.asarray(g) for g in got]), reference, atol=1e-12, rtol=0)
+
+
+@pytest.mark.parametrize("wave_components", [1, 3, 8])
+@pytest.mark.parametrize("wavelength_m", [1.0, 1.6487212707001282, 12.0, 500.0])
+def test_the_largest_amplitude_is_accepted_and_a_hair_more_is_not(wavelength_m, wave_components):
+    """max_wave_amplitude is the edge of the accepted set, to the last bit (the fuzzer
+    once drew the rounded-up quotient: 8 components of 1.65 m waves)."""
+    most = max_wave_amplitude(wavelength_m, wave_components)
+    water = WaterParams(
+        wave_amplitude_m=most, wavelength_m=wavelength_m, wave_components=wave_components
+    )
+    assert water.steepness <= MAX_WAVE_STEEPNESS
+    if most < 5.0:  # below the field's own cap the steepness is the limit
+        assert water.steepness == pytest.approx(MAX_WAVE_STEEPNESS, rel=1e-12)
+        with pytest.raises(ValueError, match="water|WaterParams.wave_amplitude_m"):
+            WaterParams(
+                wave_amplitude_m=most * (1 + 1e-9),
+                wavelength_m=wavelength_m,
+                wave_components=wave_components,
+            )

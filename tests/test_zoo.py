@@ -25,13 +25,15 @@ from bbgym.zoo import ZOO_FILE, ZOO_FILES, zoo_hyperparams
 ENV_IDS = [
     "BeachballSail-v0",
     "BeachballSail-v1",
+    "BeachballSail-v2",
     "BeachballThrow-v0",
     "BeachballCurve-v0",
     "BeachballCurve-v1",
     "BeachballTopple-v0",
     "BeachballTopple-v1",
 ]
-ALGO_OF = {env_id: "sac" if env_id == "BeachballSail-v1" else "ppo" for env_id in ENV_IDS}
+SAC_IDS = ("BeachballSail-v1", "BeachballSail-v2")
+ALGO_OF = {env_id: "sac" if env_id in SAC_IDS else "ppo" for env_id in ENV_IDS}
 """The algorithm each env id's preset trains (RL Zoo's file it is in)."""
 ZOO_KEYS = {"n_envs", "n_timesteps", "env_kwargs"}
 """Keys of the shipped files that RL Zoo consumes itself (the rest go to ``PPO(...)`` or

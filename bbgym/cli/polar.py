@@ -1,6 +1,6 @@
 """Compute and plot the dinghy's polar diagram from the physics.
 
-    bbgym polar [--wind-speed 5] [--sail-model lift|seed|cambered] [--out runs/polar]
+    bbgym polar [--wind-speed MPS] [--sail-model lift|seed|cambered] [--out runs/polar]
     bbgym polar --compare [--out runs/polar]
 
 Writes ``<out>/polar.png`` (boat speed by true wind angle, 0 deg = upwind at the top,

@@ -198,8 +198,8 @@ CALIBRATED_SLOOP = {
     "windage": 0.999286,
     "crew_righting_nm": 700.0,
 }
-"""The fields of :func:`calibrated_sloop` that differ from the default boat (the
-``dinghy`` argument BeachballSail-v2 is registered with)."""
+"""The fields of :func:`calibrated_sloop` that differ from the default boat (the sail
+spec registers its newest version with them as the ``dinghy`` argument)."""
 
 
 def calibrated_sloop() -> DinghyParams:

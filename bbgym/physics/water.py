@@ -149,11 +149,21 @@ def max_wave_amplitude(wavelength_m: float, wave_components: int) -> float:
     """The largest accepted ``wave_amplitude_m`` for these wavelength and components: the
     steepness ``sum_i k_i A_i`` grows in proportion to the amplitude and may reach
     :data:`MAX_WAVE_STEEPNESS`; the field's own interval caps long waves at 5 m."""
-    unit = WaterParams(wavelength_m=wavelength_m, wave_components=wave_components)
-    per_metre = sum(c.wavenumber_rad_per_m for c in _components(unit)) / math.sqrt(wave_components)
-    return min(
-        MAX_WAVE_STEEPNESS / per_metre, accepted_interval(WaterParams, "wave_amplitude_m").high
+    root_n = math.sqrt(wave_components)
+    wavenumbers = [c.wavenumber_rad_per_m for c in _components(
+        WaterParams(wavelength_m=wavelength_m, wave_components=wave_components)
+    )]  # fmt: skip
+
+    def steepness(amplitude: float) -> float:  # as WaterParams sums it, to the bit
+        return sum((amplitude / root_n) * k for k in wavenumbers)
+
+    most = min(
+        MAX_WAVE_STEEPNESS * root_n / sum(wavenumbers),
+        accepted_interval(WaterParams, "wave_amplitude_m").high,
     )
+    while steepness(most) > MAX_WAVE_STEEPNESS:  # the division may round up
+        most = math.nextafter(most, 0.0)
+    return most
 
 
 def _components(p: WaterParams) -> tuple[WaveComponent, ...]:
