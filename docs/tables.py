@@ -18,6 +18,8 @@ was transcribed rather than written by that command (its ``source`` field). A mi
 malformed results file raises :class:`ResultsError` naming it, which fails the build.
 
     python docs/tables.py baselines        # print a table (any marker's words)
+    python docs/tables.py record-baseline RUN [--command C] [--note N]
+                                           # a bbgym baseline run folder -> its results file
 """
 
 from __future__ import annotations
@@ -464,5 +466,83 @@ def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
         raise PluginError(f"docs/tables.py, page {page.file.src_path}: {err}") from None
 
 
+SUMMARY_KEYS = ("env", "config", "algo", "evaluated_model", "training_seeds", "jobs",
+                "torch_threads", "timesteps", "n_envs", "eval_episodes", "eval_seeds",
+                "versions", "machine", "train_wall_time_s_per_seed")  # fmt: skip
+"""What a baselines results file keeps of a run folder's ``summary.json``."""
+
+
+def _rounded(value: Any) -> Any:
+    """Floats to 4 significant digits, per-episode lists dropped: a results file is read
+    by people and diffs, and the run folder keeps everything."""
+    if isinstance(value, float):
+        return float(f"{value:.4g}")
+    if isinstance(value, dict):
+        return {k: _rounded(v) for k, v in value.items() if not k.startswith("episode_")}
+    if isinstance(value, list):
+        return [_rounded(v) for v in value]
+    return value
+
+
+def baseline_results(run: Path, command: str | None = None, note: str = "") -> dict:
+    """The baselines results file of a ``bbgym baseline`` run folder (its ``results.json``
+    and ``summary.json``): the rows :func:`baseline_row` reads, the summary's settings and
+    versions, each seed's training time, and ``command`` (default: the one the summary
+    records) that remakes it."""
+    summary = read_json(run / "summary.json")
+    rows = read_json(run / "results.json")
+    if not isinstance(summary, dict) or not isinstance(rows, list):
+        raise ResultsError(f"{_name(run)}: not a bbgym baseline run folder")
+    for key in ("env", "algo", "command", "versions", "train_wall_time_s_per_seed"):
+        field(summary, key, run / "summary.json")
+    kept = {key: summary[key] for key in SUMMARY_KEYS if key in summary}
+    kept["config"] = Path(str(kept.get("config", ""))).stem
+    kept["bbgym"] = summary["versions"].get("bbgym", "-")
+    seconds = list(summary["train_wall_time_s_per_seed"].values())
+    threads = summary.get("torch_threads", "?")
+    wall = f"{min(seconds) / 60:.1f}-{max(seconds) / 60:.1f} min a seed"
+    if len(seconds) == 1:
+        wall = f"{seconds[0] / 60:.1f} min"
+    wall += f" (up to {summary.get('jobs', 1)} at once, {threads} torch thread(s) each)"
+    if summary.get("eval_wall_time_s") is not None:
+        wall += f"; evaluation {summary['eval_wall_time_s']:.0f} s"
+    data = {
+        "source": f"written by `python docs/tables.py record-baseline` from the run folder's "
+        f"results.json and summary.json (bbgym {kept['bbgym']})",
+        "command": command or " ".join(str(a) for a in summary["command"]),
+        **({"note": note} if note else {}),
+        "summary": _rounded(kept),
+        "wall_time": wall,
+        "results": _rounded(rows),
+    }
+    return data
+
+
+def record_baseline(run: Path, command: str | None = None, note: str = "",
+                    results: Path = RESULTS) -> Path:  # fmt: skip
+    """Write :func:`baseline_results` to ``results/baselines/<env>-<algo>.json``, checked
+    by building its table row; return the path."""
+    data = baseline_results(run, command, note)
+    env, algo = data["summary"]["env"], data["summary"]["algo"]
+    path = results / "baselines" / f"{env}-{algo}.json"
+    path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    baseline_row(path)
+    return path
+
+
+def main(argv: list[str]) -> None:
+    if argv[:1] != ["record-baseline"]:
+        print(table(" ".join(argv)))
+        return
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="docs/tables.py record-baseline")
+    parser.add_argument("run", type=Path, help="a bbgym baseline run folder")
+    parser.add_argument("--command", help="the command that remakes it (default: the run's)")
+    parser.add_argument("--note", default="", help="how it was run, where that differs")
+    args = parser.parse_args(argv[1:])
+    print(record_baseline(args.run, args.command, args.note))
+
+
 if __name__ == "__main__":
-    print(table(" ".join(sys.argv[1:])))
+    main(sys.argv[1:])

@@ -66,6 +66,34 @@ def test_main_job_writes_the_run_folder(tmp_path):
     with Image.open(out / "episode.gif") as gif:
         assert gif.n_frames > 1
 
+    # --no-train evaluates the models already there: the same rows (evaluation is seeded),
+    # each seed's training time kept from its train.json, no rate for training it did not do.
+    assert cli.main(["baseline", *argv, "--no-train"]) == 0
+    again = json.loads((out / "results.json").read_text())
+    drop = ("wall_time_s",)
+    assert [{k: v for k, v in r.items() if k not in drop} for r in again] == [
+        {k: v for k, v in r.items() if k not in drop} for r in results
+    ]
+    resummed = json.loads((out / "summary.json").read_text())
+    assert resummed["train_wall_time_s"] is None and resummed["train_timesteps_per_s"] is None
+    assert resummed["train_wall_time_s_per_seed"] == summary["train_wall_time_s_per_seed"]
+
+    # The docs' results file of this run folder gives the baselines table its row.
+    from test_docs import tables
+
+    (tmp_path / "results" / "baselines").mkdir(parents=True)
+    command = "bbgym baseline --env BeachballSail-v0 --seeds 2 --jobs 2"
+    path = tables.record_baseline(out, command, note="tiny", results=tmp_path / "results")
+    assert path.name == "BeachballSail-v0-ppo.json"
+    recorded = json.loads(path.read_text())
+    assert not any(k.startswith("episode_") for r in recorded["results"] for k in r)
+    row, source = tables.baseline_row(path)
+    cells = row.split(" | ")
+    assert cells[0] == "| BeachballSail-v0, PPO" and cells[2].startswith("100% (")
+    mean = 100 * ppo["success_rate"]
+    assert cells[4].startswith(f"{mean:.1f}% (") and cells[-1] == f"`{command}` |"
+    assert "record-baseline" in source
+
 
 def test_main_job_rejects_bad_arguments(capsys):
     from bbgym import cli

@@ -340,9 +340,11 @@ def run(args: argparse.Namespace) -> int:
         "jobs": args.jobs,
         "timesteps": budget,
         "n_envs": settings["n_envs"],
-        "train_wall_time_s": train_wall,
+        # With --no-train this call trained nothing: its rate would be the JSON files'
+        # reading speed. Each seed's own training time stays, from its train.json.
+        "train_wall_time_s": None if args.no_train else train_wall,
         "train_wall_time_s_per_seed": {s: log["wall_time_s"] for s, log in train_logs.items()},
-        "train_timesteps_per_s": budget * len(seeds) / train_wall,
+        "train_timesteps_per_s": None if args.no_train else budget * len(seeds) / train_wall,
         "eval_wall_time_s": eval_wall,
         "eval_episodes": args.episodes,
         "eval_seeds": [0, args.episodes - 1],
