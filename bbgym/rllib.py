@@ -44,6 +44,7 @@ import gymnasium as gym
 import numpy as np
 
 # (Importing any bbgym module runs bbgym/__init__.py, which registers the ids.)
+from bbgym._files import write_text_atomic
 from bbgym.config import env_preset, load_training, preset_files
 
 if TYPE_CHECKING:  # ray is an optional dependency
@@ -475,7 +476,7 @@ def _train_and_save(
                 address=address,
                 cpus=cpus,
             )
-            (out / SUMMARY_FILE).write_text(json.dumps(summary, indent=2) + "\n")
+            write_text_atomic(out / SUMMARY_FILE, json.dumps(summary, indent=2) + "\n")
             return summary
     finally:
         if algo is not None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,18 +14,25 @@ import pytest
 pytest.importorskip("stable_baselines3")
 
 
-def test_train_save_load_evaluate(tmp_path):
+def small_ppo_run(tmp_path: Path, n_epochs: int = 2) -> tuple[Path, list[str]]:
+    """A run folder and the ``bbgym train`` command (less its budget) of a small PPO
+    preset on Sail-v0: 4 envs, an evaluation and a checkpoint every 1,024 timesteps."""
     from small_preset import write_small_preset
 
     config = write_small_preset(
         tmp_path / "sail.yaml",
-        ppo={"n_steps": 128, "batch_size": 128, "n_epochs": 2},
+        ppo={"n_steps": 128, "batch_size": 128, "n_epochs": n_epochs},
         train={"n_envs": 4, "eval_every_timesteps": 1024, "eval_episodes": 2,
                "checkpoint_every_timesteps": 1024},
     )  # fmt: skip
     out = tmp_path / "run"
     train = [sys.executable, "-m", "bbgym", "train", "--env", "BeachballSail-v0",
              "--preset", str(config), "--out", str(out), "--no-progress"]  # fmt: skip
+    return out, train
+
+
+def test_train_save_load_evaluate(tmp_path):
+    out, train = small_ppo_run(tmp_path)
     done = subprocess.run([*train, "--timesteps", "2048"], capture_output=True, text=True,
                           timeout=600)  # fmt: skip
     assert done.returncode == 0, done.stderr[-2000:]
@@ -33,11 +41,16 @@ def test_train_save_load_evaluate(tmp_path):
     assert (out / "model.zip").exists() and (out / "best_model.zip").exists()
     assert list((out / "checkpoints").glob("ppo_*_steps.zip"))
     assert list((out / "tb").iterdir())  # TensorBoard logs
-    # Resume continues the same model.
-    done = subprocess.run([*train, "--timesteps", "512", "--resume"], capture_output=True,
+    # Resume continues the same model up to the new budget.
+    done = subprocess.run([*train, "--timesteps", "2560", "--resume"], capture_output=True,
                           text=True, timeout=600)  # fmt: skip
     assert done.returncode == 0, done.stderr[-2000:]
-    assert json.loads((out / "train.json").read_text())["timesteps"] >= 2048 + 512
+    resumed = json.loads((out / "train.json").read_text())
+    assert (resumed["timesteps"], resumed["timesteps_trained"]) == (2560, 512)
+    # ... and not past it: a budget the run has met is refused, naming the option.
+    done = subprocess.run([*train, "--timesteps", "2560", "--resume"], capture_output=True,
+                          text=True, timeout=600)  # fmt: skip
+    assert done.returncode != 0 and "--resume" in done.stderr and "2560" in done.stderr
     evaluate = [sys.executable, "-m", "bbgym", "evaluate", "--env",
                 "BeachballSail-v0", "--policies", "ppo", "--model", str(out / "model.zip"),
                 "--episodes", "2", "--out", str(tmp_path / "eval")]  # fmt: skip
@@ -89,7 +102,7 @@ def test_normalized_rewards_train_resume_and_score_raw(tmp_path):
     assert min(returns) < -20.0  # 300 s at 0.1 a step is -120; a scaled return is O(1)
 
     # --resume continues the statistics with the model.
-    train_sb3("BeachballSail-v1", preset=config, timesteps=512, seed=3, out=out,
+    train_sb3("BeachballSail-v1", preset=config, timesteps=2048 + 512, seed=3, out=out,
               resume=True, progress=False)  # fmt: skip
     stats = VecNormalize.load(str(out / VEC_NORMALIZE_FILE), dummy)
     assert stats.ret_rms.count == pytest.approx(2048 + 512, abs=1e-3)
@@ -108,15 +121,18 @@ def test_sac_trains_resumes_its_replay_buffer_and_evaluates(tmp_path):
     summary = train_sb3("BeachballSail-v1", preset=config, timesteps=1024, seed=2, out=out,
                         progress=False)  # fmt: skip
     assert summary["algo"] == "sac" and summary["timesteps"] == 1024
-    assert list((out / "checkpoints").glob("sac_*_steps.zip")) == []  # every 100k steps
+    # Every 100k steps, and at the end (what --resume continues; model.zip is its link).
+    names = sorted(p.name for p in (out / "checkpoints").iterdir())
+    assert names == ["sac_1024_steps.zip", "sac_best_model_1024_steps.zip",
+                     "sac_eval_1024_steps.json", "sac_replay_buffer_1024_steps.pkl"]  # fmt: skip
     assert (out / "best_model.zip").exists()
     model = load_model(out / "model.zip", "sac")
     model.load_replay_buffer(out / REPLAY_BUFFER_FILE)
     assert model.replay_buffer.size() * model.n_envs == 1024  # every step, 8 envs a row
     # Two updates per step of the 8 envs from the 256th step on.
     assert model._n_updates == 2 * (1024 - 256) // 8
-    train_sb3("BeachballSail-v1", preset=config, timesteps=512, seed=2, out=out, resume=True,
-              progress=False)  # fmt: skip
+    train_sb3("BeachballSail-v1", preset=config, timesteps=1024 + 512, seed=2, out=out,
+              resume=True, progress=False)  # fmt: skip
     model = load_model(out / "model.zip", "sac")
     model.load_replay_buffer(out / REPLAY_BUFFER_FILE)
     assert (model.replay_buffer.n_steps, model.replay_buffer.gamma) == (3, 0.99)  # n-step

@@ -35,7 +35,6 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 import argparse
 import json
-import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,6 +44,7 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the ids)
 from bbgym._extras import extra_needs
+from bbgym._files import copy_atomic, write_atomic, write_text_atomic
 from bbgym.cli import UsageError, env_id, evaluate, positive_int, record, require_all, train
 from bbgym.spec import base_ids, spec_of
 
@@ -286,7 +286,7 @@ def plot_learning_curve(
     import matplotlib.pyplot as plt
 
     fig = learning_curve_figure(run, results, env_id, algo, evaluated)
-    fig.savefig(out, dpi=110)
+    write_atomic(out, lambda path: fig.savefig(path, dpi=110))
     plt.close(fig)
 
 
@@ -326,9 +326,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
     showcase = spec_of(args.env).showcase
-    record.record_to_file(args.env, algo, animation, model=folders[seeds[0]] / model_file,
-                          seed=showcase.seed, frame_skip=showcase.frame_skip,
-                          fps=showcase.fps)  # fmt: skip
+    write_atomic(animation, lambda path: record.record_to_file(
+        args.env, algo, path, model=folders[seeds[0]] / model_file, seed=showcase.seed,
+        frame_skip=showcase.frame_skip, fps=showcase.fps,
+    ))  # fmt: skip
 
     summary = {
         "env": args.env,
@@ -355,7 +356,7 @@ def run(args: argparse.Namespace) -> int:
             f"{algo}_worst_seed": results[algo]["worst_seed_success_rate"],
         },
     }
-    (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    write_text_atomic(args.out / "summary.json", json.dumps(summary, indent=2) + "\n")
     print(f"run folder {args.out}: " + ", ".join(sorted(p.name for p in args.out.iterdir())))
     return 0
 
@@ -405,8 +406,8 @@ def _write_results(out: Path, results: dict[str, dict], per_seed: list[dict], al
     summary_line = evaluate.format_over_seeds(results[algo])
     print(table)
     print(summary_line)
-    (out / "results.md").write_text(table + "\n\n" + summary_line + "\n")
-    (out / "results.json").write_text(json.dumps(rows, indent=2) + "\n")
+    write_text_atomic(out / "results.md", table + "\n\n" + summary_line + "\n")
+    write_text_atomic(out / "results.json", json.dumps(rows, indent=2) + "\n")
 
 
 def _plot_learning_curves(
@@ -425,7 +426,7 @@ def _plot_learning_curves(
         plot_learning_curve(folder, curve_results, env, folder / "learning_curve.png", algo,
                             evaluated)  # fmt: skip
     first = next(iter(folders.values()))
-    shutil.copy(first / "learning_curve.png", out / "learning_curve.png")
+    copy_atomic(first / "learning_curve.png", out / "learning_curve.png")
 
 
 def train_seeds(args: argparse.Namespace, folders: dict[int, Path], budget: int) -> None:

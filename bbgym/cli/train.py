@@ -15,12 +15,17 @@ env through :mod:`bbgym.sb3`, with a progress bar, TensorBoard logs in ``<out>/t
 periodic evaluation on separate seeds (10000 + seed; success rate and return in
 ``<out>/eval``, the best model as ``<out>/best_model.zip``; the end of training is always
 evaluated, so a short budget still has a best model) and checkpoints in
-``<out>/checkpoints``; a preset with ``train.normalize_reward`` trains on normalized
-rewards and keeps their statistics in ``<out>/vecnormalize.pkl``. The final model is
-``<out>/model.zip`` (SAC's replay buffer beside it, ``<out>/replay_buffer.pkl``);
-``--resume`` continues from them. A summary goes to ``<out>/train.json``; the terminal gets a
-few lines of it. A budget is rounded up to what SB3 collects at once (PPO: rollouts of
-``n_envs x n_steps``; SAC: ``n_envs x train_freq`` steps), said in one line. The training
+``<out>/checkpoints`` (:mod:`bbgym.cli.checkpoints`); a preset with
+``train.normalize_reward`` trains on normalized rewards and keeps their statistics in
+``<out>/vecnormalize.pkl``. The final model is ``<out>/model.zip`` (SAC's replay buffer
+beside it, ``<out>/replay_buffer.pkl``). Every file of the run folder is written whole or
+not at all (:mod:`bbgym._files`; TensorBoard's logs, appended as they go, aside), so a
+training killed at any instant leaves its last checkpoint intact, and ``--resume``
+continues the run from its newest checkpoint (a finished run's is its end) up to the
+budget: ``--resume --timesteps N`` trains N minus what the run has. A summary goes to
+``<out>/train.json``; the terminal gets a few lines of it. A budget is rounded up to what
+SB3 collects at once (PPO: rollouts of ``n_envs x n_steps``; SAC: ``n_envs x train_freq``
+steps), said in one line. The training
 rate (``timesteps_per_s``) counts the training alone; the evaluations' time is
 ``eval_time_s``. A run that ends before its first scheduled evaluation is evaluated on one
 episode per evaluation env, not the preset's ``eval_episodes``: its one model is not chosen
@@ -37,12 +42,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import time
 from pathlib import Path
 from typing import Any
 
 from bbgym._extras import extra_needs
+from bbgym._files import copy_atomic, link_or_copy, write_text_atomic
 from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require_all
 
 EVAL_SEED_OFFSET = 10_000
@@ -71,7 +78,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="training seed")
     parser.add_argument("--out", type=Path, default=None,
                         help="run folder (default runs/<engine>/<env>-seed<seed>)")  # fmt: skip
-    parser.add_argument("--resume", action="store_true", help="sb3: continue from <out>/model.zip")
+    parser.add_argument("--resume", action="store_true",
+                        help="sb3: continue the run in --out from its newest checkpoint up to "
+                        "the budget")  # fmt: skip
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_threads_argument(parser)
     parser.add_argument("--engine", choices=ENGINES, default="sb3", help="training library")
@@ -247,23 +256,25 @@ def train_sb3(
         progress = _progress_bar_available()
 
     out.mkdir(parents=True, exist_ok=True)
-    shutil.copy(path, out / "config.yaml")
+    point = resume_point(out, algo, budget) if resume else None
+    copy_atomic(path, out / "config.yaml")
     gamma = algo_kwargs.get("gamma", 0.99)
-    vec_env, eval_env = _training_envs(env, env_kwargs, settings, seed, gamma, out, resume)
-    evaluation, checkpoints = _training_callbacks(eval_env, settings, out)
-    model = _load_or_build_model(algo, algo_kwargs, vec_env, seed, out, resume)
-    round_budget(algo, {k: v for k, v in algo_kwargs.items() if k != "policy"},
-                 settings["n_envs"], budget)  # fmt: skip
+    vec_env, eval_env = _training_envs(env, env_kwargs, settings, seed, gamma, point)
+    evaluation, checkpoints = _training_callbacks(eval_env, settings, out, point)
+    model = _load_or_build_model(algo, algo_kwargs, vec_env, seed, out, point)
     first = int(model.num_timesteps)  # 0, or where --resume continues
+    round_budget(algo, {k: v for k, v in algo_kwargs.items() if k != "policy"},
+                 settings["n_envs"], budget - first)  # fmt: skip
     start = time.perf_counter()
     model.learn(
-        total_timesteps=budget,
+        total_timesteps=budget - first,
         callback=[evaluation, checkpoints],
         progress_bar=progress,
-        reset_num_timesteps=not resume,
+        reset_num_timesteps=point is None,
     )
     wall = time.perf_counter() - start
-    _save_run(model, vec_env, out, settings["normalize_reward"])
+    _save_run(model, out, algo, evaluation)
+    shutil.rmtree(out / EVAL_SCRATCH, ignore_errors=True)
     trained = int(model.num_timesteps) - first
     train_time = max(wall - evaluation.eval_time_s, 1e-9)
     summary = {
@@ -288,7 +299,7 @@ def train_sb3(
         "best_mean_return": float(evaluation.best_mean_reward),
         **run_provenance(seed, torch_threads),
     }
-    (out / "train.json").write_text(json.dumps(summary, indent=2) + "\n")
+    write_text_atomic(out / "train.json", json.dumps(summary, indent=2) + "\n")
     vec_env.close()
     eval_env.close()
     return summary
@@ -300,8 +311,7 @@ def _training_envs(
     settings: dict[str, Any],
     seed: int,
     gamma: float,
-    out: Path,
-    resume: bool,
+    point: Any = None,
 ) -> tuple[Any, Any]:
     """The training and evaluation vector envs, seeded ``seed + i`` and
     ``seed + EVAL_SEED_OFFSET + i``, each inside a ``VecMonitor`` (the episode statistics);
@@ -318,52 +328,66 @@ def _training_envs(
         make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
     )
     if settings["normalize_reward"]:
-        stats_path = out / VEC_NORMALIZE_FILE
-        vec_env, eval_env = _normalize_reward(vec_env, eval_env, gamma, stats_path, resume)
+        stats = point.vecnormalize if point is not None else None
+        vec_env, eval_env = _normalize_reward(vec_env, eval_env, gamma, stats)
     return vec_env, eval_env
 
 
-def _training_callbacks(eval_env: Any, settings: dict[str, Any], out: Path) -> tuple[Any, Any]:
+def _training_callbacks(
+    eval_env: Any, settings: dict[str, Any], out: Path, point: Any = None
+) -> tuple[Any, Any]:
     """The periodic evaluation (:func:`_final_eval_callback`: the best model as
-    ``<out>/best_model.zip``, the log in ``<out>/eval``) and the periodic checkpoints
-    (``<out>/checkpoints``). The preset's periods count timesteps over all envs; SB3's count
-    calls, one per vector step, hence the division by ``n_envs``."""
-    from stable_baselines3.common.callbacks import CheckpointCallback
+    ``<out>/best_model.zip``, the log in ``<out>/eval``; resumed from ``point``) and the
+    periodic checkpoints (``<out>/checkpoints``). The preset's periods count timesteps over
+    all envs; SB3's count calls, one per vector step, hence the division by ``n_envs``."""
+    from bbgym.cli.checkpoints import checkpoint_callback
 
     n_envs = settings["n_envs"]
     evaluation = _final_eval_callback()(
         eval_env,
+        out,
         n_eval_episodes=settings["eval_episodes"],
         eval_freq=max(1, settings["eval_every_timesteps"] // n_envs),
-        best_model_save_path=str(out),
-        log_path=str(out / "eval"),
         deterministic=True,
     )
-    checkpoints = CheckpointCallback(
-        save_freq=max(1, settings["checkpoint_every_timesteps"] // n_envs),
-        save_path=str(out / "checkpoints"),
-        name_prefix=settings["algo"],
-    )
+    if point is not None:
+        evaluation.restore(point, n_envs)
+    every = settings["checkpoint_every_timesteps"]
+    checkpoints = checkpoint_callback(out, settings["algo"], every, evaluation)
     return evaluation, checkpoints
 
 
-def _load_or_build_model(
-    algo: str, algo_kwargs: dict[str, Any], vec_env: Any, seed: int, out: Path, resume: bool
-) -> Any:
-    """The model to train: with ``resume``, ``<out>/model.zip`` (and SAC's replay buffer
-    beside it) where it exists; else a new ``algo`` model from the preset's keyword
-    arguments, seeded with ``seed``, on the CPU. Both log to ``<out>/tb``."""
-    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+def resume_point(out: Path, algo: str, budget: int) -> Any:
+    """Where ``--resume`` continues: the newest complete checkpoint of the run in ``out``
+    (:func:`bbgym.cli.checkpoints.latest_checkpoint`), which must be short of ``budget``."""
+    from bbgym.cli.checkpoints import latest_checkpoint
 
+    point = latest_checkpoint(out, algo)
+    if point is None:
+        raise UsageError(f"--resume: no {algo.upper()} checkpoint in {out / 'checkpoints'} "
+                         "(a run of this bbgym saves one every checkpoint_every_timesteps "
+                         "and at its end)")  # fmt: skip
+    if point.timesteps >= budget:
+        raise UsageError(f"--resume: the run in {out} has trained {point.timesteps} "
+                         f"timesteps, the budget is {budget}: nothing is left to train "
+                         "(pass a larger --timesteps)")  # fmt: skip
+    print(f"resuming from {point.model} at {point.timesteps} of {budget} timesteps")
+    return point
+
+
+def _load_or_build_model(
+    algo: str, algo_kwargs: dict[str, Any], vec_env: Any, seed: int, out: Path, point: Any
+) -> Any:
+    """The model to train: the checkpoint ``point``'s model (and SAC's replay buffer)
+    where ``--resume`` gives one; else a new ``algo`` model from the preset's keyword
+    arguments, seeded with ``seed``, on the CPU. Both log to ``<out>/tb``."""
     from bbgym.sb3 import algorithm_class, load_model
 
-    model_path, buffer_path = out / MODEL_FILE, out / REPLAY_BUFFER_FILE
-    if resume and model_path.exists():
-        model = load_model(model_path, algo, "--resume:", env=vec_env,
+    if point is not None:
+        model = load_model(point.model, algo, "--resume:", env=vec_env,
                            tensorboard_log=str(out / "tb"))  # fmt: skip
-        if isinstance(model, OffPolicyAlgorithm) and buffer_path.exists():
-            model.load_replay_buffer(buffer_path)
-        print(f"resuming from {model_path} at {model.num_timesteps} timesteps")
+        if point.replay_buffer is not None:
+            model.load_replay_buffer(point.replay_buffer)
         return model
     kwargs = dict(algo_kwargs)
     policy = kwargs.pop("policy")
@@ -373,31 +397,33 @@ def _load_or_build_model(
     )  # fmt: skip
 
 
-def _save_run(model: Any, vec_env: Any, out: Path, normalize_reward: bool) -> None:
-    """What ``--resume`` continues from: the final model, an off-policy algorithm's (SAC's)
-    replay buffer and the reward normalizer's statistics."""
-    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+def _save_run(model: Any, out: Path, algo: str, evaluation: Any) -> None:
+    """The end of training as a checkpoint (what ``--resume`` continues from), and the
+    run's final model, an off-policy algorithm's (SAC's) replay buffer and the reward
+    normalizer's statistics as links to its files."""
+    from bbgym.cli.checkpoints import save_checkpoint
 
-    model.save(out / MODEL_FILE)
-    if isinstance(model, OffPolicyAlgorithm):
-        model.save_replay_buffer(out / REPLAY_BUFFER_FILE)
-    if normalize_reward:
-        vec_env.save(str(out / VEC_NORMALIZE_FILE))
+    final = save_checkpoint(model, out, algo, evaluation)
+    link_or_copy(final.model, out / MODEL_FILE)
+    if final.replay_buffer is not None:
+        link_or_copy(final.replay_buffer, out / REPLAY_BUFFER_FILE)
+    if final.vecnormalize is not None:
+        link_or_copy(final.vecnormalize, out / VEC_NORMALIZE_FILE)
 
 
 def _normalize_reward(
-    vec_env: Any, eval_env: Any, gamma: float, stats_path: Path, resume: bool
+    vec_env: Any, eval_env: Any, gamma: float, stats_path: Path | None = None
 ) -> tuple[Any, Any]:
     """SB3's ``VecNormalize`` on the rewards only (the observations are already scaled):
     each reward is divided by the running standard deviation of the discounted return (RL
     Zoo's ``norm_reward``). On Sail-v1 it is what let every training seed learn to beat to
     windward (the documentation's Baselines page). The episode statistics stay raw
-    (``VecMonitor`` is inside), and ``--resume`` continues the saved statistics. The
+    (``VecMonitor`` is inside), and ``--resume`` continues the saved ``stats_path``. The
     evaluation env is wrapped alike, as SB3's evaluation expects, but scores the env's own
     rewards."""
     from stable_baselines3.common.vec_env import VecNormalize
 
-    if resume and stats_path.exists():
+    if stats_path is not None:
         train_env = VecNormalize.load(str(stats_path), vec_env)
     else:
         train_env = VecNormalize(vec_env, norm_obs=False, norm_reward=True, gamma=gamma)
@@ -411,10 +437,17 @@ def _progress_bar_available() -> bool:
     return all(importlib.util.find_spec(m) is not None for m in ("tqdm", "rich"))
 
 
+EVAL_SCRATCH = ".eval-scratch"
+"""Where SB3's evaluation writes its files before they are renamed into the run folder."""
+
+
 def _final_eval_callback() -> type:
     """SB3's ``EvalCallback`` that also evaluates at the end of training (unless the last
-    periodic evaluation was at that very timestep) and remembers when its best model was
-    saved. Without it a budget shorter than the evaluation period saves no best model."""
+    periodic evaluation was at that very timestep), remembers when its best model was
+    saved, writes its files whole (SB3 writes them in ``<out>/.eval-scratch``, renamed
+    into place: ``<out>/eval/evaluations.npz``, ``<out>/best_model.zip``) and resumes from
+    a checkpoint. Without it a budget shorter than the evaluation period saves no best
+    model."""
     from stable_baselines3.common.callbacks import EvalCallback
 
     class FinalEvalCallback(EvalCallback):
@@ -422,13 +455,48 @@ def _final_eval_callback() -> type:
         eval_time_s: float = 0.0
         """Seconds spent evaluating (and saving the best model), apart from training."""
 
+        def __init__(self, eval_env: Any, out: Path, **kwargs: Any) -> None:
+            self.out = out
+            scratch = str(out / EVAL_SCRATCH)
+            super().__init__(eval_env, log_path=scratch, best_model_save_path=scratch, **kwargs)
+
+        def state(self) -> dict[str, Any]:
+            """What a checkpoint keeps of the evaluation (its log is the run's own)."""
+            return {"best_mean_reward": float(self.best_mean_reward),
+                    "best_timesteps": self.best_timesteps}  # fmt: skip
+
+        def restore(self, point: Any, n_envs: int) -> None:
+            """Continue from the checkpoint ``point``: its best model and best return, the
+            log's evaluations up to it, and the evaluation schedule where it was."""
+            import numpy as np
+
+            log = self.out / "eval" / "evaluations.npz"
+            if log.exists():
+                with np.load(log, allow_pickle=True) as saved:
+                    keep = [i for i, t in enumerate(saved["timesteps"]) if t <= point.timesteps]
+                    self.evaluations_timesteps = [int(saved["timesteps"][i]) for i in keep]
+                    self.evaluations_results = [list(saved["results"][i]) for i in keep]
+                    self.evaluations_length = [list(saved["ep_lengths"][i]) for i in keep]
+                    if "successes" in saved:
+                        self.evaluations_successes = [list(saved["successes"][i]) for i in keep]
+            self.best_mean_reward = point.eval_state.get("best_mean_reward", -np.inf)
+            self.best_timesteps = point.eval_state.get("best_timesteps")
+            if point.best_model is not None:
+                link_or_copy(point.best_model, self.out / "best_model.zip")
+            self.n_calls = point.timesteps // n_envs  # SB3 evaluates every eval_freq calls
+
         def _on_step(self) -> bool:
-            best = self.best_mean_reward
+            best, evaluations = self.best_mean_reward, len(self.evaluations_timesteps)
             start = time.perf_counter()
             keep_going = super()._on_step()
-            self.eval_time_s += time.perf_counter() - start
+            scratch = self.out / EVAL_SCRATCH
+            if len(self.evaluations_timesteps) > evaluations:
+                (self.out / "eval").mkdir(exist_ok=True)
+                os.replace(scratch / "evaluations.npz", self.out / "eval" / "evaluations.npz")
             if self.best_mean_reward > best:
                 self.best_timesteps = int(self.num_timesteps)
+                os.replace(scratch / "best_model.zip", self.out / "best_model.zip")
+            self.eval_time_s += time.perf_counter() - start
             return keep_going
 
         def _on_training_end(self) -> None:
@@ -480,7 +548,7 @@ def _run_rllib(args: argparse.Namespace) -> int:
     )
     # What the result depends on, beside the summary bbgym.rllib wrote.
     summary.update(run_provenance(args.seed, args.torch_threads))
-    (out / rllib.SUMMARY_FILE).write_text(json.dumps(summary, indent=2, default=str) + "\n")
+    write_text_atomic(out / rllib.SUMMARY_FILE, json.dumps(summary, indent=2, default=str) + "\n")
     print(json.dumps({k: v for k, v in summary.items() if k != "history"}, indent=2, default=str))
     return 0
 
