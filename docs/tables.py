@@ -35,6 +35,7 @@ DOCS = Path(__file__).resolve().parent
 RESULTS = DOCS / "results"
 
 BASELINE_FILES = (
+    "BeachballSail-v2-sac.json",
     "BeachballSail-v1-sac.json",
     "BeachballSail-v1-ppo.json",
     "BeachballSail-v0-ppo.json",
@@ -508,7 +509,7 @@ def baseline_results(run: Path, command: str | None = None, note: str = "") -> d
         wall += f"; evaluation {summary['eval_wall_time_s']:.0f} s"
     data = {
         "source": f"written by `python docs/tables.py record-baseline` from the run folder's "
-        f"results.json and summary.json (bbgym {kept['bbgym']})",
+        f"results.json and summary.json (bbgym {kept['bbgym']}).",
         "command": command or " ".join(str(a) for a in summary["command"]),
         **({"note": note} if note else {}),
         "summary": _rounded(kept),
