@@ -44,3 +44,54 @@ def test_bench_quick_backend_rows(tmp_path):
     assert ("BeachballSail-v0", "N=8 torch float64") in kinds
     assert all(row["rate"] > 0 for row in result["backend_rows"])
     assert "torch float32" in (tmp_path / "bench.md").read_text()
+
+
+def run_bench(tmp_path, *argv: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "bbgym", "bench", "--quick", "--envs", "BeachballSail-v0",
+         "--out", str(tmp_path), *argv],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+
+
+def test_bench_device_is_checked(tmp_path):
+    """--device names a device torch has here, or the error names --device and says why."""
+    import pytest
+
+    torch = pytest.importorskip("torch")
+    done = run_bench(tmp_path, "--device", "nonsense")
+    assert done.returncode != 0 and "--device 'nonsense': not a torch device" in done.stderr
+    if not torch.cuda.is_available():
+        done = run_bench(tmp_path, "--device", "cuda")
+        assert done.returncode != 0 and "--device cuda: torch" in done.stderr
+        assert "sees no CUDA device" in done.stderr
+    assert not (tmp_path / "bench.json").exists()
+
+
+def test_bench_device_cuda_runs_the_torch_rows_alone(tmp_path):
+    """The GPU check: torch rows on the GPU beside CartPole, and nothing else."""
+    import pytest
+
+    torch = pytest.importorskip("torch")
+    if not torch.cuda.is_available():
+        pytest.skip("no CUDA device")
+    done = run_bench(tmp_path, "--device", "cuda")
+    assert done.returncode == 0, done.stderr
+    result = json.loads((tmp_path / "bench.json").read_text())
+    assert result["rows"] == [] and result["memory_mb"] == {}
+    kinds = {row["kind"] for row in result["backend_rows"] if row["env"] != "CartPole-v1"}
+    assert kinds == {"N=8 torch float64 cuda", "N=8 torch float32 cuda"}
+    assert all(row["rate"] > 0 for row in result["backend_rows"])
+    assert result["machine"]["gpu"]
+
+
+def test_bench_times_tensors_in_and_out():
+    """The timed loop of an on-device run (tensors in and out), here on the CPU."""
+    import pytest
+
+    pytest.importorskip("torch")
+    from bbgym.cli.bench import time_backend
+
+    row = time_backend("BeachballSail-v0", 8, 4, 1.0, 0, backend="torch", dtype="float32",
+                       compile=False, output="torch")  # fmt: skip
+    assert row["rate"] > 0 and row["state_mb"] > 0

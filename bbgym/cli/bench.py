@@ -1,6 +1,7 @@
 """Benchmark the bbgym envs against Gymnasium's CartPole, all measured in one run.
 
-    bbgym bench [--quick] [--backends] [--out runs/bench] [--seconds S] [--repeats R]
+    bbgym bench [--quick] [--backends] [--device DEVICE] [--out runs/bench] [--seconds S]
+        [--repeats R]
 
 Prints a markdown table and writes it (``bench.md``) and the raw numbers (``bench.json``)
 to ``--out``:
@@ -19,7 +20,12 @@ to ``--out``:
   (the first step: it compiles every part, the autoreset's too) and the bytes of the env's
   state, beside CartPole at the same N (best of ``--repeats`` loops each).
   torch runs with ``--torch-threads`` threads (default 2), pinned for every row, the PPO
-  rows included.
+  rows included;
+* ``--device cuda``: the GPU check in one command. The torch rows alone, on the GPU with
+  tensors in and out (``output="torch"``, the actions made on the device before the timed
+  loop, the device synchronized before the clock stops), at N = 4096, 65536 and 2^20,
+  beside CartPole's NumPy vector env at the same N on the CPU. A device torch does not
+  have here is refused, naming ``--device``.
 
 Timed loops are capped at ``--seconds`` each; single-env loops are repeated ``--repeats``
 times (best kept).
@@ -42,11 +48,14 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym._extras import extra_needs
+from bbgym.cli import UsageError, positive_float, positive_int, require_all
 from bbgym.cli import env_id as env_id_type
-from bbgym.cli import positive_float, positive_int, require_all
 from bbgym.spec import base_ids, spec_of
 
 REFERENCE = "CartPole-v1"
+
+GPU_ENVS = (4096, 65536, 2**20)
+"""The batch sizes of ``--device cuda``: up to about 10^6 envs, where a GPU fills."""
 
 
 def per_second(env_id: str) -> str:
@@ -100,6 +109,11 @@ def time_backend(
     )
     env.action_space.seed(seed)
     actions = [env.action_space.sample() for _ in range(max(steps, 2))]
+    device = backend.get("device", "cpu")
+    if backend.get("output") == "torch":  # tensors in, as an on-device learner gives them
+        import torch
+
+        actions = [torch.as_tensor(a, device=device) for a in actions]
     env.reset(seed=seed)
     start = time.perf_counter()
     env.step(actions[0])  # compiles
@@ -114,6 +128,7 @@ def time_backend(
             done += 1
             if time.perf_counter() - start > seconds:
                 break
+        _synchronize(device)  # a GPU's queued steps are done before the clock stops
         rate = max(rate, done * num_envs / (time.perf_counter() - start))
     state_bytes = 0
     state = getattr(env.unwrapped, "state", None)
@@ -127,9 +142,19 @@ def time_backend(
     return {"rate": rate, "warmup_s": first_step, "state_mb": state_bytes / 2**20}
 
 
+def _synchronize(device: str) -> None:
+    if device.startswith("cuda"):
+        import torch
+
+        torch.cuda.synchronize(device)
+
+
 def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
-    """The backend rows: CartPole, NumPy and torch (float64, float32) at each N."""
+    """The backend rows: CartPole, NumPy and torch (float64, float32) at each N; the torch
+    rows on ``--device`` (off the CPU, with tensors in and out: ``output="torch"``)."""
     rows: list[dict[str, Any]] = []
+    on_device = {} if args.device == "cpu" else {"device": args.device, "output": "torch"}
+    where = "" if args.device == "cpu" else f" {args.device}"
     for n in args.backend_envs:
         steps = max(3, args.steps // n)
         reference = max(time_vector(REFERENCE, n, steps, args.seconds, args.seed)
@@ -137,7 +162,8 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         rows.append({"env": REFERENCE, "kind": f"N={n}", "rate": reference, "ratio": 1.0})
         for env_id in args.envs:
             kinds = [("numpy float64", {})] if n > max(args.num_envs) else []
-            kinds += [(f"torch {d}", {"backend": "torch", "dtype": d, "compile": args.compile})
+            kinds += [(f"torch {d}{where}",
+                       {"backend": "torch", "dtype": d, "compile": args.compile, **on_device})
                       for d in ("float64", "float32")]  # fmt: skip
             for kind, backend in kinds:
                 r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats,
@@ -203,10 +229,16 @@ def torch_info() -> dict[str, Any]:
         import torch
     except ImportError:
         return {}
-    return {"torch": torch.__version__, "torch_threads": torch.get_num_threads()}
+    info = {"torch": torch.__version__, "torch_threads": torch.get_num_threads()}
+    if torch.cuda.is_available():
+        info["gpu"] = torch.cuda.get_device_name(0)
+    return info
 
 
 def measure(args: argparse.Namespace) -> dict[str, Any]:
+    if args.device != "cpu":  # the GPU check: the torch rows alone, one short run
+        return {"rows": [], "backend_rows": backend_rows(args), "memory_mb": {},
+                "machine": machine_info()}  # fmt: skip
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     rows: list[dict[str, Any]] = []
 
@@ -246,7 +278,7 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
     lines = [
         "| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
         "|---|---|---:|---:|",
-    ]
+    ] if result["rows"] else []  # fmt: skip
     for r in result["rows"]:
         unit = per_second(r["env"]) if r["kind"] != "PPO 8 envs" else ""
         lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {r['ratio']:.4f} |")
@@ -263,14 +295,16 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
                      else " | ")  # fmt: skip
             lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
                          f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
-    lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |", "|---|---:|"]
-    lines += [f"| {env_id} | {mb:.1f} MB |" for env_id, mb in result["memory_mb"].items()]
+    if result["memory_mb"]:
+        lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |",
+                  "|---|---:|"]  # fmt: skip
+        lines += [f"| {env_id} | {mb:.1f} MB |" for env_id, mb in result["memory_mb"].items()]
     m = result["machine"]
     lines += [
         "",
         f"machine: {m['platform']}, {m['cpu_count']} CPUs, python {m['python']}, "
         f"numpy {m['numpy']}, gymnasium {m['gymnasium']}, torch {m.get('torch', '-')} "
-        f"({m.get('torch_threads', '-')} threads)",
+        f"({m.get('torch_threads', '-')} threads)" + (f", {m['gpu']}" if m.get("gpu") else ""),
         f"settings: {args.steps} steps per loop, loops capped at {args.seconds} s, best of "
         f"{args.repeats}; PPO: MlpPolicy, 8 envs, n_steps {args.ppo_n_steps}, "
         f"{args.ppo_timesteps} timesteps",
@@ -296,6 +330,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"{' '.join(base_ids())})")  # fmt: skip
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
+    parser.add_argument("--device", default="cpu",
+                        help="the torch rows' device; off the CPU (cuda) only those rows run, "
+                             f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "
+                             "(default: cpu)")  # fmt: skip
 
 
 def _sizes(args: argparse.Namespace) -> None:
@@ -305,6 +343,9 @@ def _sizes(args: argparse.Namespace) -> None:
     args.backend_envs = (1024, 4096, 65536)
     args.memory_envs = 4096
     args.ppo_timesteps, args.ppo_n_steps = 2048, 256
+    if args.device != "cpu":
+        args.backends = True
+        args.backend_envs = GPU_ENVS
     if args.quick:
         args.steps, args.seconds, args.repeats = 40, 0.2, 1
         args.num_envs = (1, 8)
@@ -315,14 +356,32 @@ def _sizes(args: argparse.Namespace) -> None:
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
-    """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends`` (the PPO
-    rows are timed only where stable-baselines3 is installed)."""
-    return extra_needs("torch") if args.backends else []
+    """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends`` or a
+    ``--device`` (the PPO rows are timed only where stable-baselines3 is installed)."""
+    return extra_needs("torch") if args.backends or args.device != "cpu" else []
+
+
+def check_device(device: str) -> None:
+    """``--device`` names a device torch has here, or :class:`UsageError` says why not."""
+    import torch
+
+    try:
+        kind = torch.device(device).type
+    except (RuntimeError, ValueError) as err:
+        raise UsageError(f"--device {device!r}: not a torch device ({err})") from None
+    if kind == "cuda" and not torch.cuda.is_available():
+        raise UsageError(f"--device {device}: torch {torch.__version__} sees no CUDA device "
+                         f"(CUDA build: {torch.version.cuda or 'none'}); without --device the "
+                         "torch rows run on the CPU")  # fmt: skip
+    if kind not in ("cpu", "cuda"):
+        raise UsageError(f"--device {device}: bench times cpu or cuda")
 
 
 def run(args: argparse.Namespace) -> int:
     _sizes(args)
     require_all(needs(args))
+    if args.device != "cpu":
+        check_device(args.device)
     try:
         import torch
 
