@@ -28,6 +28,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "torch": ("torch", "array_api_compat"),
     "rllib": ("ray", "torch"),
     "zoo": ("rl_zoo3", "torch"),
+    "torchrl": ("torchrl", "tensordict", "torch", "array_api_compat"),
 }
 """Extra -> the modules a command needs of it (imported by name; ``PIL`` is Pillow). The
 ``plots`` extra's imageio-ffmpeg is needed only for ``.mp4`` and MoviePy only for
