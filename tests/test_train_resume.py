@@ -73,3 +73,26 @@ def test_a_killed_training_resumes_from_its_last_checkpoint(tmp_path):
     # written), nor the evaluation's scratch folder.
     assert [p.name for p in out.rglob("*") if ".partial" in p.name] == []
     assert not (out / ".eval-scratch").exists()
+
+
+def test_resume_continues_a_run_that_ended_before_checkpoints_held_its_end(tmp_path):
+    """A run folder of bbgym 0.8.0 has periodic checkpoints but its end only in model.zip
+    and train.json: --resume continues from the end, not from an older checkpoint."""
+    from test_train_smoke import small_ppo_run
+
+    out, train = small_ppo_run(tmp_path, n_epochs=1)
+    done = subprocess.run([*train, "--timesteps", "2048"], capture_output=True, text=True,
+                          timeout=600)  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    for path in (out / "checkpoints").iterdir():
+        if path.name != "ppo_1024_steps.zip":  # what 0.8.0 left: the periodic model alone
+            path.unlink()
+    done = subprocess.run([*train, "--timesteps", "3072", "--resume"], capture_output=True,
+                          text=True, timeout=600)  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert f"resuming from {out / 'model.zip'} at 2048 of 3072" in done.stdout
+    summary = json.loads((out / "train.json").read_text())
+    assert (summary["timesteps"], summary["timesteps_trained"]) == (3072, 1024)
+    with np.load(out / "eval" / "evaluations.npz") as log:
+        assert list(log["timesteps"]) == [1024, 2048, 3072]
+        assert summary["best_mean_return"] == pytest.approx(log["results"].mean(axis=1).max())

@@ -95,6 +95,23 @@ def latest_checkpoint(out: Path, algo: str) -> Checkpoint | None:
                       optional("best_model", "zip"))  # fmt: skip
 
 
+def finished_run(out: Path) -> Checkpoint | None:
+    """A finished run's end as a checkpoint: its ``model.zip`` at ``train.json``'s
+    timesteps, with the replay buffer and reward statistics beside it. What ``--resume``
+    continues in a run folder written before checkpoints held a run's end (bbgym 0.8.0
+    and earlier); None where the run has no ``train.json`` or model."""
+    summary, model = out / "train.json", out / "model.zip"
+    if not (summary.exists() and model.exists()):
+        return None
+    steps = int(json.loads(summary.read_text())["timesteps"])
+
+    def beside(name: str) -> Path | None:
+        return out / name if (out / name).exists() else None
+
+    return Checkpoint(steps, model, beside("replay_buffer.pkl"), beside("vecnormalize.pkl"),
+                      {}, None)  # fmt: skip
+
+
 def checkpoint_callback(out: Path, algo: str, every_timesteps: int, evaluation: Any) -> Any:
     """An SB3 callback that saves a checkpoint (:func:`save_checkpoint`) each time the
     model's timestep count passes a multiple of ``every_timesteps``: the same timesteps

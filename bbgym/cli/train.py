@@ -359,10 +359,14 @@ def _training_callbacks(
 
 def resume_point(out: Path, algo: str, budget: int) -> Any:
     """Where ``--resume`` continues: the newest complete checkpoint of the run in ``out``
-    (:func:`bbgym.cli.checkpoints.latest_checkpoint`), which must be short of ``budget``."""
-    from bbgym.cli.checkpoints import latest_checkpoint
+    (:func:`bbgym.cli.checkpoints.latest_checkpoint`), or the end of a run written before
+    checkpoints held it (:func:`~bbgym.cli.checkpoints.finished_run`) where that is
+    further; it must be short of ``budget``."""
+    from bbgym.cli.checkpoints import finished_run, latest_checkpoint
 
-    point = latest_checkpoint(out, algo)
+    point, finished = latest_checkpoint(out, algo), finished_run(out)
+    if finished is not None and (point is None or finished.timesteps > point.timesteps):
+        point = finished
     if point is None:
         raise UsageError(f"--resume: no {algo.upper()} checkpoint in {out / 'checkpoints'} "
                          "(a run of this bbgym saves one every checkpoint_every_timesteps "
@@ -481,6 +485,12 @@ def _final_eval_callback() -> type:
                         self.evaluations_successes = [list(saved["successes"][i]) for i in keep]
             self.best_mean_reward = point.eval_state.get("best_mean_reward", -np.inf)
             self.best_timesteps = point.eval_state.get("best_timesteps")
+            if "best_mean_reward" not in point.eval_state and self.evaluations_results:
+                # An older run's end: its best is the log's (SB3 keeps the first of equals).
+                means = [float(np.mean(r)) for r in self.evaluations_results]
+                best = int(np.argmax(means))
+                self.best_mean_reward = means[best]
+                self.best_timesteps = self.evaluations_timesteps[best]
             if point.best_model is not None:
                 link_or_copy(point.best_model, self.out / "best_model.zip")
             self.n_calls = point.timesteps // n_envs  # SB3 evaluates every eval_freq calls
