@@ -2,7 +2,7 @@
 
     from bbgym.torchrl import BbgymTorchRLEnv
 
-    env = BbgymTorchRLEnv("BeachballSail-v1", num_envs=1024, device="cpu", seed=0)
+    env = BbgymTorchRLEnv(env_id, num_envs=1024, device="cpu", seed=0)
     rollout = env.rollout(300, break_when_any_done=False)   # a TensorDict [1024, 300]
 
 The env is the native vector env on the torch backend with tensors in and out
