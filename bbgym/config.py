@@ -205,3 +205,97 @@ def load_training(preset: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
             f"got {train['evaluate_model']!r}"
         )
     return kwargs, {**train, "algo": algo}
+
+
+TORCHRL_DEFAULTS: dict[str, Any] = {
+    "num_envs": 1024,
+    "n_steps": 32,
+    "total_timesteps": 5_000_000,
+    "minibatch_size": 8192,
+    "n_epochs": 4,
+    "learning_rate": 3e-4,
+    "gamma": 0.99,
+    "gae_lambda": 0.95,
+    "clip_range": 0.2,
+    "ent_coef": 0.0,
+    "vf_coef": 0.5,
+    "max_grad_norm": 0.5,
+    "log_std_init": -1.0,
+    "use_sde": False,
+    "sde_sample_freq": 8,
+    "net_arch": [128, 128],
+    "normalize_reward": False,
+    "dtype": "float32",
+    "compile_step": True,
+    "eval_every_timesteps": 500_000,
+    "eval_episodes": 50,
+}
+"""The ``torchrl`` section of a preset (``bbgym train --engine torchrl``: TorchRL's PPO on
+the env's device) and what it leaves out. Names follow stable-baselines3's where the
+meaning is the same; ``num_envs x n_steps`` frames make one batch, ``minibatch_size`` of
+them one gradient step, ``log_std_init`` the state-independent log standard deviation of
+the policy's Gaussian before its tanh squashing (with ``use_sde``, of generalized
+state-dependent exploration's noise matrix, drawn anew every ``sde_sample_freq`` steps:
+:class:`bbgym.torchrl.GaussianPolicyNet`), and ``learning_rate`` may be
+``"lin_<initial>"`` (decaying linearly to zero); ``compile_step: false`` runs the env's
+step eagerly (no compile time, a slower step)."""
+
+
+def load_torchrl(preset: str | Path) -> dict[str, Any]:
+    """The ``torchrl`` section of a preset (an env id, a shipped preset's name or a file)
+    with :data:`TORCHRL_DEFAULTS` for what it leaves out; ``ValueError`` naming the setting
+    (``torchrl.<name>``) for an unknown or invalid one, or where the preset has no such
+    section."""
+    import yaml
+
+    path = preset_path(preset)
+    with open(path, encoding="utf-8") as f:
+        section = yaml.safe_load(f).get("torchrl")
+    if not isinstance(section, dict):
+        raise ValueError(f"{path}: no torchrl section (the settings of --engine torchrl)")
+    unknown = sorted(set(section) - set(TORCHRL_DEFAULTS))
+    if unknown:
+        raise ValueError(f"{path}: unknown torchrl settings {unknown}; "
+                         f"known: {sorted(TORCHRL_DEFAULTS)}")  # fmt: skip
+    settings = {**TORCHRL_DEFAULTS, **section}
+    for name in ("num_envs", "n_steps", "total_timesteps", "minibatch_size", "n_epochs",
+                 "eval_every_timesteps", "eval_episodes", "sde_sample_freq"):  # fmt: skip
+        value = settings[name]
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ValueError(f"{path}: torchrl.{name} must be a positive int, got {value!r}")
+    for name in ("gamma", "gae_lambda", "clip_range", "ent_coef", "vf_coef", "max_grad_norm",
+                 "log_std_init"):  # fmt: skip
+        value = settings[name]
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or not (float("-inf") < value < float("inf"))
+        ):
+            raise ValueError(f"{path}: torchrl.{name} must be a finite number, got {value!r}")
+        settings[name] = float(value)
+    for name in ("gamma", "gae_lambda"):
+        if not 0.0 < settings[name] <= 1.0:
+            raise ValueError(f"{path}: torchrl.{name} must be in (0, 1], got {settings[name]}")
+    for name in ("clip_range", "max_grad_norm"):
+        if settings[name] <= 0.0:
+            raise ValueError(f"{path}: torchrl.{name} must be > 0, got {settings[name]}")
+    if settings["ent_coef"] < 0.0 or settings["vf_coef"] < 0.0:
+        raise ValueError(f"{path}: torchrl.ent_coef and torchrl.vf_coef must be >= 0")
+    arch = settings["net_arch"]
+    if not (isinstance(arch, list) and arch and all(
+        isinstance(w, int) and not isinstance(w, bool) and w > 0 for w in arch
+    )):  # fmt: skip
+        raise ValueError(f"{path}: torchrl.net_arch must be a list of positive ints, got {arch!r}")
+    if settings["dtype"] not in ("float32", "float64"):
+        raise ValueError(f"{path}: torchrl.dtype must be float32 or float64, got "
+                         f"{settings['dtype']!r}")  # fmt: skip
+    for name in ("normalize_reward", "use_sde", "compile_step"):
+        if not isinstance(settings[name], bool):
+            raise ValueError(f"{path}: torchrl.{name} must be true or false")
+    rate = settings["learning_rate"]
+    if isinstance(rate, str):
+        settings["learning_rate"] = linear_schedule(rate, f"{path}: torchrl.learning_rate")
+    elif isinstance(rate, bool) or not isinstance(rate, (int, float)) or not 0.0 < rate < 1.0:
+        raise ValueError(f"{path}: torchrl.learning_rate must be in (0, 1) or 'lin_<number>', "
+                         f"got {rate!r}")  # fmt: skip
+    return settings

@@ -123,6 +123,7 @@ def baseline_row(path: Path) -> tuple[str, str]:
     rows = field(data, "results", path, list)
     env = field(summary, "env", path, str)
     algo = field(summary, "algo", path, str)
+    engine = summary.get("engine", "sb3")
     by_policy = {r.get("policy"): r for r in rows if isinstance(r, dict)}
     learnt = [r for r in rows if isinstance(r, dict) and r.get("algo") == algo]
     for name in ("random", "scripted"):
@@ -149,7 +150,9 @@ def baseline_row(path: Path) -> tuple[str, str]:
         elif ratio is not None:
             ratio = f"{ratio:.2f}"
         cells = [
-            f"{env}, {algo.upper()}" + (" (`make run`)" if path.stem == "main" else ""),
+            f"{env}, {algo.upper()}"
+            + (f" ({engine})" if engine != "sb3" else "")
+            + (" (`make run`)" if path.stem == "main" else ""),
             rate_cell(by_policy["random"], unit),
             rate_cell(by_policy["scripted"], unit),
             rate_cell(planner, unit) if planner else "-",
@@ -467,7 +470,7 @@ def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
         raise PluginError(f"docs/tables.py, page {page.file.src_path}: {err}") from None
 
 
-SUMMARY_KEYS = ("env", "config", "algo", "evaluated_model", "training_seeds", "jobs",
+SUMMARY_KEYS = ("env", "config", "algo", "engine", "evaluated_model", "training_seeds", "jobs",
                 "torch_threads", "timesteps", "n_envs", "eval_episodes", "eval_seeds",
                 "versions", "machine", "train_wall_time_s_per_seed")  # fmt: skip
 """What a baselines results file keeps of a run folder's ``summary.json``."""
@@ -521,10 +524,13 @@ def baseline_results(run: Path, command: str | None = None, note: str = "") -> d
 
 def record_baseline(run: Path, command: str | None = None, note: str = "",
                     results: Path = RESULTS) -> Path:  # fmt: skip
-    """Write :func:`baseline_results` to ``results/baselines/<env>-<algo>.json``, checked
-    by building its table row; return the path."""
+    """Write :func:`baseline_results` to ``results/baselines/<env>-<algo>.json`` (a run of
+    ``--engine torchrl``: ``<env>-torchrl-<algo>.json``), checked by building its table row;
+    return the path."""
     data = baseline_results(run, command, note)
     env, algo = data["summary"]["env"], data["summary"]["algo"]
+    engine = data["summary"].get("engine", "sb3")
+    algo = algo if engine == "sb3" else f"{engine}-{algo}"  # beside SB3's, not over it
     path = results / "baselines" / f"{env}-{algo}.json"
     path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
     baseline_row(path)

@@ -46,6 +46,23 @@ def test_bench_quick_backend_rows(tmp_path):
     assert "torch float32" in (tmp_path / "bench.md").read_text()
 
 
+def test_bench_quick_training_rows(tmp_path):
+    """--training adds TorchRL PPO's training throughput beside SB3's PPO on CartPole."""
+    import pytest
+
+    pytest.importorskip("torchrl")
+    pytest.importorskip("stable_baselines3")
+    done = run_bench(tmp_path, "--training")
+    assert done.returncode == 0, done.stderr
+    result = json.loads((tmp_path / "bench.json").read_text())
+    rows = {(row["env"], row["kind"]): row for row in result["rows"]}
+    training = rows["BeachballSail-v0", "TorchRL PPO N=8"]
+    assert training["rate"] > 0
+    assert training["ratio"] == training["rate"] / rows["CartPole-v1", "PPO 8 envs"]["rate"]
+    assert 0.0 < training["update_share"] < 1.0 and training["first_batch_s"] > 0
+    assert "| BeachballSail-v0 | TorchRL PPO N=8 |" in (tmp_path / "bench.md").read_text()
+
+
 def run_bench(tmp_path, *argv: str) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-m", "bbgym", "bench", "--quick", "--envs", "BeachballSail-v0",
@@ -69,7 +86,8 @@ def test_bench_device_is_checked(tmp_path):
 
 
 def test_bench_device_cuda_runs_the_torch_rows_alone(tmp_path):
-    """The GPU check: torch rows on the GPU beside CartPole, and nothing else."""
+    """The GPU check: torch rows and TorchRL PPO's training on the GPU beside CartPole, and
+    nothing else."""
     import pytest
 
     torch = pytest.importorskip("torch")
@@ -78,7 +96,9 @@ def test_bench_device_cuda_runs_the_torch_rows_alone(tmp_path):
     done = run_bench(tmp_path, "--device", "cuda")
     assert done.returncode == 0, done.stderr
     result = json.loads((tmp_path / "bench.json").read_text())
-    assert result["rows"] == [] and result["memory_mb"] == {}
+    assert result["memory_mb"] == {}
+    training = [row for row in result["rows"] if row["env"] != "CartPole-v1"]
+    assert [row["kind"] for row in training] == ["TorchRL PPO N=8"] and training[0]["rate"] > 0
     kinds = {row["kind"] for row in result["backend_rows"] if row["env"] != "CartPole-v1"}
     assert kinds == {"N=8 torch float64 cuda", "N=8 torch float32 cuda"}
     assert all(row["rate"] > 0 for row in result["backend_rows"])

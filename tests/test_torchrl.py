@@ -114,8 +114,6 @@ def test_deterministic_under_a_seed() -> None:
     )
 
 
-# TorchRL 0.14's collector warns about its own internals (not about how it is called).
-@pytest.mark.filterwarnings("ignore:Creating .*WeightUpdater:DeprecationWarning")
 def test_a_collector_collects_frames() -> None:
     from torchrl.collectors import Collector
 

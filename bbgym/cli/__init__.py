@@ -164,6 +164,23 @@ def positive_float(text: str) -> float:
     return _number(text, float, 0.0, strict=True)
 
 
+def check_device(device: str, argument: str) -> None:
+    """``device`` (given as ``argument``) names a CPU or CUDA device torch has here, or
+    :class:`UsageError` says why not."""
+    import torch
+
+    try:
+        kind = torch.device(device).type
+    except (RuntimeError, ValueError) as err:
+        raise UsageError(f"{argument} {device!r}: not a torch device ({err})") from None
+    if kind not in ("cpu", "cuda"):
+        raise UsageError(f"{argument} {device}: cpu or cuda (cuda:N), got a {kind} device")
+    if kind == "cuda" and not torch.cuda.is_available():
+        raise UsageError(f"{argument} {device}: torch {torch.__version__} sees no CUDA device "
+                         f"(CUDA build: {torch.version.cuda or 'none'}); without "
+                         f"{argument} it runs on the CPU")  # fmt: skip
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``bbgym`` parser with every subcommand."""
     from bbgym import __version__

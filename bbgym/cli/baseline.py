@@ -3,16 +3,18 @@ beside random and scripted play, write a run folder.
 
     bbgym baseline --env ENV_ID [--preset NAME] [--timesteps N]
         [--seed 0] [--seeds 5] [--jobs 1] [--episodes 100] [--torch-threads 1]
-        [--out runs/baseline/<env>] [--no-train]
+        [--engine sb3|torchrl] [--device cpu] [--out runs/baseline/<env>] [--no-train]
 
 The main job (``make run``, see the Makefile) is this command on the sailing env with its
 shipped preset and one training seed. Steps, each reported as it goes:
 
-1. train as ``bbgym train`` does (the preset's ``algo``, its section and ``train``), once per
+1. train as ``bbgym train`` does (the preset's ``algo``, its section and ``train``; with
+   ``--engine torchrl``, TorchRL's PPO from its ``torchrl`` section on ``--device``), once per
    training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>`` (``--jobs`` trainings
    at once, each on ``--torch-threads`` threads); ``--no-train`` skips this and evaluates
    the models already there;
-2. evaluate each seed's best model of training (chosen on the evaluation seeds 10000+; or
+2. evaluate each seed's best model of training (``best_model.zip``, or ``best_model.pt`` of
+   ``--engine torchrl``; chosen on the evaluation seeds 10000+; or
    its final model, where the preset's ``train.evaluate_model`` is ``final``), a
    uniform random policy and the env's scripted agent (the VMG autopilot for sailing) over
    the same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from
@@ -66,6 +68,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="run folder (default runs/baseline/<env>)")  # fmt: skip
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     train.add_threads_argument(parser)
+    parser.add_argument("--engine", choices=("sb3", "torchrl"), default="sb3",
+                        help="training library (torchrl: PPO on the env's torch backend, the "
+                        "preset's torchrl section)")  # fmt: skip
+    parser.add_argument("--device", default="cpu",
+                        help="torchrl: the env's and the policy's device (cpu, cuda)")  # fmt: skip
     parser.add_argument(
         "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
     )
@@ -75,7 +82,7 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs, checked before training starts: training
     (``train``), the learning curves (``plots``) and the recorded episode (``render`` to
     draw it, Pillow of ``plots`` to write the GIF)."""
-    return extra_needs("train", "plots", "render")
+    return extra_needs("torchrl" if args.engine == "torchrl" else "train", "plots", "render")
 
 
 def best_model_index(timesteps: np.ndarray, mean_returns: np.ndarray, train_log: dict) -> int:
@@ -303,13 +310,18 @@ def run(args: argparse.Namespace) -> int:
     config, _ = train.resolve_preset(args.env, args.preset)
     train.pin_torch_threads(args.torch_threads)  # evaluation too (--no-train)
     args.out.mkdir(parents=True, exist_ok=True)
-    _, settings = load_training(config)
-    algo, evaluated = settings["algo"], settings["evaluate_model"]
-    model_file = EVALUATED_MODELS[evaluated]
+    if args.engine == "torchrl":
+        settings = train.torchrl_settings(config)
+        algo, evaluated, n_envs = "ppo", "best", settings["num_envs"]
+        model_file = "best_model.pt"
+    else:
+        _, settings = load_training(config)
+        algo, evaluated, n_envs = settings["algo"], settings["evaluate_model"], settings["n_envs"]
+        model_file = EVALUATED_MODELS[evaluated]
     budget = args.timesteps or settings["total_timesteps"]
-    print(f"[1/4] training {algo.upper()} on {args.env}: seeds {seeds}, {budget} timesteps each, "
-          f"{settings['n_envs']} envs, {args.jobs} at once, {args.torch_threads} torch "
-          "thread(s) each")  # fmt: skip
+    print(f"[1/4] training {algo.upper()} ({args.engine}) on {args.env}: seeds {seeds}, "
+          f"{budget} timesteps each, {n_envs} envs, {args.jobs} at once, {args.torch_threads} "
+          "torch thread(s) each")  # fmt: skip
     train_logs, train_wall = _train_or_reuse(args, folders, budget)
     budget = train_logs[seeds[0]]["timesteps"]
 
@@ -335,12 +347,13 @@ def run(args: argparse.Namespace) -> int:
         "env": args.env,
         "config": str(config),
         "algo": algo,
+        "engine": args.engine,
         "evaluated_model": model_file,
         **train.run_provenance(args.seed, args.torch_threads),
         "training_seeds": seeds,
         "jobs": args.jobs,
         "timesteps": budget,
-        "n_envs": settings["n_envs"],
+        "n_envs": n_envs,
         # With --no-train this call trained nothing: its rate would be the JSON files'
         # reading speed. Each seed's own training time stays, from its train.json.
         "train_wall_time_s": None if args.no_train else train_wall,
@@ -433,11 +446,16 @@ def train_seeds(args: argparse.Namespace, folders: dict[int, Path], budget: int)
     """Train every seed's model into its folder: one after another with a progress bar, or
     ``--jobs`` at once in separate processes (each pinned to ``--torch-threads``)."""
     kwargs = {"preset": args.preset, "timesteps": budget, "torch_threads": args.torch_threads}
+    trainer = train.train_sb3
+    if args.engine == "torchrl":
+        trainer = train.train_torchrl
+        kwargs["device"] = args.device
+    else:  # stable-baselines3's progress bar: one training at a time only
+        kwargs["progress"] = args.jobs == 1 and not args.no_progress
     if args.jobs == 1:
         for seed, folder in folders.items():
             print(f"      seed {seed} -> {folder}")
-            train.train_sb3(args.env, seed=seed, out=folder, progress=not args.no_progress,
-                            **kwargs)  # fmt: skip
+            trainer(args.env, seed=seed, out=folder, **kwargs)
         return
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
@@ -445,9 +463,7 @@ def train_seeds(args: argparse.Namespace, folders: dict[int, Path], budget: int)
     context = multiprocessing.get_context("spawn")  # a fresh torch in each process
     with ProcessPoolExecutor(max_workers=args.jobs, mp_context=context) as pool:
         futures = {
-            seed: pool.submit(
-                train.train_sb3, args.env, seed=seed, out=folder, progress=False, **kwargs
-            )  # fmt: skip
+            seed: pool.submit(trainer, args.env, seed=seed, out=folder, **kwargs)
             for seed, folder in folders.items()
         }
         for seed, future in futures.items():

@@ -1,7 +1,7 @@
 """Benchmark the bbgym envs against Gymnasium's CartPole, all measured in one run.
 
-    bbgym bench [--quick] [--backends] [--device DEVICE] [--out runs/bench] [--seconds S]
-        [--repeats R]
+    bbgym bench [--quick] [--backends] [--training] [--device DEVICE] [--out runs/bench]
+        [--seconds S] [--repeats R]
 
 Prints a markdown table and writes it (``bench.md``) and the raw numbers (``bench.json``)
 to ``--out``:
@@ -14,6 +14,10 @@ to ``--out``:
 * stable-baselines3 PPO training throughput (MlpPolicy, 8 envs, the bbgym envs through
   :mod:`bbgym.sb3`, CartPole through SB3's DummyVecEnv; same settings for all), if
   stable-baselines3 is installed;
+* ``--training`` (the ``torchrl`` extra): TorchRL PPO's training throughput
+  (``bbgym train --engine torchrl``, each env's preset) on ``--device``, timesteps per
+  second of collecting and learning after the first batch (which compiles), beside
+  stable-baselines3's PPO on CartPole;
 * peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
 * the backends of the native vector envs (``--backends``, needs torch): torch float64 and
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
@@ -24,8 +28,9 @@ to ``--out``:
 * ``--device cuda``: the GPU check in one command. The torch rows alone, on the GPU with
   tensors in and out (``output="torch"``, the actions made on the device before the timed
   loop, the device synchronized before the clock stops), at N = 4096, 65536 and 2^20,
-  beside CartPole's NumPy vector env at the same N on the CPU. A device torch does not
-  have here is refused, naming ``--device``.
+  beside CartPole's NumPy vector env at the same N on the CPU, and the ``--training``
+  rows on the GPU (16384 envs, rollouts of 32 steps, minibatches of 65536). A device
+  torch does not have here is refused, naming ``--device``.
 
 Timed loops are capped at ``--seconds`` each; single-env loops are repeated ``--repeats``
 times (best kept).
@@ -48,7 +53,7 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym._extras import extra_needs
-from bbgym.cli import UsageError, positive_float, positive_int, require_all
+from bbgym.cli import check_device, positive_float, positive_int, require_all
 from bbgym.cli import env_id as env_id_type
 from bbgym.spec import base_ids, spec_of
 
@@ -212,6 +217,38 @@ def ppo_throughput(env_id: str, timesteps: int, n_steps: int, seed: int) -> floa
     return model.num_timesteps / elapsed
 
 
+def torchrl_training_rows(args: argparse.Namespace, reference: float | None) -> list[dict]:
+    """TorchRL PPO's training throughput (:func:`bbgym.torchrl.train_ppo`, each env's
+    preset ``torchrl`` section) on ``--device`` with ``N`` envs: timesteps per second of
+    collecting and learning after the first batch (which compiles), over
+    ``--training-batches`` batches, beside stable-baselines3's PPO on CartPole (8 envs, the
+    CPU) where that was timed."""
+    import tempfile
+
+    from bbgym import torchrl
+    from bbgym.config import env_preset, load_torchrl
+
+    rows = []
+    for env_id in args.envs:
+        path, env_kwargs = env_preset(env_id)
+        settings = {**load_torchrl(path), **args.training_settings}
+        batch = settings["num_envs"] * settings["n_steps"]
+        settings.update(total_timesteps=batch * (args.training_batches + 1),
+                        eval_every_timesteps=10**12, eval_episodes=1)  # fmt: skip
+        with tempfile.TemporaryDirectory() as out:
+            summary = torchrl.train_ppo(env_id, settings, out=Path(out), seed=args.seed,
+                                        device=args.device, env_kwargs=env_kwargs,
+                                        log=lambda line: None)  # fmt: skip
+        rate = summary["steady_timesteps_per_s"]
+        share = summary["update_time_s"] / summary["train_time_s"]  # learning, not collecting
+        rows.append({"env": env_id, "kind": f"TorchRL PPO N={settings['num_envs']}",
+                     "rate": rate, "ratio": rate / reference if reference else None,
+                     "first_batch_s": summary["first_batch_s"], "update_share": share})  # fmt: skip
+        print(f"{env_id} TorchRL PPO on {args.device}: {rate:,.0f} timesteps/s after the "
+              f"first batch ({summary['first_batch_s']:.1f} s)", flush=True)  # fmt: skip
+    return rows
+
+
 def machine_info() -> dict[str, Any]:
     return {
         "platform": platform.platform(),
@@ -237,7 +274,13 @@ def torch_info() -> dict[str, Any]:
 
 def measure(args: argparse.Namespace) -> dict[str, Any]:
     if args.device != "cpu":  # the GPU check: the torch rows alone, one short run
-        return {"rows": [], "backend_rows": backend_rows(args), "memory_mb": {},
+        reference = ppo_throughput(REFERENCE, args.ppo_timesteps, args.ppo_n_steps, args.seed)
+        rows = []
+        if reference is not None:
+            rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": reference,
+                         "ratio": 1.0})  # fmt: skip
+        rows += torchrl_training_rows(args, reference)
+        return {"rows": rows, "backend_rows": backend_rows(args), "memory_mb": {},
                 "machine": machine_info()}  # fmt: skip
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     rows: list[dict[str, Any]] = []
@@ -266,6 +309,9 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
             rows.append({"env": env_id, "kind": "PPO 8 envs", "rate": rate,
                          "ratio": rate / ppo_reference})  # fmt: skip
 
+    if args.training:
+        rows += torchrl_training_rows(args, ppo_reference)
+
     memory = {
         env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
     }
@@ -280,8 +326,9 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
         "|---|---|---:|---:|",
     ] if result["rows"] else []  # fmt: skip
     for r in result["rows"]:
-        unit = per_second(r["env"]) if r["kind"] != "PPO 8 envs" else ""
-        lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {r['ratio']:.4f} |")
+        unit = "" if "PPO" in r["kind"] else per_second(r["env"])
+        ratio = "-" if r["ratio"] is None else f"{r['ratio']:.4f}"
+        lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | {ratio} |")
     if result.get("backend_rows"):
         lines += [
             "",
@@ -307,8 +354,10 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
         f"({m.get('torch_threads', '-')} threads)" + (f", {m['gpu']}" if m.get("gpu") else ""),
         f"settings: {args.steps} steps per loop, loops capped at {args.seconds} s, best of "
         f"{args.repeats}; PPO: MlpPolicy, 8 envs, n_steps {args.ppo_n_steps}, "
-        f"{args.ppo_timesteps} timesteps",
-    ]
+        f"{args.ppo_timesteps} timesteps"
+        + (f"; TorchRL PPO: the preset's settings, {args.training_batches} batches after the "
+           f"first, on {args.device}" if args.training else ""),
+    ]  # fmt: skip
     return "\n".join(lines)
 
 
@@ -330,6 +379,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"{' '.join(base_ids())})")  # fmt: skip
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
+    parser.add_argument("--training", action="store_true",
+                        help="add TorchRL PPO's training throughput (the torchrl extra; "
+                        "always with --device cuda)")  # fmt: skip
     parser.add_argument("--device", default="cpu",
                         help="the torch rows' device; off the CPU (cuda) only those rows run, "
                              f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "
@@ -343,9 +395,12 @@ def _sizes(args: argparse.Namespace) -> None:
     args.backend_envs = (1024, 4096, 65536)
     args.memory_envs = 4096
     args.ppo_timesteps, args.ppo_n_steps = 2048, 256
+    args.training_batches, args.training_settings = 4, {}
     if args.device != "cpu":
-        args.backends = True
+        args.backends = args.training = True
         args.backend_envs = GPU_ENVS
+        # Many envs per batch: a GPU's steps are cheap, its launches are not.
+        args.training_settings = {"num_envs": 16384, "n_steps": 32, "minibatch_size": 65536}
     if args.quick:
         args.steps, args.seconds, args.repeats = 40, 0.2, 1
         args.num_envs = (1, 8)
@@ -353,35 +408,25 @@ def _sizes(args: argparse.Namespace) -> None:
         args.ppo_timesteps, args.ppo_n_steps = 64, 8
         args.backend_envs = (8,)
         args.compile = False
+        args.training_batches = 1
+        args.training_settings = {"num_envs": 8, "n_steps": 4, "minibatch_size": 16,
+                                  "n_epochs": 1, "compile_step": False}  # fmt: skip
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
-    """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends`` or a
-    ``--device`` (the PPO rows are timed only where stable-baselines3 is installed)."""
-    return extra_needs("torch") if args.backends or args.device != "cpu" else []
-
-
-def check_device(device: str) -> None:
-    """``--device`` names a device torch has here, or :class:`UsageError` says why not."""
-    import torch
-
-    try:
-        kind = torch.device(device).type
-    except (RuntimeError, ValueError) as err:
-        raise UsageError(f"--device {device!r}: not a torch device ({err})") from None
-    if kind == "cuda" and not torch.cuda.is_available():
-        raise UsageError(f"--device {device}: torch {torch.__version__} sees no CUDA device "
-                         f"(CUDA build: {torch.version.cuda or 'none'}); without --device the "
-                         "torch rows run on the CPU")  # fmt: skip
-    if kind not in ("cpu", "cuda"):
-        raise UsageError(f"--device {device}: bench times cpu or cuda")
+    """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends``, the
+    ``torchrl`` extra for ``--training`` or a ``--device`` (the stable-baselines3 PPO rows
+    are timed only where it is installed)."""
+    if args.training or args.device != "cpu":
+        return extra_needs("torchrl")
+    return extra_needs("torch") if args.backends else []
 
 
 def run(args: argparse.Namespace) -> int:
     _sizes(args)
     require_all(needs(args))
     if args.device != "cpu":
-        check_device(args.device)
+        check_device(args.device, "--device")
     try:
         import torch
 

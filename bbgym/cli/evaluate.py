@@ -15,7 +15,8 @@ episodes (time to the mark, time / oracle) shows their count, "1.80 (2 ep.)"; th
 columns are left out for an env that keeps no time.
 
 Policies: ``random`` (uniform actions), ``ppo`` and ``sac`` (a stable-baselines3 PPO or SAC
-model saved at ``--model``), and the env family's own (:attr:`bbgym.spec.EnvSpec.policies`):
+model saved at ``--model``; for ``ppo`` also a policy ``.pt`` of ``bbgym train --engine
+torchrl``), and the env family's own (:attr:`bbgym.spec.EnvSpec.policies`):
 ``scripted`` (its scripted agent from ``bbgym.agents``: the VMG autopilot for sailing, the
 throw solver, the topple agent), ``planner`` (the ball envs: the privileged planners of
 :mod:`bbgym.agents.planner`, which read the true wind and the env's random stream and
@@ -75,7 +76,10 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
         if model_path is None:
             raise ValueError(f"--policies {name} needs --model")
         if not Path(model_path).is_file():
-            raise ValueError(f"--model {model_path}: no such file (a saved SB3 model .zip)")
+            raise ValueError(f"--model {model_path}: no such file (a saved SB3 model .zip, "
+                             "or a policy .pt of --engine torchrl)")  # fmt: skip
+        if Path(model_path).suffix == ".pt":
+            return _torchrl_policy(name, model_path)
         require("stable_baselines3", "train")
         from bbgym.sb3 import load_model
 
@@ -84,6 +88,25 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
     if name not in POLICIES:
         raise ValueError(f"unknown policy {name!r}; known: {', '.join(POLICIES)}")
     return spec_of(env_id_of(env)).policy(name, env)
+
+
+def _torchrl_policy(name: str, model_path: Path) -> Policy:
+    """The deterministic action of a PPO policy saved by ``bbgym train --engine torchrl``."""
+    if name != "ppo":
+        raise ValueError(f"--model {model_path}: a policy of --engine torchrl is PPO's "
+                         f"(--policies ppo), not {name}")  # fmt: skip
+    require("torchrl", "torchrl")
+    import torch
+
+    from bbgym.torchrl import load_policy
+
+    net = load_policy(model_path)
+
+    def act(obs: np.ndarray) -> np.ndarray:
+        with torch.no_grad():
+            return net.act(torch.as_tensor(obs, dtype=torch.float32)).numpy()
+
+    return act
 
 
 def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated: bool) -> str:
@@ -359,8 +382,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
-    """``(module, extra)`` the run needs: the ``train`` extra for a saved model's policy."""
-    return extra_needs("train") if set(args.policies) & set(LEARNT) else []
+    """``(module, extra)`` the run needs: for a saved model's policy the ``train`` extra
+    (stable-baselines3's ``.zip``) or the ``torchrl`` extra (a ``.pt`` of ``--engine
+    torchrl``)."""
+    return model_needs(args.policies, args.model)
+
+
+def model_needs(policies: list[str], model: Path | None) -> list[tuple[str, str]]:
+    """The extra a saved model's policy needs: ``torchrl`` for a ``.pt`` policy of
+    ``bbgym train --engine torchrl``, else ``train`` (stable-baselines3); none where no
+    policy in ``policies`` is a saved model."""
+    if not set(policies) & set(LEARNT):
+        return []
+    return extra_needs("torchrl" if Path(model or "").suffix == ".pt" else "train")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -38,9 +38,9 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
-from bbgym._extras import extra_needs, install_hint
+from bbgym._extras import install_hint
 from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_all
-from bbgym.cli.evaluate import LEARNT, POLICIES, make_policy
+from bbgym.cli.evaluate import LEARNT, POLICIES, make_policy, model_needs
 from bbgym.spec import env_id_of, spec_of
 
 FORMATS = (".gif", ".mp4")
@@ -286,17 +286,18 @@ def default_out(args: argparse.Namespace) -> Path:
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
-    """``(module, extra)`` the run needs: :func:`animation_needs`, and the ``train`` extra
-    for a saved model's policy."""
-    learnt = extra_needs("train") if args.policy in LEARNT else []
-    return [*animation_needs(default_out(args)), *learnt]
+    """``(module, extra)`` the run needs: :func:`animation_needs`, and for a saved model's
+    policy the extra that loads it (:func:`~bbgym.cli.evaluate.model_needs`)."""
+    return [*animation_needs(default_out(args)), *model_needs([args.policy], args.model)]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
     parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument("--policy", required=True, choices=POLICIES, help="the policy to record")
-    parser.add_argument("--model", type=Path, default=None, help="saved PPO or SAC model (.zip)")
+    parser.add_argument("--model", type=Path, default=None,
+                        help="saved PPO or SAC model (.zip), or a PPO policy .pt of --engine "
+                        "torchrl")  # fmt: skip
     parser.add_argument("--seed", type=int, default=0, help="episode seed")
     parser.add_argument(
         "--out", type=Path, default=None,
@@ -320,7 +321,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--hold must be >= 0")
     if args.policy in LEARNT and args.model is None:
         raise UsageError(
-            f"--policy {args.policy} needs --model (a saved stable-baselines3 model .zip)"
+            f"--policy {args.policy} needs --model (a saved stable-baselines3 model .zip, or a "
+            "PPO policy .pt of bbgym train --engine torchrl)"
         )
     args.out = default_out(args)
     try:

@@ -2,6 +2,7 @@
 
     bbgym train --env ENV_ID [--preset NAME] [--timesteps N] [--seed 0]
         [--out runs/<algo>/ENV_ID-seed0] [--resume]
+    bbgym train --env ENV_ID --engine torchrl [--device cpu]
     bbgym train --env ENV_ID --engine rllib [--num-env-runners 2] [--iterations 10]
         [--address auto]
 
@@ -31,6 +32,13 @@ rate (``timesteps_per_s``) counts the training alone; the evaluations' time is
 episode per evaluation env, not the preset's ``eval_episodes``: its one model is not chosen
 among others.
 
+Engine ``torchrl`` (the ``torchrl`` extra): PPO from TorchRL's ``ClipPPOLoss`` and
+``GAE`` on the env's torch backend, env and policy on ``--device`` (``cpu``, ``cuda``) with
+no NumPy between them (:func:`bbgym.torchrl.train_ppo`), from the preset's ``torchrl``
+section; seeded and reproducible like ``sb3``, evaluated alike (``<out>/eval``), the
+policies saved as ``<out>/model.pt`` and ``<out>/best_model.pt`` (which ``bbgym evaluate
+--policies ppo --model`` reads).
+
 Engine ``rllib`` (the ``rllib`` extra; PPO presets): Ray RLlib's PPO on its new API stack, each env
 runner stepping the env's native vector env; ``--iterations`` training iterations, a
 checkpoint in ``<out>/checkpoint`` and a summary in ``<out>/rllib.json``. Without
@@ -50,12 +58,19 @@ from typing import Any
 
 from bbgym._extras import extra_needs
 from bbgym._files import copy_atomic, link_or_copy, write_text_atomic
-from bbgym.cli import UsageError, env_id, nonnegative_int, positive_int, require_all
+from bbgym.cli import (
+    UsageError,
+    check_device,
+    env_id,
+    nonnegative_int,
+    positive_int,
+    require_all,
+)
 
 EVAL_SEED_OFFSET = 10_000
 """Evaluation episodes use seeds far from the training ones."""
 
-ENGINES = ("sb3", "rllib")
+ENGINES = ("sb3", "rllib", "torchrl")
 
 MODEL_FILE = "model.zip"
 """The final model of a run, which ``--resume`` continues."""
@@ -84,6 +99,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_threads_argument(parser)
     parser.add_argument("--engine", choices=ENGINES, default="sb3", help="training library")
+    parser.add_argument("--device", default="cpu",
+                        help="torchrl: the env's and the policy's device (cpu, cuda)")  # fmt: skip
     parser.add_argument("--iterations", type=positive_int, default=10,
                         help="rllib: training iterations")  # fmt: skip
     parser.add_argument("--num-env-runners", type=nonnegative_int, default=2,
@@ -98,7 +115,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs, checked before it starts (:func:`bbgym.cli.main`)."""
-    return extra_needs("rllib" if args.engine == "rllib" else "train")
+    return extra_needs({"sb3": "train"}.get(args.engine, args.engine))
 
 
 def add_threads_argument(parser: argparse.ArgumentParser) -> None:
@@ -132,7 +149,7 @@ def run_provenance(seed: int, threads: int) -> dict[str, Any]:
 
     from bbgym import __version__  # the code's, even where an editable install is stale
 
-    names = ("torch", "stable-baselines3", "gymnasium", "numpy", "ray")
+    names = ("torch", "stable-baselines3", "gymnasium", "numpy", "ray", "torchrl", "tensordict")
     versions = {"python": platform.python_version(), "bbgym": __version__}
     return {
         "seed": seed,
@@ -146,6 +163,8 @@ def run_provenance(seed: int, threads: int) -> dict[str, Any]:
 def run(args: argparse.Namespace) -> int:
     if args.engine == "rllib":
         return _run_rllib(args)
+    if args.engine == "torchrl":
+        return _run_torchrl(args)
     if args.out is None:
         from bbgym.config import load_training
 
@@ -165,6 +184,10 @@ def format_summary(summary: dict[str, Any], out: Path) -> str:
     asked = summary.get("timesteps_requested")
     trained = summary["timesteps_trained"]
     rounded = f" (asked {asked})" if asked is not None and asked != trained else ""
+    files = [Path(summary["model"]).name, Path(summary["best_model"]).name,
+             "train.json with the full summary", "eval/"]  # fmt: skip
+    if summary.get("engine") == "sb3":
+        files.append("tb/")
     lines = [
         f"{summary['env']}: {summary['algo'].upper()} trained {trained} timesteps{rounded} "
         f"in {summary['train_time_s']:.1f} s, {summary['timesteps_per_s']:.0f} timesteps/s "
@@ -172,8 +195,7 @@ def format_summary(summary: dict[str, Any], out: Path) -> str:
         f"evaluations: {summary['evaluations']} (the last of {summary['last_eval_episodes']} "
         f"episodes) in {summary['eval_time_s']:.1f} s; best mean "
         f"return {summary['best_mean_return']:.2f} at {summary['best_model_timesteps']} timesteps",
-        f"wall time {summary['wall_time_s']:.1f} s; run folder {out} (model.zip, "
-        "best_model.zip, train.json with the full summary, eval/, tb/)",
+        f"wall time {summary['wall_time_s']:.1f} s; run folder {out} ({', '.join(files)})",
     ]
     return "\n".join(lines)
 
@@ -566,3 +588,57 @@ def _run_rllib(args: argparse.Namespace) -> int:
 def _print_iteration(row: dict[str, Any]) -> None:
     """One line per RLlib training iteration."""
     print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))
+
+
+def _run_torchrl(args: argparse.Namespace) -> int:
+    if args.resume:
+        raise UsageError("--resume is for --engine sb3")
+    out = args.out or Path("runs") / "torchrl" / f"{args.env}-seed{args.seed}"
+    summary = train_torchrl(
+        args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=out,
+        device=args.device, torch_threads=args.torch_threads,
+    )  # fmt: skip
+    print(format_summary(summary, out))
+    return 0
+
+
+def torchrl_settings(path: Path) -> dict[str, Any]:
+    """:func:`bbgym.config.load_torchrl`, its errors as usage errors of ``--preset``."""
+    from bbgym.config import load_torchrl
+
+    try:
+        return load_torchrl(path)
+    except ValueError as err:
+        raise UsageError(f"--preset: {err}") from None
+
+
+def train_torchrl(
+    env: str,
+    *,
+    preset: str | Path | None = None,
+    timesteps: int | None = None,
+    seed: int = 0,
+    out: Path,
+    device: str = "cpu",
+    torch_threads: int = 1,
+) -> dict[str, Any]:
+    """Train PPO with TorchRL on ``env``'s torch backend, env and policy on ``device``
+    (:func:`bbgym.torchrl.train_ppo`), from the preset's ``torchrl`` section
+    (:func:`bbgym.config.load_torchrl`) and its env arguments, into the run folder ``out``;
+    return the summary written to ``<out>/train.json`` (with the seed, threads, versions,
+    machine and command)."""
+    require_all(extra_needs("torchrl"))
+    check_device(device, "--device")
+
+    path, env_kwargs = resolve_preset(env, preset)
+    settings = torchrl_settings(path)
+    pin_torch_threads(torch_threads)
+    from bbgym import torchrl
+
+    out.mkdir(parents=True, exist_ok=True)
+    copy_atomic(path, out / "config.yaml")
+    summary = torchrl.train_ppo(env, settings, out=out, seed=seed, device=device,
+                                timesteps=timesteps, env_kwargs=env_kwargs)  # fmt: skip
+    summary.update(config=str(path), **run_provenance(seed, torch_threads))
+    write_text_atomic(out / "train.json", json.dumps(summary, indent=2) + "\n")
+    return summary
