@@ -38,6 +38,7 @@ BASELINE_FILES = (
     "BeachballSail-v2-sac.json",
     "BeachballSail-v1-sac.json",
     "BeachballSail-v1-ppo.json",
+    "BeachballSail-v1-torchrl-ppo.json",
     "BeachballSail-v0-ppo.json",
     "BeachballThrow-v0-ppo.json",
     "BeachballCurve-v1-ppo.json",

@@ -221,19 +221,40 @@ def test_a_file_that_is_no_torchrl_policy_is_refused(tmp_path):
         bbgym_torchrl.load_policy(bogus)
 
 
-def test_baseline_with_the_torchrl_engine(tmp_path):
-    """``bbgym baseline --engine torchrl``: each seed trained by TorchRL's PPO, its
-    ``best_model.pt`` evaluated beside random and scripted play, the results file named
-    apart from stable-baselines3's."""
-    pytest.importorskip("matplotlib")
+def small_preset(path):
+    """BeachballSail-v1's preset with :data:`SMALL` as its ``torchrl`` section."""
     import yaml
 
     from bbgym.config import CONFIG_DIR
 
     preset = yaml.safe_load((CONFIG_DIR / "beachball_sail_v1.yaml").read_text())
     preset["torchrl"] = {k: v for k, v in SMALL.items() if k != "total_timesteps"}
-    config = tmp_path / "sail.yaml"
-    config.write_text(yaml.safe_dump(preset))
+    path.write_text(yaml.safe_dump(preset))
+    return path
+
+
+def test_train_command_with_the_torchrl_engine(tmp_path, capsys):
+    config = small_preset(tmp_path / "sail.yaml")
+    out = tmp_path / "run"
+    argv = ["train", "--env", ENV, "--engine", "torchrl", "--preset", str(config),
+            "--timesteps", "100", "--seed", "3", "--out", str(out)]  # fmt: skip
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "100 timesteps round up to 128: whole batches of num_envs 8 x n_steps 8" in printed
+    assert f"{ENV}: PPO trained 128 timesteps (asked 100)" in printed
+    assert "(model.pt, best_model.pt, train.json with the full summary, eval/)" in printed
+    summary = json.loads((out / "train.json").read_text())
+    assert summary["seed"] == 3 and summary["torch_threads"] == 1
+    assert summary["versions"]["torchrl"] and summary["config"] == str(config)
+    assert (out / "config.yaml").read_text() == config.read_text()
+
+
+def test_baseline_with_the_torchrl_engine(tmp_path):
+    """``bbgym baseline --engine torchrl``: each seed trained by TorchRL's PPO, its
+    ``best_model.pt`` evaluated beside random and scripted play, the results file named
+    apart from stable-baselines3's."""
+    pytest.importorskip("matplotlib")
+    config = small_preset(tmp_path / "sail.yaml")
     out = tmp_path / "run"
     argv = ["baseline", "--env", ENV, "--engine", "torchrl", "--preset", str(config),
             "--timesteps", "64", "--episodes", "2", "--seeds", "1", "--out", str(out)]  # fmt: skip
