@@ -417,14 +417,21 @@ class PPOLearner:
         for _ in range(settings["n_epochs"]):
             permutation = torch.randperm(flat.numel(), generator=order).to(flat.device)
             for begin in range(0, flat.numel(), size):
-                losses = self.loss(flat[permutation[begin : begin + size]])
-                total = losses["loss_objective"] + losses["loss_critic"]
-                if "loss_entropy" in losses.keys():
-                    total = total + losses["loss_entropy"]
-                self.optimizer.zero_grad(set_to_none=True)
-                total.backward()
-                torch.nn.utils.clip_grad_norm_(self.loss.parameters(), settings["max_grad_norm"])
-                self.optimizer.step()
+                self.learn(flat[permutation[begin : begin + size]])
+
+    def learn(self, minibatch: TensorDictBase) -> None:
+        """One Adam step on ``minibatch`` (its advantages and value targets computed):
+        the clipped objective plus the weighted value loss (and entropy bonus), the
+        gradient's norm clipped to ``max_grad_norm``, as stable-baselines3's ``PPO.train``
+        takes for each of its minibatches."""
+        losses = self.loss(minibatch)
+        total = losses["loss_objective"] + losses["loss_critic"]
+        if "loss_entropy" in losses.keys():
+            total = total + losses["loss_entropy"]
+        self.optimizer.zero_grad(set_to_none=True)
+        total.backward()
+        torch.nn.utils.clip_grad_norm_(self.loss.parameters(), self.settings["max_grad_norm"])
+        self.optimizer.step()
 
     def cpu_policy(self) -> GaussianPolicyNet:
         """A float32 copy of the policy on the CPU (the evaluation's)."""

@@ -1,8 +1,9 @@
 """``bbgym train --engine torchrl``: PPO from TorchRL's losses on the env's torch backend.
 The run folder's files and evaluation log, the same policy from the same seed (another
 from another), the saved policy evaluated by ``bbgym evaluate``, the reward scaling against
-its definition, the preset's ``torchrl`` section checked, and errors that name the
-argument."""
+its definition, the preset's ``torchrl`` section checked, errors that name the argument,
+and parity with stable-baselines3's PPO: from the same weights and rollout, the same
+update, and the same advantages with truncations bootstrapped."""
 
 from __future__ import annotations
 
@@ -277,3 +278,125 @@ def test_baseline_with_the_torchrl_engine(tmp_path):
     assert path.name == f"{ENV}-torchrl-ppo.json"
     row, _ = tables.baseline_row(path)
     assert row.startswith(f"| {ENV}, PPO (torchrl) | ")
+
+
+# -- parity with stable-baselines3's PPO: the same learning from the same data -------------
+
+SB3_PPO = {"n_steps": 32, "batch_size": 64, "n_epochs": 4, "learning_rate": 3e-3,
+           "clip_range": 0.2, "ent_coef": 0.0, "vf_coef": 0.5, "max_grad_norm": 0.5,
+           "gamma": 0.99, "gae_lambda": 0.95, "use_sde": True, "sde_sample_freq": 4}  # fmt: skip
+
+
+def sb3_and_learner(n_envs):
+    """An SB3 PPO (gSDE, tanh-squashed, 32x32) and a :class:`PPOLearner` with the same
+    settings whose policy and value nets hold SB3's initial weights."""
+    sb3 = pytest.importorskip("stable_baselines3")
+    from stable_baselines3.common.env_util import make_vec_env
+
+    torch.manual_seed(0)
+    venv = make_vec_env(ENV, n_envs=n_envs, seed=0, env_kwargs=SHORT)
+    model = sb3.PPO("MlpPolicy", venv, seed=0, **SB3_PPO, policy_kwargs={
+        "log_std_init": -2.0, "net_arch": [32, 32], "squash_output": True})  # fmt: skip
+    shared = ("learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "gamma",
+              "gae_lambda", "use_sde", "sde_sample_freq", "n_epochs")  # fmt: skip
+    settings = {**SMALL, **{k: SB3_PPO[k] for k in shared}, "net_arch": [32, 32],
+                "log_std_init": -2.0, "minibatch_size": SB3_PPO["batch_size"]}  # fmt: skip
+    env = bbgym_torchrl.BbgymTorchRLEnv(ENV, n_envs, compile_step=False, seed=0, **SHORT)
+    learner = bbgym_torchrl.PPOLearner(env, settings)
+    policy = model.policy
+    pi, vf = policy.mlp_extractor.policy_net, policy.mlp_extractor.value_net
+    learner.net.load_state_dict({
+        "mean.0.weight": pi[0].weight, "mean.0.bias": pi[0].bias, "mean.2.weight": pi[2].weight,
+        "mean.2.bias": pi[2].bias, "mean.4.weight": policy.action_net.weight,
+        "mean.4.bias": policy.action_net.bias, "log_std": policy.log_std,
+    })  # fmt: skip
+    learner.advantage.value_network.module.load_state_dict({
+        "0.weight": vf[0].weight, "0.bias": vf[0].bias, "2.weight": vf[2].weight,
+        "2.bias": vf[2].bias, "4.weight": policy.value_net.weight, "4.bias": policy.value_net.bias,
+    })  # fmt: skip
+    return model, learner, env
+
+
+def test_an_update_learns_what_stable_baselines3_ppo_learns_from_the_same_rollout():
+    """From SB3's initial weights and one rollout SB3 collected, :meth:`PPOLearner.learn`
+    over SB3's own minibatches (the same order) ends with the weights SB3's ``PPO.train``
+    ends with: TorchRL's ``ClipPPOLoss`` with these settings is SB3's objective, value
+    loss, advantage normalization, gradient clipping and Adam, to float32 rounding."""
+    from tensordict import TensorDict
+
+    torch.set_num_threads(1)
+    model, learner, env = sb3_and_learner(n_envs=4)
+    _, callback = model._setup_learn(SB3_PPO["n_steps"] * 4, None)
+    model.collect_rollouts(model.env, callback, model.rollout_buffer, SB3_PPO["n_steps"])
+    buffer = model.rollout_buffer
+    n = buffer.buffer_size * buffer.n_envs
+    flat = TensorDict({  # SB3's layout: env by env (swap_and_flatten)
+        "observation": buffer.swap_and_flatten(buffer.observations),
+        "action": buffer.swap_and_flatten(buffer.actions),
+        "action_log_prob": buffer.swap_and_flatten(buffer.log_probs)[:, 0],
+        "advantage": buffer.swap_and_flatten(buffer.advantages),
+        "value_target": buffer.swap_and_flatten(buffer.returns),
+    }, batch_size=[n]).apply(lambda x: torch.as_tensor(x, dtype=torch.float32))  # fmt: skip
+    np.random.seed(123)  # noqa: NPY002  (SB3 draws its minibatch order from NumPy's global generator)
+    model.train()
+    np.random.seed(123)  # noqa: NPY002
+    size = SB3_PPO["batch_size"]
+    for _ in range(SB3_PPO["n_epochs"]):
+        order = torch.as_tensor(np.random.permutation(n))  # noqa: NPY002
+        for begin in range(0, n, size):
+            learner.learn(flat[order[begin : begin + size]])
+    env.close()
+    policy = model.policy
+    moved = (learner.net.mean[-1].weight - policy.action_net.weight.detach()).abs().max()
+    assert moved < 1e-5  # where SB3's update itself moved it by over 1e-3:
+    assert (policy.action_net.weight.detach() - policy_at_start(model)).abs().max() > 1e-3
+    value = learner.advantage.value_network.module[-1].weight
+    assert (value - policy.value_net.weight.detach()).abs().max() < 1e-5
+    assert (learner.net.log_std - policy.log_std.detach()).abs().max() < 1e-5
+    assert model.logger.name_to_value["train/clip_fraction"] > 0.0  # the clip did act
+
+
+def policy_at_start(model):
+    """The action layer's weights SB3's PPO starts from (the same seed's construction)."""
+    clone = type(model)("MlpPolicy", model.env, seed=0, **SB3_PPO, policy_kwargs={
+        "log_std_init": -2.0, "net_arch": [32, 32], "squash_output": True})  # fmt: skip
+    return clone.policy.action_net.weight.detach()
+
+
+def test_advantages_are_stable_baselines3_gae_with_truncations_bootstrapped():
+    """TorchRL's ``GAE`` over a collected batch (episodes of 20 steps: truncations) equals
+    SB3's ``RolloutBuffer.compute_returns_and_advantage`` given what SB3's PPO stores: a
+    truncated step's reward plus gamma times the value of its final observation, and the
+    episode starts."""
+    from stable_baselines3.common.buffers import RolloutBuffer
+    from torchrl.collectors import Collector
+
+    torch.set_num_threads(1)
+    model, learner, env = sb3_and_learner(n_envs=4)
+    steps = 48
+    collector = Collector(env, learner.explorer(4), frames_per_batch=4 * steps,
+                          total_frames=4 * steps, device=env.device,
+                          auto_register_policy_transforms=False)  # fmt: skip
+    batch = next(iter(collector))
+    collector.shutdown()
+    env.close()
+    truncated = batch["next", "truncated"][..., 0]
+    assert truncated.sum() >= 4 and not batch["next", "terminated"].any()
+    with torch.no_grad():
+        learner.advantage(batch)
+        critic = learner.advantage.value_network.module
+        value = critic(batch["observation"])[..., 0].double()
+        final_value = critic(batch["next", "observation"])[..., 0].double()
+    gamma, done = SB3_PPO["gamma"], batch["next", "done"][..., 0]
+    reward = batch["next", "reward"][..., 0].double() + gamma * final_value * truncated
+    starts = torch.zeros_like(done)
+    starts[:, 1:] = done[:, :-1]
+    buffer = RolloutBuffer(steps, model.observation_space, model.action_space,
+                           gamma=gamma, gae_lambda=SB3_PPO["gae_lambda"], n_envs=4)  # fmt: skip
+    buffer.rewards[:] = reward.T.numpy()
+    buffer.values[:] = value.T.numpy()
+    buffer.episode_starts[:] = starts.T.numpy()
+    buffer.compute_returns_and_advantage(final_value[:, -1], done[:, -1].numpy())
+    ours = batch["advantage"][..., 0].T.double().numpy()
+    assert ours == pytest.approx(buffer.advantages, abs=1e-5)
+    assert np.abs(buffer.advantages).max() > 0.1
