@@ -16,6 +16,8 @@ collector): ``_reset`` with a ``"_reset"`` mask restarts those envs alone
 next-step autoreset. Keys: ``observation`` (float, the env's observation), ``action``
 (bounded in [-1, 1]), ``reward`` (``[num_envs, 1]``), ``done``, ``terminated`` and
 ``truncated`` (``[num_envs, 1]``, bool) and ``is_success`` (bool, at an episode's end).
+The step computes no other info (``info_keys=["is_success"]``; an ``info_keys`` among
+the env's arguments overrides it).
 """
 
 from __future__ import annotations
@@ -78,6 +80,9 @@ class BbgymTorchRLEnv(EnvBase):
         device = torch.device(device)
         super().__init__(device=device, batch_size=torch.Size([num_envs]))
         self.env_id = env_id
+        # The step computes no info but the success flag the batch carries (unless the
+        # env's kwargs ask for others).
+        env_kwargs.setdefault("info_keys", ["is_success"])
         self.vector_env = gym.make_vec(
             env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
             backend="torch", device=str(device), dtype=dtype, output="torch",

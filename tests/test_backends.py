@@ -17,6 +17,7 @@ import pytest
 
 import bbgym  # noqa: F401
 from bbgym import backends
+from bbgym.envs.functional import task_info_names
 
 torch = pytest.importorskip("torch")
 pytest.importorskip("array_api_compat")
@@ -221,3 +222,47 @@ def test_counter_rng_agrees_on_numpy_torch_and_strict() -> None:
     assert 0.0 < u.min() and u.max() < 1.0
     hist, _ = np.histogram(u, 10, (0.0, 1.0))
     assert np.all(np.abs(hist - 10_000) < 5 * math.sqrt(10_000))
+
+
+@pytest.mark.parametrize("env_id", ["BeachballSail-v1", "BeachballThrow-v0", "BeachballTopple-v1"])
+@pytest.mark.parametrize("backend", ["numpy", "torch"])
+def test_info_keys_keeps_those_infos_with_the_same_values(env_id: str, backend: str) -> None:
+    """``info_keys`` keeps the named infos (each with its ``_key`` mask), their values
+    those of an env that computes them all; observations and rewards are unchanged."""
+    other = {"BeachballSail-v1": "distance_to_mark", "BeachballThrow-v0": "miss_distance",
+             "BeachballTopple-v1": "wall_angle"}[env_id]  # fmt: skip
+    keep = ["is_success", other]
+    kwargs = {"backend": backend, "max_episode_steps": 3}
+    if backend == "torch":
+        kwargs["compile"] = False
+    runs = []
+    for info_keys in (None, keep):
+        venv = gym.make_vec(env_id, num_envs=4, vectorization_mode="vector_entry_point",
+                            info_keys=info_keys, **kwargs)  # fmt: skip
+        out = [venv.reset(seed=1)]
+        actions = np.random.default_rng(0).uniform(-1, 1, (5, *venv.action_space.shape))
+        out += [venv.step(a.astype(np.float32)) for a in actions]
+        runs.append(out)
+    names = set(task_info_names(venv.unwrapped.task))
+    for full, kept in zip(*runs, strict=True):
+        info = kept[-1]
+        assert {k for k in info if k in names} == set(keep)
+        # the host's records (a NumPy throw's trajectory, a wall's state by name) stay
+        records = {k for k in full[-1] if k not in names and f"_{k}" in full[-1]}
+        assert {k for k in info if k not in names and f"_{k}" in info} == records
+        for key in keep:
+            np.testing.assert_array_equal(np.asarray(info[key]), np.asarray(full[-1][key]))
+            assert info[f"_{key}"].all()
+        np.testing.assert_array_equal(kept[0], full[0])  # the observations
+    assert any(np.asarray(step[1]).any() for step in runs[1][1:])  # some reward was paid
+
+
+def test_info_keys_that_are_no_infos_are_named() -> None:
+    def make(keys):
+        return gym.make_vec("BeachballSail-v1", num_envs=2,
+                            vectorization_mode="vector_entry_point", info_keys=keys)  # fmt: skip
+
+    with pytest.raises(ValueError, match=r"info_keys: \['speed'\] are not infos .*is_success"):
+        make(["is_success", "speed"])
+    with pytest.raises(TypeError, match="info_keys must be a list or tuple"):
+        make("is_success")

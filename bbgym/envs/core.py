@@ -34,7 +34,9 @@ from bbgym.envs.functional import (
     counter_initial_noise,
     element,
     restart,
+    select_info,
     settle,
+    task_info_names,
     tree_map,
 )
 from bbgym.physics.namespace import floats
@@ -213,6 +215,22 @@ class FlightFrames:
         return [f for f in frames if f is not None]
 
 
+def check_info_keys(info_keys: Any, task: Any) -> tuple[str, ...] | None:
+    """``info_keys`` as a tuple of the task's info names (None: all), or an error naming
+    ``info_keys``."""
+    if info_keys is None:
+        return None
+    if isinstance(info_keys, str) or not isinstance(info_keys, (tuple, list)):
+        raise TypeError(f"info_keys must be a list or tuple of info names or None, got "
+                        f"{info_keys!r}")  # fmt: skip
+    names = task_info_names(task)
+    unknown = [k for k in info_keys if k not in names]
+    if unknown:
+        raise ValueError(f"info_keys: {unknown} are not infos of this env; its infos: "
+                         f"{', '.join(names)}")  # fmt: skip
+    return tuple(info_keys)
+
+
 class CoreVectorEnv(VectorEnv):
     """A native vector env over a task core: ``num_envs`` envs in one batch.
 
@@ -223,6 +241,8 @@ class CoreVectorEnv(VectorEnv):
     is one function compiled by ``torch.compile`` for ``device`` in ``dtype``; observations,
     rewards and infos come back as NumPy arrays (zero-copy on the CPU) or, with
     ``output="torch"``, as tensors on the device. ``compile=False`` runs torch eagerly.
+    ``info_keys`` (a list of the task's info names) keeps only those infos, the others
+    never computed (in a compiled step they drop out of the graph); None keeps all.
 
     Finished sub-envs reset on the next ``step`` (``AutoresetMode.NEXT_STEP``), which
     returns the new episode's first observation with reward 0 for them. The time limit
@@ -254,6 +274,7 @@ class CoreVectorEnv(VectorEnv):
         dtype: str = "float64",
         output: str = "numpy",
         compile: bool = True,
+        info_keys: tuple[str, ...] | list[str] | None = None,
         **kwargs: Any,
     ) -> None:
         if max_episode_steps is None:
@@ -265,6 +286,7 @@ class CoreVectorEnv(VectorEnv):
         check_render_mode(render_mode, self.metadata["render_modes"])
         self.backend = backends.resolve_backend(backend, device, dtype, output, compile)
         self.task = self.task_class(**kwargs)
+        self.info_keys = check_info_keys(info_keys, self.task)
         self.num_envs = int(num_envs)
         self.max_episode_steps = int(max_episode_steps)
         self.render_mode = render_mode
@@ -336,15 +358,17 @@ class CoreVectorEnv(VectorEnv):
         return torch.as_tensor(x, dtype=dtype, device=self.backend.device)
 
     def _make_compiled_step(self) -> Any:
-        """The step's parts, each compiled (see :class:`VectorStep`)."""
-        step = VectorStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype)
-        parts = tuple(
-            backends.compiled(f, self.backend)
-            for f in (step.begin, step.chunk, step.end, step.restart, step.observe)
-        )
+        """The step: compiled, one call (:meth:`VectorStep.fused`, a flight's chunks rolled
+        into a loop inside it); eager (``compile=False``), the parts of
+        :meth:`VectorStep.__call__`, which skip the restart where no env restarts."""
+        step = VectorStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype,
+                          self.info_keys)  # fmt: skip
+        if not self.backend.compile:
+            return step
+        fused = backends.compiled(step.fused, self.backend)
 
         def run(*args: Any, any_restarting: bool | None = None) -> tuple:
-            return step(*args, parts=parts, any_restarting=any_restarting)
+            return fused(*args)  # the restart is in the graph: no need to know
 
         return run
 
@@ -376,7 +400,7 @@ class CoreVectorEnv(VectorEnv):
             self._collect(everyone)
         m = self.task.measure(self.state, self.xp)
         obs = columns_to_observation(self.task.observation(self.state, m, self.xp), self.xp)
-        info = self.task.info(self.state, m, self.xp)
+        info = select_info(self.task.info(self.state, m, self.xp), self.info_keys)
         if self.backend.name == "numpy":  # the host keeps the samples a renderer draws
             info = {**info, **self._step_info()}
         return self._out(obs), self._vector_info(info)
@@ -424,7 +448,8 @@ class CoreVectorEnv(VectorEnv):
             self._collect(restarting)
         m = self.task.measure(self.state, np)
         obs = columns_to_observation(self.task.observation(self.state, m, np), np)
-        info = self._vector_info({**self.task.info(self.state, m, np), **self._step_info()})
+        info = select_info(self.task.info(self.state, m, np), self.info_keys)
+        info = self._vector_info({**info, **self._step_info()})
         return obs, reward.astype(np.float64), terminated, truncated, info
 
     records = True
@@ -449,9 +474,6 @@ class CoreVectorEnv(VectorEnv):
         first = self._compiled_step is None
         if first:
             self._compiled_step = self._make_compiled_step()
-            # The first step runs the restart part too (where no env restarts it changes
-            # nothing), so every part compiles now rather than when the first episode ends.
-            any_restarting = True
         restarting = self._autoreset
         with self._compile_logged() if first and self.backend.compile else nullcontext():
             out = self._compiled_step(self.state, a, self._keys, self._counter, self._steps,

@@ -183,23 +183,24 @@ def counter_initial_noise(task: Any, keys: Any, counter: Any, dtype: Any, xp: An
 
 
 class VectorStep:
-    """One vector step with next-step autoreset as pure functions of arrays, in parts: what
-    the torch backend compiles (each part separately) and what the backend equivalence
-    tests replay on NumPy. A task's transition is :meth:`begin`, ``chunks`` times
-    :meth:`chunk` (a fixed number of physics substeps) and :meth:`end` (the transition's
-    end and :func:`settle`); then :meth:`restart` (only where some env restarts) and
-    :meth:`observe`. The parts are compiled separately: a graph holds one chunk rather than
-    the unrolled loop, and no graph is large (inductor's code generation grows faster than
-    the graph: an unrolled sailing step with its autoreset took over 200 s to compile,
-    these parts take well under 60). A task whose chunks may all be idle early
-    (``stops_early``: every ball landed) is checked between chunks (one device sync each).
-    The random numbers come from the counter-based generator (stream 0: the step's noise,
-    1-3: a fresh episode's draws, :func:`counter_initial_noise`), so the same functions
-    run, with the same results, on NumPy or any array-API namespace.
+    """One vector step with next-step autoreset as pure functions of arrays. A task's
+    transition is :meth:`begin`, ``chunks`` times :meth:`chunk` (a fixed number of physics
+    substeps) and :meth:`end` (the transition's end and :func:`settle`); then
+    :meth:`restart` and :meth:`observe`. The torch backend compiles :meth:`fused`, all of
+    it in one graph, with the chunks rolled into a loop (an unrolled step is a graph of
+    hundreds of chunks, and inductor's code generation grows faster than the graph: an
+    unrolled sailing step with its autoreset took over 200 s to compile). Eager torch and
+    the backend equivalence tests run :meth:`__call__`, the same parts called one by one
+    (the restart only where some env restarts, a flight's chunks until every ball is
+    done). The random numbers come from the counter-based generator (stream 0: the step's
+    noise, 1-3: a fresh episode's draws, :func:`counter_initial_noise`), so the same
+    functions run, with the same results, on NumPy or any array-API namespace.
     """
 
-    def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any) -> None:
+    def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any,
+                 info_keys: tuple[str, ...] | None = None) -> None:  # fmt: skip
         self.task, self.max_episode_steps, self.xp, self.dtype = task, max_episode_steps, xp, dtype
+        self.info_keys = info_keys
 
     def begin(self, state: Any, action: Any, keys: Any, counter: Any) -> Any:
         task, xp, dtype = self.task, self.xp, self.dtype
@@ -225,33 +226,121 @@ class VectorStep:
         return restart(self.task, moved, restarting, noise, {}, self.xp)
 
     def observe(self, state: Any) -> tuple:
-        """Observation and info of the new state."""
+        """Observation and info of the new state (the infos of ``info_keys`` only: in a
+        compiled step the others are never computed)."""
         task, xp = self.task, self.xp
         m = task.measure(state, xp)
-        return columns_to_observation(task.observation(state, m, xp), xp), task.info(state, m, xp)
+        info = select_info(task.info(state, m, xp), self.info_keys)
+        return columns_to_observation(task.observation(state, m, xp), xp), info
+
+    def fused(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
+              restarting: Any) -> tuple:  # fmt: skip
+        """The whole step as one function of tensors, for one ``torch.compile`` graph: what
+        :meth:`__call__` does, with the chunks after the first rolled into one
+        ``torch._higher_order_ops.while_loop`` (so the graph holds one chunk however many
+        a transition takes, and a flight stops inside the graph once every env is done)
+        and the restart computed for every env and kept where ``restarting`` (at a batch
+        of thousands some env restarts on nearly every step, and a branch would need the
+        host to know which). Same results as :meth:`__call__`: a chunk leaves a finished
+        env as it is, so the one chunk it may run past :meth:`__call__`'s stop changes
+        nothing."""
+        carry = rolled_chunks(self.task, self.begin(state, action, keys, counter), self.xp)
+        moved, reward, terminated, truncated, new_counter, steps = self.end(
+            state, carry, counter, steps, restarting
+        )
+        moved = self.restart(moved, restarting, keys, counter)
+        obs, info = self.observe(moved)
+        return moved, obs, reward, terminated, truncated, info, new_counter, steps
 
     def __call__(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
-                 restarting: Any, parts: tuple | None = None,
-                 any_restarting: bool | None = None) -> tuple:  # fmt: skip
+                 restarting: Any, any_restarting: bool | None = None) -> tuple:  # fmt: skip
         """Returns ``(state, obs, reward, terminated, truncated, info, counter, steps)``.
-        ``parts`` are the compiled :meth:`begin`, :meth:`chunk`, :meth:`end`,
-        :meth:`restart`, :meth:`observe` (default: these, eager); ``any_restarting``, if
-        the caller knows it, saves a device sync."""
-        begin, chunk, end, restart_, observe = parts or (
-            self.begin, self.chunk, self.end, self.restart, self.observe,
-        )  # fmt: skip
-        carry = begin(state, action, keys, counter)
+        ``any_restarting``, if the caller knows it, saves a device sync."""
+        carry = self.begin(state, action, keys, counter)
         task = self.task
         for _ in range(task.chunks):
             if task.stops_early and bool(self.xp.all(task.all_done(carry, self.xp))):
                 break
-            carry = chunk(carry)
-        moved, reward, terminated, truncated, new_counter, steps = end(
+            carry = self.chunk(carry)
+        moved, reward, terminated, truncated, new_counter, steps = self.end(
             state, carry, counter, steps, restarting
         )
         if any_restarting is None:
             any_restarting = bool(self.xp.any(restarting))  # a device sync
         if any_restarting:
-            moved = restart_(moved, restarting, keys, counter)
-        obs, info = observe(moved)
+            moved = self.restart(moved, restarting, keys, counter)
+        obs, info = self.observe(moved)
         return moved, obs, reward, terminated, truncated, info, new_counter, steps
+
+
+def select_info(info: dict[str, Any], info_keys: tuple[str, ...] | None) -> dict[str, Any]:
+    """The entries of ``info`` named in ``info_keys`` (all of them where it is None)."""
+    return info if info_keys is None else {k: info[k] for k in info_keys}
+
+
+def task_info_names(task: Any) -> list[str]:
+    """The names of a task's infos (``task.info``), read from one probe state."""
+    n_uniform, n_normal = task.initial_noise_counts
+    half, zero = np.full(1, 0.5), np.zeros(1)
+    noise = InitialNoise([half] * n_uniform, [zero] * n_normal,
+                         [zero] * (2 * task.initial_stream_pairs))  # fmt: skip
+    state = task.initial(noise, {}, np)
+    return list(task.info(state, task.measure(state, np), np))
+
+
+def tree_leaves(tree: Any) -> list:
+    """The leaves of nested NamedTuples, tuples, lists and dicts, in :func:`tree_map`'s
+    order."""
+    leaves: list = []
+    tree_map(leaves.append, tree)
+    return leaves
+
+
+def tree_with_leaves(tree: Any, leaves: list) -> Any:
+    """``tree`` with its leaves replaced, in order, by ``leaves``."""
+    it = iter(leaves)
+    return tree_map(lambda _: next(it), tree)
+
+
+def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
+    """``task.chunks`` chunks of a transition from ``carry``: the first as it is, the rest
+    in a ``while_loop`` (torch's loop primitive, which ``torch.compile`` keeps rolled:
+    one chunk in the graph, not hundreds) that also stops once every env is done
+    (``task.stops_early``). The loop carries only the tensors a chunk changes (those the
+    first chunk returned anew); the rest (the wind, the screen) it reads as constants."""
+    first = task.chunk(carry, xp)
+    if task.chunks <= 1:
+        return first
+    import torch
+    from torch._higher_order_ops import while_loop
+
+    before, leaves = tree_leaves(carry), tree_leaves(first)
+    varying = [j for j, (old, new) in enumerate(zip(before, leaves, strict=True))
+               if isinstance(new, torch.Tensor) and new is not old]  # fmt: skip
+    # The loop takes the constants as inputs too, and no two inputs may share memory
+    # (rows of one noise draw are views of it): each gets its own copy.
+    leaves = [leaf.clone() if isinstance(leaf, torch.Tensor) and j not in varying else leaf
+              for j, leaf in enumerate(leaves)]  # fmt: skip
+
+    def rebuild(tensors: tuple) -> Any:
+        replaced = list(leaves)
+        for j, tensor in zip(varying, tensors, strict=True):
+            replaced[j] = tensor
+        return tree_with_leaves(first, replaced)
+
+    def more(done_chunks: Any, *tensors: Any) -> Any:
+        go = done_chunks < task.chunks
+        if task.stops_early:
+            go = go & xp.logical_not(xp.all(task.all_done(rebuild(tensors), xp)))
+        return go
+
+    def chunk(done_chunks: Any, *tensors: Any) -> tuple:
+        out = tree_leaves(task.chunk(rebuild(tensors), xp))
+        # The loop's outputs may not alias its inputs: a leaf a chunk passed through
+        # unchanged (a finished flight's flag) is copied.
+        new = [out[j].clone() if any(out[j] is t for t in tensors) else out[j] for j in varying]
+        return (done_chunks + 1, *new)
+
+    one = torch.ones((), dtype=torch.int64, device=leaves[varying[0]].device)
+    out = while_loop(more, chunk, (one, *[leaves[j] for j in varying]))
+    return rebuild(tuple(out[1:]))

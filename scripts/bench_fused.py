@@ -1,0 +1,121 @@
+"""Developer tool: the torch backend's step as one compiled call against its parts (the
+figures of docs/pages/speed.md, "One compiled call per step").
+
+    python scripts/bench_fused.py [--envs BeachballSail-v1 BeachballThrow-v0] [--sizes 4096]
+
+For each env and batch size, in a fresh inductor cache (a temporary
+``TORCHINDUCTOR_CACHE_DIR``, so every first step compiles cold): the step as it was up to
+bbgym 0.8 (``parts``: ``VectorStep``'s begin, chunk, end, restart and observe each
+compiled, the chunks called one by one from Python with a check between them, the restart
+only where some env restarts), the step as one compiled call (``fused``,
+``VectorStep.fused``: what the env runs now) and the same with ``info_keys=["is_success"]``
+(``fused, 1 info``). It prints each one's first step (the compile) and its steps/s (throws/s
+for the ball envs), best of ``--repeats`` loops of ``--seconds``, interleaved, and checks
+how far the observations and rewards of the three are apart.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+import time
+
+os.environ["TORCHINDUCTOR_CACHE_DIR"] = tempfile.mkdtemp(prefix="bbgym-fused-")
+
+import gymnasium as gym  # noqa: E402
+import numpy as np  # noqa: E402
+import torch  # noqa: E402
+
+import bbgym  # noqa: E402, F401  (registers the envs)
+from bbgym import backends  # noqa: E402
+from bbgym.envs.functional import VectorStep  # noqa: E402
+
+
+def make(env_id: str, n: int, dtype: str, info_keys: list[str] | None) -> gym.vector.VectorEnv:
+    return gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point",
+                        backend="torch", dtype=dtype, output="torch",
+                        info_keys=info_keys)  # fmt: skip
+
+
+def parts_step(core: object) -> object:
+    """bbgym 0.8's compiled step: each part its own graph, called from Python."""
+    step = VectorStep(core.task, core.max_episode_steps, core.xp, core.backend.float_dtype)
+    begin, chunk, end, restart, observe = (backends.compiled(f, core.backend) for f in
+                                           (step.begin, step.chunk, step.end, step.restart,
+                                            step.observe))  # fmt: skip
+    task = core.task
+
+    def run(state, action, keys, counter, steps, restarting, any_restarting=None):
+        carry = begin(state, action, keys, counter)
+        for _ in range(task.chunks):
+            if task.stops_early and bool(torch.all(task.all_done(carry, core.xp))):
+                break
+            carry = chunk(carry)
+        moved, reward, terminated, truncated, counter2, steps = end(
+            state, carry, counter, steps, restarting
+        )
+        if bool(torch.any(restarting)):
+            moved = restart(moved, restarting, keys, counter)
+        obs, info = observe(moved)
+        return moved, obs, reward, terminated, truncated, info, counter2, steps
+
+    return run
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--envs", nargs="+", default=["BeachballSail-v1", "BeachballThrow-v0"])
+    parser.add_argument("--sizes", nargs="+", type=int, default=[4096])
+    parser.add_argument("--dtype", default="float32")
+    parser.add_argument("--seconds", type=float, default=2.0)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--torch-threads", type=int, default=2)
+    args = parser.parse_args()
+    torch.set_num_threads(args.torch_threads)
+    print(f"torch {torch.__version__}, {args.torch_threads} threads, {args.dtype}, "
+          f"cache {os.environ['TORCHINDUCTOR_CACHE_DIR']}")  # fmt: skip
+    for env_id in args.envs:
+        for n in args.sizes:
+            envs = {"parts": make(env_id, n, args.dtype, None),
+                    "fused": make(env_id, n, args.dtype, None),
+                    "fused, 1 info": make(env_id, n, args.dtype, ["is_success"])}  # fmt: skip
+            envs["parts"].unwrapped._compiled_step = parts_step(envs["parts"].unwrapped)
+            shape = (n, *envs["fused"].single_action_space.shape)
+            rng = np.random.default_rng(0)
+            actions = [torch.as_tensor(rng.uniform(-1, 1, shape), dtype=getattr(torch, args.dtype))
+                       for _ in range(16)]  # fmt: skip
+            first, outs = {}, {}
+            for name, env in envs.items():
+                env.reset(seed=0)
+                start = time.perf_counter()
+                out = [env.step(actions[0])]
+                first[name] = time.perf_counter() - start
+                out += [env.step(a) for a in actions[1:]]
+                outs[name] = out
+            for name in ("fused", "fused, 1 info"):
+                worst = max(float((a[k] - b[k]).abs().max())
+                            for a, b in zip(outs["parts"], outs[name], strict=True)
+                            for k in (0, 1))  # fmt: skip
+                print(f"{env_id} N={n} {name}: max |difference| from parts {worst:.1e} "
+                      "(observations, rewards)")  # fmt: skip
+                assert worst < 1e-4, name
+            rates = {name: 0.0 for name in envs}
+            for _ in range(args.repeats):
+                for name, env in envs.items():
+                    steps, start = 0, time.perf_counter()
+                    while time.perf_counter() - start < args.seconds:
+                        env.step(actions[steps % 16])
+                        steps += 1
+                    rates[name] = max(rates[name], steps * n / (time.perf_counter() - start))
+            for name in envs:
+                print(
+                    f"{env_id} N={n} {name}: first step {first[name]:.1f} s, "
+                    f"{rates[name]:,.0f} steps/s ({rates[name] / rates['parts']:.2f}x parts)"
+                )
+            for env in envs.values():
+                env.close()
+
+
+if __name__ == "__main__":
+    main()
