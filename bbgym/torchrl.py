@@ -221,6 +221,14 @@ class CorrelatedExploration(torch.nn.Module):
         self.calls = 0
         self.matrices: torch.Tensor | None = None
 
+    def reset_noise(self) -> None:
+        """Draw new matrices at the next call, and every ``sample_freq`` calls from it:
+        stable-baselines3 draws them at the start of each rollout, from the policy just
+        updated (a collector's first call, which only probes the policy's outputs, would
+        otherwise shift every later draw by one step, and a rollout's first steps would
+        explore with noise drawn before the last update)."""
+        self.calls = 0
+
     def forward(self, observation: torch.Tensor) -> tuple[torch.Tensor, ...]:
         from torchrl.modules import TanhNormal
 
@@ -398,14 +406,22 @@ class PPOLearner:
     def explorer(self, num_envs: int) -> Any:
         """The collector's policy: the actor's samples (white noise), or under gSDE
         :class:`CorrelatedExploration` holding each env's noise for ``sde_sample_freq``
-        steps."""
+        steps (:meth:`new_rollout` draws it anew)."""
         if not self.settings["use_sde"]:
             return self.actor
         from tensordict.nn import TensorDictModule
 
-        explore = CorrelatedExploration(self.net, num_envs, self.settings["sde_sample_freq"])
-        return TensorDictModule(explore, in_keys=["observation"],
+        self.exploration = CorrelatedExploration(self.net, num_envs,
+                                                 self.settings["sde_sample_freq"])  # fmt: skip
+        return TensorDictModule(self.exploration, in_keys=["observation"],
                                 out_keys=["loc", "scale", "action", "action_log_prob"])  # fmt: skip
+
+    exploration: CorrelatedExploration | None = None
+
+    def new_rollout(self) -> None:
+        """The next collected step starts a rollout: gSDE draws its noise there."""
+        if self.exploration is not None:
+            self.exploration.reset_noise()
 
     def update(self, batch: TensorDictBase, progress: float, order: torch.Generator) -> None:
         """Learn from one collected ``batch`` (``[num_envs, n_steps]``): its advantages,
@@ -546,6 +562,7 @@ def train_ppo(
     collector = Collector(env, learner.explorer(n), frames_per_batch=frames_per_batch,
                           total_frames=batches * frames_per_batch, device=env.device,
                           auto_register_policy_transforms=False)  # fmt: skip
+    learner.new_rollout()
     evaluation = EvaluationLog(out, env_id, seed, settings, env_kwargs, log)
     every = settings["eval_every_timesteps"]
 
@@ -558,6 +575,7 @@ def train_ppo(
         if scaler is not None:
             batch["next", "reward"] = scaler(batch["next", "reward"], batch["next", "done"])
         learner.update(batch, index / batches, order)
+        learner.new_rollout()
         update_time += time.perf_counter() - began
         if frames // every > (frames - batch.numel()) // every and frames < budget:
             evaluation.evaluate(learner, frames)

@@ -152,6 +152,27 @@ def test_a_gsde_run_saves_its_state_dependent_policy(tmp_path):
         assert np.isfinite(log["results"]).all()
 
 
+def test_a_gsde_run_draws_its_noise_at_each_rollouts_first_step(tmp_path, monkeypatch):
+    """As stable-baselines3 does: at a rollout's first step (after the update, from the
+    updated policy) and every ``sde_sample_freq`` steps from it, whatever calls the
+    collector made before (it probes the policy once as it starts)."""
+    draws, step = [], [0]
+    original = bbgym_torchrl.CorrelatedExploration.forward
+
+    def forward(self, observation):
+        before = self.matrices
+        out = original(self, observation)
+        if self.matrices is not before:
+            draws.append(step[0])
+        step[0] += 1
+        return out
+
+    monkeypatch.setattr(bbgym_torchrl.CorrelatedExploration, "forward", forward)
+    train(tmp_path, use_sde=True, sde_sample_freq=4)  # 2 rollouts of 8 steps
+    # call 0 is the collector's probe; the rollouts' steps are calls 1-8 and 9-16
+    assert draws == [0, 1, 5, 9, 13]
+
+
 def test_return_scaler_divides_by_the_std_of_the_discounted_return():
     gamma = 0.9
     scaler = bbgym_torchrl.ReturnScaler(2, gamma, torch.device("cpu"))
