@@ -28,6 +28,14 @@ import numpy as np
 BACKENDS = ("numpy", "torch")
 DTYPES = ("float64", "float32")
 OUTPUTS = ("numpy", "torch")
+STEP_GRAPHS = ("auto", "parts", "one")
+"""How the torch backend compiles a step: ``parts``, each part of ``VectorStep`` its own
+graph, called one by one; ``one``, the whole step one graph (``VectorStep.fused``), a
+flight's or interval's chunks in a loop inside it; ``auto`` (the default), ``one`` where a
+transition runs more than one chunk (the ball envs) and ``parts`` where it runs one
+(sailing). Measured on a 2-core CPU (``scripts/bench_fused.py``, N=4096, float32): one
+graph stepped BeachballSail-v1 at 0.51-0.57x the parts' rate and the ball envs at
+1.2-1.45x; on a GPU ``bbgym bench --device cuda`` times both."""
 
 _MASK32 = 0xFFFFFFFF
 
@@ -43,6 +51,7 @@ class Backend:
     dtype: str = "float64"
     output: str = "numpy"
     compile: bool = True
+    step_graph: str = "auto"
 
     @property
     def xp(self) -> Any:
@@ -60,6 +69,7 @@ def resolve_backend(
     dtype: str = "float64",
     output: str = "numpy",
     compile: bool = True,
+    step_graph: str = "auto",
 ) -> Backend:
     """Validate the backend keywords of a vector env; errors name the argument."""
     if backend not in BACKENDS:
@@ -70,7 +80,11 @@ def resolve_backend(
         raise ValueError(f"output must be one of {list(OUTPUTS)}, got {output!r}")
     if not isinstance(compile, bool):
         raise TypeError(f"compile must be a bool, got {compile!r}")
+    if step_graph not in STEP_GRAPHS:
+        raise ValueError(f"step_graph must be one of {list(STEP_GRAPHS)}, got {step_graph!r}")
     if backend == "numpy":
+        if step_graph == "one":
+            raise ValueError(f"step_graph={step_graph!r} needs backend='torch'")
         if device not in (None, "cpu"):
             raise ValueError(f"device must be 'cpu' for backend='numpy', got {device!r}")
         if dtype != "float64":
@@ -93,7 +107,7 @@ def resolve_backend(
         raise ValueError(f"device must be 'cpu' or 'cuda' (or 'cuda:N'), got {device!r}")
     if device.startswith("cuda") and not torch.cuda.is_available():
         raise ValueError(f"device={device!r}: torch finds no CUDA device on this machine")
-    return Backend("torch", device, dtype, output, compile)
+    return Backend("torch", device, dtype, output, compile, step_graph)
 
 
 _TORCH_NAMESPACE: Any = None

@@ -1,17 +1,14 @@
-"""Developer tool: the torch backend's step as one compiled call against its parts (the
-figures of docs/pages/speed.md, "One compiled call per step").
+"""Developer tool: the torch backend's step compiled as its parts (the default) or as one
+graph (``step_graph="one"``), each with every info or with ``info_keys=["is_success"]``
+(the figures of docs/pages/speed.md, "The step as one graph").
 
     python scripts/bench_fused.py [--envs BeachballSail-v1 BeachballThrow-v0] [--sizes 4096]
 
 For each env and batch size, in a fresh inductor cache (a temporary
-``TORCHINDUCTOR_CACHE_DIR``, so every first step compiles cold): the step as it was up to
-bbgym 0.8 (``parts``: ``VectorStep``'s begin, chunk, end, restart and observe each
-compiled, the chunks called one by one from Python with a check between them, the restart
-only where some env restarts), the step as one compiled call (``fused``,
-``VectorStep.fused``: what the env runs now) and the same with ``info_keys=["is_success"]``
-(``fused, 1 info``). It prints each one's first step (the compile) and its steps/s (throws/s
-for the ball envs), best of ``--repeats`` loops of ``--seconds``, interleaved, and checks
-how far the observations and rewards of the three are apart.
+``TORCHINDUCTOR_CACHE_DIR``, so a first step compiles what no earlier row compiled): each
+variant's first step (the compile) and its steps/s (throws/s for the ball envs), best of
+``--repeats`` loops of ``--seconds``, interleaved, and how far its observations and
+rewards are from the parts'.
 """
 
 from __future__ import annotations
@@ -28,39 +25,13 @@ import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
 import bbgym  # noqa: E402, F401  (registers the envs)
-from bbgym import backends  # noqa: E402
-from bbgym.envs.functional import VectorStep  # noqa: E402
 
 
-def make(env_id: str, n: int, dtype: str, info_keys: list[str] | None) -> gym.vector.VectorEnv:
+def make(env_id: str, n: int, dtype: str, info_keys: list[str] | None,
+         step_graph: str) -> gym.vector.VectorEnv:  # fmt: skip
     return gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point",
-                        backend="torch", dtype=dtype, output="torch",
-                        info_keys=info_keys)  # fmt: skip
-
-
-def parts_step(core: object) -> object:
-    """bbgym 0.8's compiled step: each part its own graph, called from Python."""
-    step = VectorStep(core.task, core.max_episode_steps, core.xp, core.backend.float_dtype)
-    begin, chunk, end, restart, observe = (backends.compiled(f, core.backend) for f in
-                                           (step.begin, step.chunk, step.end, step.restart,
-                                            step.observe))  # fmt: skip
-    task = core.task
-
-    def run(state, action, keys, counter, steps, restarting, any_restarting=None):
-        carry = begin(state, action, keys, counter)
-        for _ in range(task.chunks):
-            if task.stops_early and bool(torch.all(task.all_done(carry, core.xp))):
-                break
-            carry = chunk(carry)
-        moved, reward, terminated, truncated, counter2, steps = end(
-            state, carry, counter, steps, restarting
-        )
-        if bool(torch.any(restarting)):
-            moved = restart(moved, restarting, keys, counter)
-        obs, info = observe(moved)
-        return moved, obs, reward, terminated, truncated, info, counter2, steps
-
-    return run
+                        backend="torch", dtype=dtype, output="torch", info_keys=info_keys,
+                        step_graph=step_graph)  # fmt: skip
 
 
 def main() -> None:
@@ -77,11 +48,14 @@ def main() -> None:
           f"cache {os.environ['TORCHINDUCTOR_CACHE_DIR']}")  # fmt: skip
     for env_id in args.envs:
         for n in args.sizes:
-            envs = {"parts": make(env_id, n, args.dtype, None),
-                    "fused": make(env_id, n, args.dtype, None),
-                    "fused, 1 info": make(env_id, n, args.dtype, ["is_success"])}  # fmt: skip
-            envs["parts"].unwrapped._compiled_step = parts_step(envs["parts"].unwrapped)
-            shape = (n, *envs["fused"].single_action_space.shape)
+            variants = {
+                "parts": (None, "parts"),
+                "parts, 1 info": (["is_success"], "parts"),
+                "one graph": (None, "one"),
+                "one graph, 1 info": (["is_success"], "one"),
+            }
+            envs = {name: make(env_id, n, args.dtype, *v) for name, v in variants.items()}
+            shape = (n, *envs["parts"].single_action_space.shape)
             rng = np.random.default_rng(0)
             actions = [torch.as_tensor(rng.uniform(-1, 1, shape), dtype=getattr(torch, args.dtype))
                        for _ in range(16)]  # fmt: skip
@@ -93,7 +67,7 @@ def main() -> None:
                 first[name] = time.perf_counter() - start
                 out += [env.step(a) for a in actions[1:]]
                 outs[name] = out
-            for name in ("fused", "fused, 1 info"):
+            for name in list(envs)[1:]:
                 worst = max(float((a[k] - b[k]).abs().max())
                             for a, b in zip(outs["parts"], outs[name], strict=True)
                             for k in (0, 1))  # fmt: skip

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import bbgym  # noqa: F401
+import bbgym.spec
 from bbgym import backends
 from bbgym.envs.functional import task_info_names
 
@@ -266,3 +267,38 @@ def test_info_keys_that_are_no_infos_are_named() -> None:
         make(["is_success", "speed"])
     with pytest.raises(TypeError, match="info_keys must be a list or tuple"):
         make("is_success")
+
+
+@pytest.mark.parametrize("env_id", bbgym.spec.env_ids())
+def test_the_one_graph_step_equals_its_parts(env_id: str) -> None:
+    """``VectorStep.fused`` (what ``step_graph="one"`` compiles: the chunks after the first
+    in a ``while_loop``, the restart for every env) gives the parts' results exactly, run
+    eagerly over steps with restarts (episodes of 3 steps), float64."""
+    from bbgym.envs.functional import VectorStep, tree_leaves
+
+    venv = make_torch(env_id, max_episode_steps=3)
+    core = venv.unwrapped
+    core.reset(seed=1)
+    step = VectorStep(core.task, core.max_episode_steps, core.xp, core.backend.float_dtype)
+    state, counter, steps, restarting = core.state, core._counter, core._steps, core._autoreset
+    rng = np.random.default_rng(0)
+    restarts = 0
+    for _ in range(7):
+        action = torch.as_tensor(rng.uniform(-1, 1, (N, *core.single_action_space.shape)))
+        parts = step(state, action, core._keys, counter, steps, restarting)
+        one = step.fused(state, action, core._keys, counter, steps, restarting)
+        for a, b in zip(tree_leaves(parts), tree_leaves(one), strict=True):
+            if isinstance(a, torch.Tensor):
+                assert torch.equal(a, b)
+        state, counter, steps = parts[0], parts[6], parts[7]
+        restarting = parts[3] | parts[4]
+        restarts += int(restarting.sum())
+    assert restarts >= N
+
+
+def test_step_graph_is_checked() -> None:
+    with pytest.raises(ValueError, match="step_graph must be one of"):
+        make_torch("BeachballSail-v1", step_graph="fused")
+    with pytest.raises(ValueError, match="step_graph='one' needs backend='torch'"):
+        gym.make_vec("BeachballSail-v1", num_envs=2, vectorization_mode="vector_entry_point",
+                     step_graph="one")  # fmt: skip

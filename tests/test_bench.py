@@ -28,13 +28,14 @@ def test_bench_quick_writes_the_table(tmp_path):
 
 
 def test_bench_quick_backend_rows(tmp_path):
-    """--backends adds torch float64/float32 rows beside CartPole at the same N."""
+    """--backends adds torch float64/float32 rows beside CartPole at the same N, with
+    --step-graph more than one way (as each env compiles by default, and as one graph)."""
     import pytest
 
     pytest.importorskip("torch")
     done = subprocess.run(
         [sys.executable, "-m", "bbgym", "bench", "--quick", "--backends", "--envs",
-         "BeachballSail-v0", "--out", str(tmp_path)],
+         "BeachballSail-v0", "--step-graph", "auto", "one", "--out", str(tmp_path)],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
@@ -42,6 +43,7 @@ def test_bench_quick_backend_rows(tmp_path):
     kinds = {(row["env"], row["kind"]) for row in result["backend_rows"]}
     assert ("BeachballSail-v0", "N=8 torch float32") in kinds
     assert ("BeachballSail-v0", "N=8 torch float64") in kinds
+    assert ("BeachballSail-v0", "N=8 torch float32, one graph") in kinds
     assert all(row["rate"] > 0 for row in result["backend_rows"])
     assert "torch float32" in (tmp_path / "bench.md").read_text()
 

@@ -22,14 +22,19 @@ to ``--out``:
 * the backends of the native vector envs (``--backends``, needs torch): torch float64 and
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
   (the first step: it compiles every part, the autoreset's too) and the bytes of the env's
-  state, beside CartPole at the same N (best of ``--repeats`` loops each).
+  state, beside CartPole at the same N (best of ``--repeats`` loops each);
+  ``--step-graph parts one`` times the torch step compiled as its parts and as one graph
+  side by side (``step_graph``, :data:`bbgym.backends.STEP_GRAPHS`; by default each env
+  as it compiles by default).
   torch runs with ``--torch-threads`` threads (default 2), pinned for every row, the PPO
   rows included;
 * ``--device cuda``: the GPU check in one command. The torch rows alone, on the GPU with
   tensors in and out (``output="torch"``, the actions made on the device before the timed
   loop, the device synchronized before the clock stops), at N = 4096, 65536 and 2^20,
   beside CartPole's NumPy vector env at the same N on the CPU, and the ``--training``
-  rows on the GPU (16384 envs, rollouts of 32 steps, minibatches of 65536). A device
+  rows on the GPU (16384 envs, rollouts of 32 steps, minibatches of 65536); the torch
+  rows come both ways, parts and one graph (what decides ``step_graph``'s default on a
+  GPU). A device
   torch does not have here is refused, naming ``--device``.
 
 Timed loops are capped at ``--seconds`` each; single-env loops are repeated ``--repeats``
@@ -53,6 +58,7 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym._extras import extra_needs
+from bbgym.backends import STEP_GRAPHS
 from bbgym.cli import check_device, positive_float, positive_int, require_all
 from bbgym.cli import env_id as env_id_type
 from bbgym.spec import base_ids, spec_of
@@ -154,6 +160,10 @@ def _synchronize(device: str) -> None:
         torch.cuda.synchronize(device)
 
 
+GRAPH_LABELS = {"auto": "", "parts": ", parts", "one": ", one graph"}
+"""The torch rows' kind names by ``--step-graph`` (the default says nothing)."""
+
+
 def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
     """The backend rows: CartPole, NumPy and torch (float64, float32) at each N; the torch
     rows on ``--device`` (off the CPU, with tensors in and out: ``output="torch"``)."""
@@ -167,9 +177,10 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         rows.append({"env": REFERENCE, "kind": f"N={n}", "rate": reference, "ratio": 1.0})
         for env_id in args.envs:
             kinds = [("numpy float64", {})] if n > max(args.num_envs) else []
-            kinds += [(f"torch {d}{where}",
-                       {"backend": "torch", "dtype": d, "compile": args.compile, **on_device})
-                      for d in ("float64", "float32")]  # fmt: skip
+            kinds += [(f"torch {d}{where}" + GRAPH_LABELS[graph],
+                       {"backend": "torch", "dtype": d, "compile": args.compile,
+                        "step_graph": graph, **on_device})
+                      for d in ("float64", "float32") for graph in args.step_graph]  # fmt: skip
             for kind, backend in kinds:
                 r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats,
                                  **backend)  # fmt: skip
@@ -379,6 +390,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"{' '.join(base_ids())})")  # fmt: skip
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
+    parser.add_argument("--step-graph", nargs="+", choices=STEP_GRAPHS, default=None,
+                        help="how the torch rows compile the step: auto (as each env "
+                             "compiles unasked), as its parts, as one graph, or several "
+                             "side by side (default: auto; with --device cuda parts and "
+                             "one)")  # fmt: skip
     parser.add_argument("--training", action="store_true",
                         help="add TorchRL PPO's training throughput (the torchrl extra; "
                         "always with --device cuda)")  # fmt: skip
@@ -396,6 +412,8 @@ def _sizes(args: argparse.Namespace) -> None:
     args.memory_envs = 4096
     args.ppo_timesteps, args.ppo_n_steps = 2048, 256
     args.training_batches, args.training_settings = 4, {}
+    if args.step_graph is None:
+        args.step_graph = ["parts", "one"] if args.device != "cpu" else ["auto"]
     if args.device != "cpu":
         args.backends = args.training = True
         args.backend_envs = GPU_ENVS

@@ -241,6 +241,8 @@ class CoreVectorEnv(VectorEnv):
     is one function compiled by ``torch.compile`` for ``device`` in ``dtype``; observations,
     rewards and infos come back as NumPy arrays (zero-copy on the CPU) or, with
     ``output="torch"``, as tensors on the device. ``compile=False`` runs torch eagerly.
+    ``step_graph`` says whether the step compiles as its parts or as one graph
+    (:data:`bbgym.backends.STEP_GRAPHS`; by default one graph where that paid here).
     ``info_keys`` (a list of the task's info names) keeps only those infos, the others
     never computed (in a compiled step they drop out of the graph); None keeps all.
 
@@ -274,6 +276,7 @@ class CoreVectorEnv(VectorEnv):
         dtype: str = "float64",
         output: str = "numpy",
         compile: bool = True,
+        step_graph: str = "auto",
         info_keys: tuple[str, ...] | list[str] | None = None,
         **kwargs: Any,
     ) -> None:
@@ -284,7 +287,8 @@ class CoreVectorEnv(VectorEnv):
         if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
             raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
         check_render_mode(render_mode, self.metadata["render_modes"])
-        self.backend = backends.resolve_backend(backend, device, dtype, output, compile)
+        self.backend = backends.resolve_backend(backend, device, dtype, output, compile,
+                                                step_graph)  # fmt: skip
         self.task = self.task_class(**kwargs)
         self.info_keys = check_info_keys(info_keys, self.task)
         self.num_envs = int(num_envs)
@@ -357,18 +361,36 @@ class CoreVectorEnv(VectorEnv):
 
         return torch.as_tensor(x, dtype=dtype, device=self.backend.device)
 
+    @property
+    def step_graph(self) -> str:
+        """How the torch step runs, ``"parts"`` or ``"one"``: ``step_graph="auto"``
+        resolved for this task, one graph where a compiled transition runs several chunks
+        (eager torch, the reference the compiled step is tested against, runs the parts)."""
+        graph = self.backend.step_graph
+        if graph == "auto":
+            graph = "one" if self.task.chunks > 1 and self.backend.compile else "parts"
+        return graph
+
     def _make_compiled_step(self) -> Any:
-        """The step: compiled, one call (:meth:`VectorStep.fused`, a flight's chunks rolled
-        into a loop inside it); eager (``compile=False``), the parts of
-        :meth:`VectorStep.__call__`, which skip the restart where no env restarts."""
+        """The torch step: the parts of :class:`VectorStep`, each compiled, called one by
+        one (``step_graph="parts"``), or the whole step as one compiled call
+        (``step_graph="one"``, :meth:`VectorStep.fused`); eager without ``compile``."""
         step = VectorStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype,
                           self.info_keys)  # fmt: skip
-        if not self.backend.compile:
-            return step
-        fused = backends.compiled(step.fused, self.backend)
+        if self.step_graph == "one":
+            fused = backends.compiled(step.fused, self.backend)
+
+            def run_one(*args: Any, any_restarting: bool | None = None) -> tuple:
+                return fused(*args)  # the restart is in the graph: no need to know
+
+            return run_one
+        parts = tuple(
+            backends.compiled(f, self.backend)
+            for f in (step.begin, step.chunk, step.end, step.restart, step.observe)
+        )
 
         def run(*args: Any, any_restarting: bool | None = None) -> tuple:
-            return fused(*args)  # the restart is in the graph: no need to know
+            return step(*args, parts=parts, any_restarting=any_restarting)
 
         return run
 
@@ -474,6 +496,9 @@ class CoreVectorEnv(VectorEnv):
         first = self._compiled_step is None
         if first:
             self._compiled_step = self._make_compiled_step()
+            # The first step runs the restart part too (where no env restarts it changes
+            # nothing), so every part compiles now rather than when the first episode ends.
+            any_restarting = True
         restarting = self._autoreset
         with self._compile_logged() if first and self.backend.compile else nullcontext():
             out = self._compiled_step(self.state, a, self._keys, self._counter, self._steps,

@@ -183,18 +183,21 @@ def counter_initial_noise(task: Any, keys: Any, counter: Any, dtype: Any, xp: An
 
 
 class VectorStep:
-    """One vector step with next-step autoreset as pure functions of arrays. A task's
-    transition is :meth:`begin`, ``chunks`` times :meth:`chunk` (a fixed number of physics
-    substeps) and :meth:`end` (the transition's end and :func:`settle`); then
-    :meth:`restart` and :meth:`observe`. The torch backend compiles :meth:`fused`, all of
-    it in one graph, with the chunks rolled into a loop (an unrolled step is a graph of
-    hundreds of chunks, and inductor's code generation grows faster than the graph: an
-    unrolled sailing step with its autoreset took over 200 s to compile). Eager torch and
-    the backend equivalence tests run :meth:`__call__`, the same parts called one by one
-    (the restart only where some env restarts, a flight's chunks until every ball is
-    done). The random numbers come from the counter-based generator (stream 0: the step's
-    noise, 1-3: a fresh episode's draws, :func:`counter_initial_noise`), so the same
-    functions run, with the same results, on NumPy or any array-API namespace.
+    """One vector step with next-step autoreset as pure functions of arrays, in parts: what
+    the torch backend compiles and what the backend equivalence tests replay on NumPy. A
+    task's transition is :meth:`begin`, ``chunks`` times :meth:`chunk` (a fixed number of
+    physics substeps) and :meth:`end` (the transition's end and :func:`settle`); then
+    :meth:`restart` (only where some env restarts) and :meth:`observe`. By default each
+    part is compiled separately (:meth:`__call__` with ``parts``): a graph holds one chunk
+    rather than the unrolled loop, and no graph is large (inductor's code generation grows
+    faster than the graph: an unrolled sailing step with its autoreset took over 200 s to
+    compile, these parts take well under 60). A task whose chunks may all be idle early
+    (``stops_early``: every ball landed) is checked between chunks (one device sync each).
+    :meth:`fused` is the whole step as one function for one graph instead
+    (``step_graph="one"``), its chunks rolled into a loop inside it. The random numbers
+    come from the counter-based generator (stream 0: the step's noise, 1-3: a fresh
+    episode's draws, :func:`counter_initial_noise`), so the same functions run, with the
+    same results, on NumPy or any array-API namespace.
     """
 
     def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any,
@@ -253,23 +256,29 @@ class VectorStep:
         return moved, obs, reward, terminated, truncated, info, new_counter, steps
 
     def __call__(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
-                 restarting: Any, any_restarting: bool | None = None) -> tuple:  # fmt: skip
+                 restarting: Any, parts: tuple | None = None,
+                 any_restarting: bool | None = None) -> tuple:  # fmt: skip
         """Returns ``(state, obs, reward, terminated, truncated, info, counter, steps)``.
-        ``any_restarting``, if the caller knows it, saves a device sync."""
-        carry = self.begin(state, action, keys, counter)
+        ``parts`` are the compiled :meth:`begin`, :meth:`chunk`, :meth:`end`,
+        :meth:`restart`, :meth:`observe` (default: these, eager); ``any_restarting``, if
+        the caller knows it, saves a device sync."""
+        begin, chunk, end, restart_, observe = parts or (
+            self.begin, self.chunk, self.end, self.restart, self.observe,
+        )  # fmt: skip
+        carry = begin(state, action, keys, counter)
         task = self.task
         for _ in range(task.chunks):
             if task.stops_early and bool(self.xp.all(task.all_done(carry, self.xp))):
                 break
-            carry = self.chunk(carry)
-        moved, reward, terminated, truncated, new_counter, steps = self.end(
+            carry = chunk(carry)
+        moved, reward, terminated, truncated, new_counter, steps = end(
             state, carry, counter, steps, restarting
         )
         if any_restarting is None:
             any_restarting = bool(self.xp.any(restarting))  # a device sync
         if any_restarting:
-            moved = self.restart(moved, restarting, keys, counter)
-        obs, info = self.observe(moved)
+            moved = restart_(moved, restarting, keys, counter)
+        obs, info = observe(moved)
         return moved, obs, reward, terminated, truncated, info, new_counter, steps
 
 

@@ -236,7 +236,8 @@ class BeachballSailVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballSailEnv`: one batched simulation.
 
     Same task, spaces, arguments and info keys as the single env, plus the backend
-    keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``, ``info_keys``; see
+    keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``,
+    ``step_graph``, ``info_keys``; see
     :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset and infos.
     """
 

@@ -203,7 +203,8 @@ class BeachballThrowVectorEnv(CoreVectorEnv):
     """Native vector version of :class:`BeachballThrowEnv`: all throws fly in one batch.
 
     Same task, spaces, arguments, render modes and info keys as the single env, plus the
-    backend keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``, ``info_keys``; see
+    backend keywords ``backend``, ``device``, ``dtype``, ``output``, ``compile``,
+    ``step_graph``, ``info_keys``; see
     :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset, rendering and
     infos. On NumPy, `trajectory` ``(n, C, 3)``, `orientations` ``(n, C, 4)`` and
     `trajectory_length` ``(n,)`` stack the single env's (sub-env ``i``'s equal its): the

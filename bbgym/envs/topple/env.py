@@ -214,7 +214,8 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
     Same task, spaces, arguments, render modes and info keys as the single env (the
     per-step samples, on the NumPy backend only, stack the single env's: ``(n, C, ...)``
     with lengths ``(n,)``, sub-env ``i``'s equal to its), plus the backend keywords
-    ``backend``, ``device``, ``dtype``, ``output``, ``compile``, ``info_keys``; see
+    ``backend``, ``device``, ``dtype``, ``output``, ``compile``,
+    ``step_graph``, ``info_keys``; see
     :class:`bbgym.envs.core.CoreVectorEnv` for backends, seeding, autoreset, rendering and
     infos.
     """
