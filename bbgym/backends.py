@@ -34,7 +34,7 @@ graph, called one by one; ``one``, the whole step one graph (``VectorStep.fused`
 flight's or interval's chunks in a loop inside it; ``auto`` (the default), ``one`` where a
 transition runs more than one chunk (the ball envs) and ``parts`` where it runs one
 (sailing). Measured on a 2-core CPU (``scripts/bench_fused.py``, N=4096, float32): one
-graph stepped BeachballSail-v1 at 0.51-0.57x the parts' rate and the ball envs at
+graph stepped the sailing env at 0.51-0.57x the parts' rate and the ball envs at
 1.2-1.45x; on a GPU ``bbgym bench --device cuda`` times both."""
 
 _MASK32 = 0xFFFFFFFF
