@@ -144,11 +144,9 @@ def time_backend(
     state_bytes = 0
     state = getattr(env.unwrapped, "state", None)
     if state is not None:
-        from bbgym.envs.functional import tree_map
+        from bbgym.envs.functional import tree_leaves
 
-        leaves: list = []
-        tree_map(leaves.append, state)
-        state_bytes = sum(int(getattr(leaf, "nbytes", 0)) for leaf in leaves)
+        state_bytes = sum(int(getattr(leaf, "nbytes", 0)) for leaf in tree_leaves(state))
     env.close()
     return {"rate": rate, "warmup_s": first_step, "state_mb": state_bytes / 2**20}
 

@@ -238,7 +238,8 @@ class CoreVectorEnv(VectorEnv):
     random stream, so sub-env ``i`` reset with ``seed=s`` follows a single env reset with
     ``seed=s + i`` under the same actions. ``backend="torch"``: the whole step (transition,
     autoreset, observation, reward, termination, truncation, info and the random numbers)
-    is one function compiled by ``torch.compile`` for ``device`` in ``dtype``; observations,
+    is compiled by ``torch.compile`` for ``device`` in ``dtype`` (as its parts or as one
+    graph, ``step_graph``); observations,
     rewards and infos come back as NumPy arrays (zero-copy on the CPU) or, with
     ``output="torch"``, as tensors on the device. ``compile=False`` runs torch eagerly.
     ``step_graph`` says whether the step compiles as its parts or as one graph
