@@ -1,6 +1,6 @@
 """The torch backend runs the throw envs' core as NumPy does: equal in float64, close in
 float32 (landing points), compiled equal to eager. The pattern of ``test_backends.py``
-(BeachballSail-v0), for BeachballThrow-v0 and BeachballCurve-v0."""
+(BeachballSail-v0), for the throwing family in both flights (substeps and RK4 steps)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ pytest.importorskip("array_api_compat")
 
 N = 16
 STEPS = 200
-ENV_IDS = ("BeachballThrow-v0", "BeachballCurve-v0")
+ENV_IDS = ("BeachballThrow-v0", "BeachballCurve-v0", "BeachballThrow-v1", "BeachballCurve-v2")
 # Coarse, short flights keep 200 eager torch steps quick (about 10 s); the code run is
 # the default flight's.
 QUICK = {"sim_dt": 0.05, "max_flight_time": 2.0, "max_roll_time": 0.25}
@@ -59,7 +59,7 @@ def test_torch_float64_equals_numpy_replica(env_id: str, gusts: bool) -> None:
         hits += int(np.sum(got[4]["is_success"]))
     assert resets >= N  # every env restarted at least once
     assert venv.unwrapped.state.landing_x.dtype == torch.float64
-    if env_id == "BeachballCurve-v0":
+    if env_id.startswith("BeachballCurve"):
         assert venv.unwrapped.state.scenario.screen.all()
 
 

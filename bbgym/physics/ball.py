@@ -16,7 +16,7 @@ spin decay                  :func:`substep` (exponential, time constant ``spin_d
 drag and Magnus, implicit   :func:`drag_rate_per_s`, :func:`magnus_coefficient`
 bounce, friction, rolling   :func:`ground_contact` (restitution §3, friction §6, §5):
                             :func:`friction_impulse`, :func:`rolling_resistance_spin_change`
-panel (screen, wall) hits   :func:`panel_contact`
+panel (screen, wall) hits   :func:`panel_contact`, the bounce :func:`panel_bounce`
 ball-ball collision         :func:`collide_balls` (restitution formula of §4)
 at rest                     :func:`ball_at_rest`
 ==========================  ============================================================
@@ -411,14 +411,26 @@ def panel_contact(
     if skippable(hit):  # no ball touching the panel
         return s, hit
     side = xp.where(offset >= 0.0, 1.0, xp.zeros_like(offset) - 1.0)
+    bounced = panel_bounce(s, radius_m, normal_x, normal_y, offset, side, approach, restitution,
+                           hit, xp)  # fmt: skip
+    return bounced, hit
+
+
+def panel_bounce(
+    s: BallState, radius_m: float, normal_x: Array, normal_y: Array, offset: Array,
+    side: Array, approach: Array, restitution: float, hit: Array, xp: Any = np,
+) -> BallState:  # fmt: skip
+    """The bounce off a panel where ``hit``: the velocity along the panel's unit normal,
+    ``approach``, reverses times ``restitution``, and the ball, ``offset`` along the normal
+    from the panel's plane, is put back one radius from it on ``side`` (+1 or -1: the
+    side it came from)."""
     change = xp.where(hit, -(1.0 + restitution) * approach, 0.0)
     push = xp.where(hit, side * radius_m - offset, 0.0)
-    new = BallState(
+    return BallState(
         s.x + push * normal_x, s.y + push * normal_y, s.z,
         s.vx + change * normal_x, s.vy + change * normal_y, s.vz,
         s.wx, s.wy, s.wz, s.qw, s.qx, s.qy, s.qz,
     )  # fmt: skip
-    return new, hit
 
 
 def substep(

@@ -17,6 +17,9 @@ from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
 MAX_EPISODE_STEPS = 100
 CURVE = {"screen": True, "target_distance_range": (7.0, 10.0)}
 """BeachballCurve: a screen in the way and far targets, so only a curving throw scores."""
+RK4_FLIGHT = {"flight_integrator": "rk4_events", "sim_dt": 0.05}
+"""The flight of Throw-v1 and Curve-v2: RK4 steps of 0.05 s with the touchdown and the
+screen hits located inside a step (:mod:`bbgym.physics.flight_events`)."""
 
 
 def _scripted(env: Any) -> Any:
@@ -95,6 +98,9 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
         "screen_position": draw(
             "screen_position", interval(0.0, 1.0, low_open=True, high_open=True), False
         ),
+        "flight_integrator": task.FLIGHT_INTEGRATORS[
+            draw_int(draw, "flight_integrator", 0, len(task.FLIGHT_INTEGRATORS) - 1)
+        ],
         "sim_dt": sim_dt,
         "max_flight_time": draw(
             "max_flight_time", interval(max(flight.low, 10 * sim_dt), flight.high), True
@@ -146,6 +152,19 @@ SPEC = register_spec(
                 "Curve-v0 in a mean wind of at most 2 m/s (the planner wins 100%)",
                 kwargs={**CURVE, "wind_speed_range": (0.0, 2.0)},
                 preset="beachball_curve",
+            ),
+            Version(
+                "BeachballThrow-v1",
+                "Throw-v0 flown in RK4 steps of 0.05 s with the touchdown and screen hits "
+                "located inside a step, to the first touchdown (several times faster)",
+                kwargs=RK4_FLIGHT,
+                preset="beachball_throw",
+            ),
+            Version(
+                "BeachballCurve-v2",
+                "Curve-v1 flown as Throw-v1",
+                kwargs={**CURVE, "wind_speed_range": (0.0, 2.0), **RK4_FLIGHT},
+                preset="beachball_curve_v2",
             ),
         ),
         param_groups={"ball": BallParams, "gust_params": GustParams},

@@ -46,10 +46,19 @@ from bbgym.physics.flight import (
     sample_count,
     simulate_throw,
 )
+from bbgym.physics.flight_events import (
+    ROLL_DISPLAY_DT_S,
+    event_flight_step,
+    flight_steps,
+    fly_events,
+    roll_display,
+    simulate_event_throw,
+)
 from bbgym.physics.namespace import Array, floats
 from bbgym.physics.validation import (
     build_params,
     check_bool,
+    check_choice,
     check_integer,
     check_norm,
     check_number,
@@ -73,6 +82,11 @@ THROW_INTERVAL_S = interval(0.0, 3600.0, low_open=True)
 SCREEN_SIZE_M = interval(0.0, 100.0, low_open=True)
 FLIGHT_TIME_MAX_S = 600.0
 MISS_SCALE_M = interval(0.0, 100.0, low_open=True)
+FLIGHT_INTEGRATORS = ("semi_implicit_euler", "rk4_events")
+"""How a throw is flown: semi-implicit Euler substeps of ``sim_dt`` through the bounces
+to rest (:mod:`bbgym.physics.flight`), or RK4 steps of ``sim_dt`` with the touchdown and
+the screen hits located inside a step, ending at the touchdown
+(:mod:`bbgym.physics.flight_events`)."""
 ARGUMENT_TABLE = (
     ("`ball`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
     ("`throws_per_episode`", f"int in {THROWS_PER_EPISODE}"),
@@ -91,6 +105,7 @@ ARGUMENT_TABLE = (
     ("`launch_height`", f"[ball.radius_m, {LAUNCH_HEIGHT_MAX_M:g}] m"),
     ("`screen_height`, `screen_half_width`", f"{SCREEN_SIZE_M} m"),
     ("`screen_position`", "(0, 1)"),
+    ("`flight_integrator`", ", ".join(f"`{name}`" for name in FLIGHT_INTEGRATORS)),
     ("`sim_dt`", f"{BALL_SIM_DT_S} s"),
     ("`max_flight_time`", f"[10 sim_dt, {FLIGHT_TIME_MAX_S:g}] s"),
     ("`max_roll_time`", f"(0, {FLIGHT_TIME_MAX_S:g}] s"),
@@ -251,6 +266,7 @@ class ThrowTask(TaskCore):
         screen_height: float = 8.0,
         screen_half_width: float = 1.0,
         screen_position: float = 0.5,
+        flight_integrator: str = "semi_implicit_euler",
         sim_dt: float = 0.01,
         max_flight_time: float = 6.0,
         max_roll_time: float = 2.0,
@@ -306,6 +322,10 @@ class ThrowTask(TaskCore):
         self.screen_position = check_number(
             "screen_position", screen_position, interval(0.0, 1.0, low_open=True, high_open=True)
         )
+        self.flight_integrator = check_choice(
+            "flight_integrator", flight_integrator, FLIGHT_INTEGRATORS
+        )
+        self.events = self.flight_integrator == "rk4_events"
         self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
         self.max_flight_time = check_number(
             "max_flight_time", max_flight_time, interval(10 * self.sim_dt, FLIGHT_TIME_MAX_S)
@@ -320,13 +340,22 @@ class ThrowTask(TaskCore):
     def _derive_sizes(self) -> None:
         """The step's fixed sizes (the flight's substeps and recorded poses) and the
         spaces, from the checked arguments."""
-        self.flight_substeps = flight_substeps(self.sim_dt, self.max_flight_time)
+        if self.events:  # RK4 steps (cut ones too), each recorded, then the roll's display
+            self.flight_substeps = flight_steps(self.sim_dt, self.max_flight_time)
+            self.record_every = 1
+            roll_substeps = flight_substeps(ROLL_DISPLAY_DT_S, self.max_roll_time)
+            roll_rows = roll_substeps // flight_record_every(ROLL_DISPLAY_DT_S, RECORD_DT_S)
+            self.record_capacity = 1 + self.flight_substeps + roll_rows
+            self.chunk_substeps = 1  # an RK4 step is four substeps' work already
+        else:
+            self.flight_substeps = flight_substeps(self.sim_dt, self.max_flight_time)
+            self.record_every = flight_record_every(self.sim_dt, RECORD_DT_S)
+            self.record_capacity = 1 + self.flight_substeps // self.record_every
         assert self.flight_substeps < FLIGHT_SUBSTEPS_MAX  # 600 s / 1e-4 s = 6e6
-        self.record_every = flight_record_every(self.sim_dt, RECORD_DT_S)
-        self.record_capacity = 1 + self.flight_substeps // self.record_every
-        """The most poses a throw records: the launch's, then one every ``record_every``
-        substeps up to the flight's last (121 by default: 6 s every 0.05 s); the rows of
-        the ``trajectory`` and ``orientations`` infos."""
+        """``record_capacity``: the most poses a throw records: the launch's, then one every
+        ``record_every`` substeps up to the flight's last (121 by default: 6 s every 0.05
+        s); with ``rk4_events`` one per step, then the bounces and roll after the
+        touchdown. The rows of the ``trajectory`` and ``orientations`` infos."""
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
         self.reward_range = (0.0, 1.0 + self.hit_bonus)
@@ -450,6 +479,14 @@ class ThrowTask(TaskCore):
         return self._fly(carry, self.chunk_substeps, xp)
 
     def _fly(self, carry: ThrowCarry, substeps: int, xp: Any) -> ThrowCarry:
+        if self.events:  # (never recording: the host flies a throw in one go)
+            flight = carry.flight
+            for _ in range(substeps):
+                flight, _ = event_flight_step(
+                    self.ball, flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
+                    self.max_flight_time, self.field_radius, xp, orient=False,
+                )  # fmt: skip
+            return carry._replace(flight=flight)
         recording = carry.poses is not None
         first = sample_count(carry.flight.substep, xp) if recording else 0
         flight, poses = flight_chunk(
@@ -474,6 +511,8 @@ class ThrowTask(TaskCore):
         if xp is not floats and xp is not np:
             return super().transition(state, action, noise, xp, record)
         carry = self.begin(state, action, noise, xp, record)
+        if self.events:
+            return self.end(state, self._fly_events(carry, record, xp), xp)
         flight, poses = fly(
             self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
             self.flight_substeps, self.record_every, record, xp, self.max_roll_time,
@@ -481,6 +520,23 @@ class ThrowTask(TaskCore):
         )  # fmt: skip
         recorded = carry.poses + poses if record else None
         return self.end(state, carry._replace(flight=flight, poses=recorded), xp)
+
+    def _fly_events(self, carry: ThrowCarry, record: bool, xp: Any) -> ThrowCarry:
+        """A throw's RK4 flight on the host; when recording, the poses (one per step)
+        go on with the bounces and roll after the touchdown, for display."""
+        flight, poses = fly_events(
+            self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
+            self.max_flight_time, self.field_radius, record, xp,
+        )  # fmt: skip
+        if not record:
+            return carry._replace(flight=flight)
+        poses, steps = roll_display(
+            self.ball, flight, carry.poses + poses, carry.wind_x, carry.wind_y, carry.screen,
+            self.max_roll_time, self.field_radius, RECORD_DT_S, xp,
+        )  # fmt: skip
+        # the recorded rows: each ball's own, the longest's number for the batch
+        counted = flight._replace(steps=steps, samples=xp.zeros_like(steps) + len(poses))
+        return carry._replace(flight=counted, poses=poses)
 
     def end(self, state: ThrowState, carry: ThrowCarry, xp: Any) -> tuple[ThrowState, ThrowEvents]:
         """Score the throw (first touchdown against the ring), move the gusts on by
@@ -532,6 +588,13 @@ class ThrowTask(TaskCore):
         flight as a step's (:func:`simulate_throw` drives the same masked substeps)."""
         wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
         start = ball_at(0.0, 0.0, self.launch_height, *velocity.T, *spin.T, xp=xp)
+        if self.events:
+            result = simulate_event_throw(
+                self.ball, start, wind_x, wind_y, self.screen_geometry(scenario, xp),
+                self.sim_dt, self.max_flight_time, self.max_roll_time, self.field_radius,
+                RECORD_DT_S, xp=xp,
+            )  # fmt: skip
+            return result, wind_x, wind_y
         result = simulate_throw(
             self.ball, start, wind_x, wind_y, self.screen_geometry(scenario, xp), self.sim_dt,
             self.max_flight_time, self.max_roll_time, self.field_radius, RECORD_DT_S, xp=xp,
