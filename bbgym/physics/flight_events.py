@@ -228,7 +228,7 @@ def event_flight_step(
     if screen is not None and not skippable(cut):
         ended = BallState._make(map(xp.where, repeat(cut, 13), bounced, ended))
     if screen is not None and not skippable(leaning):  # slow contacts, at the step's end
-        ended = _lean(p, ended, screen, leaning & xp.logical_not(cut), side, xp)
+        ended = _lean(p, ended, screen, leaning, side, xp)
         cut = cut | leaning
     now = t0 + end_theta * h
 
