@@ -29,6 +29,8 @@ ENV_IDS = [
     "BeachballThrow-v0",
     "BeachballCurve-v0",
     "BeachballCurve-v1",
+    "BeachballThrow-v1",
+    "BeachballCurve-v2",
     "BeachballTopple-v0",
     "BeachballTopple-v1",
 ]
