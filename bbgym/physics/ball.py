@@ -12,7 +12,7 @@ law                         function
 mass of a shell or a solid  :class:`BallParams` (``mass_kg``, ``inertia_kgm2``)
 gravity and drag            :func:`air_force` (drag ``-1/2 C_d A rho |v-w| (v-w)``, §8)
 Magnus force                :func:`magnus_force` (``1/2 rho A C_L |v|^2``, §8)
-spin decay                  :func:`substep` (exponential, time constant ``spin_decay_s``)
+spin decay                  :func:`spin_decay` (exponential, time constant ``spin_decay_s``)
 drag and Magnus, implicit   :func:`drag_rate_per_s`, :func:`magnus_coefficient`
 bounce, friction, rolling   :func:`ground_contact` (restitution §3, friction §6, §5):
                             :func:`friction_impulse`, :func:`rolling_resistance_spin_change`
@@ -433,6 +433,12 @@ def panel_bounce(
     )  # fmt: skip
 
 
+def spin_decay(p: BallParams, elapsed_s: Array, xp: Any = np) -> Array:
+    """The factor a ball's spin has decayed by after ``elapsed_s`` in the air,
+    ``exp(-t / spin_decay_s)``: air friction's exponential decay, exact over any time."""
+    return xp.exp(-elapsed_s / p.spin_decay_s)
+
+
 def substep(
     p: BallParams, s: BallState, wind_x: Array, wind_y: Array, dt_s: float, xp: Any = np
 ) -> BallState:
@@ -458,7 +464,7 @@ def substep(
         turn * s.wx, turn * s.wy, turn * s.wz,
     )  # fmt: skip
     vx, vy, vz = rel_x + wind_x, rel_y + wind_y, rel_z
-    decay = math.exp(-dt_s / p.spin_decay_s)
+    decay = spin_decay(p, dt_s, math)
     wx, wy, wz = s.wx * decay, s.wy * decay, s.wz * decay
     h = 0.5 * dt_s
     qw = s.qw - h * (wx * s.qx + wy * s.qy + wz * s.qz)

@@ -44,6 +44,7 @@ from bbgym.physics.ball import (
     BallState,
     air_force,
     panel_bounce,
+    spin_decay,
 )
 from bbgym.physics.flight import (
     Flight,
@@ -88,7 +89,7 @@ def _acceleration(p: BallParams, s: BallState, wind_x: Array, wind_y: Array, xp:
 def _stages(p: BallParams, s: BallState, wind_x: Array, wind_y: Array, h: Array, xp: Any) -> tuple:
     """The four RK4 stages of ``(position, velocity)`` over a step ``h``: the velocities
     (position rates) and accelerations at each. The spin at each stage is exact."""
-    half_decay = xp.exp(-0.5 * h / p.spin_decay_s)
+    half_decay = spin_decay(p, 0.5 * h, xp)
     spins = ((s.wx, s.wy, s.wz), tuple(w * half_decay for w in (s.wx, s.wy, s.wz)))
     spins = (*spins, spins[1], tuple(w * half_decay for w in spins[1]))
     velocities, accelerations = [], []
@@ -166,7 +167,7 @@ def _state_at(
     orientation is left as it was."""
     x, y, z, vx, vy, vz = (_at(c, theta) for c in cubics)
     elapsed = theta * h
-    decay = xp.exp(-elapsed / p.spin_decay_s)
+    decay = spin_decay(p, elapsed, xp)
     if not orient:
         return BallState(x, y, z, vx, vy, vz, s.wx * decay, s.wy * decay, s.wz * decay,
                          s.qw, s.qx, s.qy, s.qz)  # fmt: skip

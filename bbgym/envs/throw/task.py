@@ -351,11 +351,11 @@ class ThrowTask(TaskCore):
             self.flight_substeps = flight_substeps(self.sim_dt, self.max_flight_time)
             self.record_every = flight_record_every(self.sim_dt, RECORD_DT_S)
             self.record_capacity = 1 + self.flight_substeps // self.record_every
+        # record_capacity: the most poses a throw records, the rows of the ``trajectory``
+        # and ``orientations`` infos: the launch's, then one every ``record_every``
+        # substeps up to the flight's last (121 by default: 6 s every 0.05 s); with
+        # ``rk4_events`` one per step, then the bounces and roll after the touchdown.
         assert self.flight_substeps < FLIGHT_SUBSTEPS_MAX  # 600 s / 1e-4 s = 6e6
-        """``record_capacity``: the most poses a throw records: the launch's, then one every
-        ``record_every`` substeps up to the flight's last (121 by default: 6 s every 0.05
-        s); with ``rk4_events`` one per step, then the bounces and roll after the
-        touchdown. The rows of the ``trajectory`` and ``orientations`` infos."""
         self.observation_space = spaces.Box(-1.0, 1.0, (OBS_SIZE,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
         self.reward_range = (0.0, 1.0 + self.hit_bonus)
