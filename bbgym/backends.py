@@ -281,7 +281,11 @@ def _uniform_rows(key: Any, counter: Any, stream: int, count: int, dtype: Any, x
     broadcast hash, so a compiled graph holds the hash once however many draws it takes
     (its compile time does not grow with them)."""
     base = _stream_base(key, counter, stream)
-    salt = (xp.arange(1, count + 1, dtype=xp.int64, device=base.device) * 0x85EBCA77) & _MASK32
+    # The salts as a constant table, not an arange times a constant: inductor turns an
+    # arange into index arithmetic, which Triton does in int32, and 0x85EBCA77 does not
+    # fit there (torch 2.11 on CUDA refused to compile the step; bits are the same).
+    salts = [(k * 0x85EBCA77) & _MASK32 for k in range(1, count + 1)]
+    salt = xp.asarray(salts, dtype=xp.int64, device=base.device)
     bits = hash32(xp.expand_dims(base, axis=0) ^ xp.reshape(salt, (count,) + (1,) * base.ndim))
     if dtype == xp.float32:
         return (xp.astype(bits >> 8, dtype) + 0.5) * (1.0 / 16777216.0)

@@ -225,6 +225,34 @@ def test_counter_rng_agrees_on_numpy_torch_and_strict() -> None:
     assert np.all(np.abs(hist - 10_000) < 5 * math.sqrt(10_000))
 
 
+def test_replaced_is_replace_spelled_as_a_constructor() -> None:
+    """``replaced`` gives ``_replace``'s record (torch 2.11's Dynamo returned an empty tuple
+    from a compiled ``_replace``), names a field the record lacks, and the package calls
+    it and ``where_record`` instead of ``_replace`` and ``_make`` everywhere."""
+    from pathlib import Path
+
+    from bbgym.physics.namespace import replaced, where_record
+    from bbgym.physics.sailing_step import StepCarry
+
+    carry = StepCarry(*range(7))
+    assert replaced(carry, wind_x=10, sea="calm") == carry._replace(wind_x=10, sea="calm")
+    with pytest.raises(ValueError, match=r"StepCarry has no field \['wind_z'\]"):
+        replaced(carry, wind_z=1.0)
+    compiled = torch.compile(lambda c: replaced(c, jibes=c.jibes + 1), fullgraph=True)
+    out = compiled(StepCarry(*(torch.zeros(2) for _ in range(7))))
+    assert len(out) == len(StepCarry._fields) and torch.equal(out.jibes, torch.ones(2))
+    mixed = where_record(
+        np.array([True, False]), StepCarry(*([1, 1],) * 9), StepCarry(*([2, 2],) * 9), np
+    )
+    assert type(mixed) is StepCarry and all(list(field) == [1, 2] for field in mixed)
+    package = Path(bbgym.__file__).parent
+    calls = [f"{path.relative_to(package)}:{number}"
+             for path in sorted(package.rglob("*.py"))
+             for number, line in enumerate(path.read_text().splitlines(), 1)
+             if "._replace(" in line or "._make(" in line]  # fmt: skip
+    assert calls == [], calls
+
+
 @pytest.mark.parametrize("env_id", ["BeachballSail-v1", "BeachballThrow-v0", "BeachballTopple-v1"])
 @pytest.mark.parametrize("backend", ["numpy", "torch"])
 def test_info_keys_keeps_those_infos_with_the_same_values(env_id: str, backend: str) -> None:

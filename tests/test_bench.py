@@ -73,6 +73,18 @@ def run_bench(tmp_path, *argv: str) -> subprocess.CompletedProcess:
     )  # fmt: skip
 
 
+def test_bench_dtypes_picks_the_torch_rows(tmp_path):
+    """--dtypes float32 times float32 alone (a GPU check's time goes where it matters)."""
+    import pytest
+
+    pytest.importorskip("torch")
+    done = run_bench(tmp_path, "--backends", "--dtypes", "float32")
+    assert done.returncode == 0, done.stderr
+    result = json.loads((tmp_path / "bench.json").read_text())
+    kinds = {row["kind"] for row in result["backend_rows"] if row["env"] != "CartPole-v1"}
+    assert kinds == {"N=8 torch float32"}
+
+
 def test_bench_device_is_checked(tmp_path):
     """--device names a device torch has here, or the error names --device and says why."""
     import pytest
@@ -102,7 +114,9 @@ def test_bench_device_cuda_runs_the_torch_rows_alone(tmp_path):
     training = [row for row in result["rows"] if row["env"] != "CartPole-v1"]
     assert [row["kind"] for row in training] == ["TorchRL PPO N=8"] and training[0]["rate"] > 0
     kinds = {row["kind"] for row in result["backend_rows"] if row["env"] != "CartPole-v1"}
-    assert kinds == {"N=8 torch float64 cuda", "N=8 torch float32 cuda"}
+    # both ways of compiling the step, no NumPy row (it lives on the CPU)
+    assert kinds == {f"N=8 torch {dtype} cuda, {graph}" for dtype in ("float64", "float32")
+                     for graph in ("parts", "one graph")}  # fmt: skip
     assert all(row["rate"] > 0 for row in result["backend_rows"])
     assert result["machine"]["gpu"]
 

@@ -23,6 +23,7 @@ to ``--out``:
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
   (the first step: it compiles every part, the autoreset's too) and the bytes of the env's
   state, beside CartPole at the same N (best of ``--repeats`` loops each);
+  ``--dtypes`` picks their dtypes;
   ``--step-graph parts one`` times the torch step compiled as its parts and as one graph
   side by side (``step_graph``, :data:`bbgym.backends.STEP_GRAPHS`; by default each env
   as it compiles by default).
@@ -173,12 +174,16 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         reference = max(time_vector(REFERENCE, n, steps, args.seconds, args.seed)
                         for _ in range(args.repeats))  # fmt: skip
         rows.append({"env": REFERENCE, "kind": f"N={n}", "rate": reference, "ratio": 1.0})
+        print(f"{REFERENCE} N={n}: {reference:,.0f}/s", flush=True)
         for env_id in args.envs:
-            kinds = [("numpy float64", {})] if n > max(args.num_envs) else []
+            # NumPy beside torch at the larger N, on the CPU only: at a GPU's 2^20 envs
+            # a NumPy step takes seconds (it ran out a GPU lease once).
+            numpy_row = n > max(args.num_envs) and args.device == "cpu"
+            kinds = [("numpy float64", {})] if numpy_row else []
             kinds += [(f"torch {d}{where}" + GRAPH_LABELS[graph],
                        {"backend": "torch", "dtype": d, "compile": args.compile,
                         "step_graph": graph, **on_device})
-                      for d in ("float64", "float32") for graph in args.step_graph]  # fmt: skip
+                      for d in args.dtypes for graph in args.step_graph]  # fmt: skip
             for kind, backend in kinds:
                 r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats,
                                  **backend)  # fmt: skip
@@ -283,13 +288,16 @@ def torch_info() -> dict[str, Any]:
 
 def measure(args: argparse.Namespace) -> dict[str, Any]:
     if args.device != "cpu":  # the GPU check: the torch rows alone, one short run
+        # The step rows first: they are printed as they come, so a run cut short by a
+        # lease's end still has the figures the targets name.
+        backend = backend_rows(args)
         reference = ppo_throughput(REFERENCE, args.ppo_timesteps, args.ppo_n_steps, args.seed)
         rows = []
         if reference is not None:
             rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": reference,
                          "ratio": 1.0})  # fmt: skip
         rows += torchrl_training_rows(args, reference)
-        return {"rows": rows, "backend_rows": backend_rows(args), "memory_mb": {},
+        return {"rows": rows, "backend_rows": backend, "memory_mb": {},
                 "machine": machine_info()}  # fmt: skip
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     rows: list[dict[str, Any]] = []
@@ -393,6 +401,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "compiles unasked), as its parts, as one graph, or several "
                              "side by side (default: auto; with --device cuda parts and "
                              "one)")  # fmt: skip
+    parser.add_argument("--dtypes", nargs="+", choices=("float64", "float32"),
+                        default=["float64", "float32"],
+                        help="the torch rows' dtypes (default: float64 float32)")  # fmt: skip
     parser.add_argument("--training", action="store_true",
                         help="add TorchRL PPO's training throughput (the torchrl extra; "
                         "always with --device cuda)")  # fmt: skip

@@ -492,7 +492,7 @@ def collide_balls(
     ``e = 1`` is elastic, ``e = 0`` plastic (common velocity). Across the line of centres
     the velocities are unchanged. Balls moving apart are left alone. Returns ``(v1', v2')``.
     """
-    nx, ny, nz = (b - a for a, b in zip(p1, p2, strict=True))
+    nx, ny, nz = [b - a for a, b in zip(p1, p2, strict=True)]
     # Concentric balls have no line of centres: n = 0 leaves them alone.
     inv_dist = 1.0 / xp.maximum(xp.sqrt(nx * nx + ny * ny + nz * nz), TINY)
     nx, ny, nz = nx * inv_dist, ny * inv_dist, nz * inv_dist

@@ -17,7 +17,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bbgym.physics.common import AIR_DENSITY_KGM3, WATER_DENSITY_KGM3
-from bbgym.physics.namespace import Array
+from bbgym.physics.namespace import Array, replaced
 from bbgym.physics.validation import check_choice, check_fields, interval, param
 
 SAIL_MODELS = ("lift", "seed", "cambered")
@@ -375,4 +375,4 @@ def dinghy_at_rest(
         return np.broadcast_to(np.asarray(v, dtype=np.float64), (batch,)).copy()
 
     boat = dinghy_moving(full(heading_rad), full(speed_mps), full(boom_rad))
-    return boat._replace(x_m=full(x_m), y_m=full(y_m))
+    return replaced(boat, x_m=full(x_m), y_m=full(y_m))

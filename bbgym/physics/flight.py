@@ -10,7 +10,6 @@ written against an array namespace ``xp``.
 
 from __future__ import annotations
 
-from itertools import repeat
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -25,7 +24,7 @@ from bbgym.physics.ball import (
     substep,
 )
 from bbgym.physics.compaction import scatter, take
-from bbgym.physics.namespace import Array, skippable
+from bbgym.physics.namespace import Array, replaced, skippable, where_record
 
 
 class Screen(NamedTuple):
@@ -186,7 +185,7 @@ def _flight_substep(
         landing_x, landing_y = xp.where(first, x, landing_x), xp.where(first, y, landing_y)
         flight_time = xp.where(first, t, flight_time)
     if not skippable(frozen):
-        s = BallState._make(map(xp.where, repeat(frozen, len(s)), before, s))
+        s = where_record(frozen, before, s, xp)
     steps, samples = f.steps, f.samples
     recorded = (i % record_every) == 0
     if not skippable(recorded):
@@ -340,7 +339,8 @@ def _scatter_flight(full: Flight, working: np.ndarray | None, flown: Flight) -> 
     every ball alike."""
     if working is None:
         return flown
-    return scatter(full, working, flown)._replace(
+    return replaced(
+        scatter(full, working, flown),
         samples=np.full_like(full.samples, flown.samples[0]),
         substep=np.full_like(full.substep, flown.substep[0]),
     )

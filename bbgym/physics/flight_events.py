@@ -34,7 +34,6 @@ balls bounce and roll in the substeps of :mod:`bbgym.physics.flight`.
 from __future__ import annotations
 
 import math
-from itertools import repeat
 from typing import Any
 
 import numpy as np
@@ -58,7 +57,7 @@ from bbgym.physics.flight import (
     pose_of,
     sample_count,
 )
-from bbgym.physics.namespace import Array, skippable
+from bbgym.physics.namespace import Array, replaced, skippable, where_record
 
 CUT_SPEED_MPS = 0.5
 """A screen contact approaching faster than this cuts the step at its moment; a slower
@@ -100,7 +99,7 @@ def _stages(p: BallParams, s: BallState, wind_x: Array, wind_y: Array, h: Array,
                 v0 + fraction * h * a
                 for v0, a in zip((s.vx, s.vy, s.vz), accelerations[-1], strict=True)
             )
-        at = s._replace(vx=v[0], vy=v[1], vz=v[2], wx=spins[k][0], wy=spins[k][1], wz=spins[k][2])
+        at = replaced(s, vx=v[0], vy=v[1], vz=v[2], wx=spins[k][0], wy=spins[k][1], wz=spins[k][2])
         velocities.append(v)
         accelerations.append(_acceleration(p, at, wind_x, wind_y, xp))
     return velocities, accelerations
@@ -133,7 +132,7 @@ def _combine(a: tuple, b: tuple, wa: Array, wb: Array, shift: Array) -> tuple:
     """The cubic ``wa a + wb b - shift`` (a linear combination of two components)."""
     return (
         wa * a[0] + wb * b[0] - shift,
-        *(wa * ca + wb * cb for ca, cb in zip(a[1:], b[1:], strict=True)),
+        *[wa * ca + wb * cb for ca, cb in zip(a[1:], b[1:], strict=True)],
     )
 
 
@@ -165,7 +164,7 @@ def _state_at(
     spin and orientation exact (the spin keeps its axis and decays exponentially, so the
     ball turns by ``|omega| tau (1 - exp(-t / tau))`` about it). Without ``orient`` the
     orientation is left as it was."""
-    x, y, z, vx, vy, vz = (_at(c, theta) for c in cubics)
+    x, y, z, vx, vy, vz = [_at(c, theta) for c in cubics]
     elapsed = theta * h
     decay = spin_decay(p, elapsed, xp)
     if not orient:
@@ -227,7 +226,7 @@ def event_flight_step(
 
     ended = _state_at(p, s, cubics, end_theta, h, xp, orient)
     if screen is not None and not skippable(cut):
-        ended = BallState._make(map(xp.where, repeat(cut, 13), bounced, ended))
+        ended = where_record(cut, bounced, ended, xp)
     if screen is not None and not skippable(leaning):  # slow contacts, at the step's end
         ended = _lean(p, ended, screen, leaning, side, xp)
         cut = cut | leaning
@@ -247,7 +246,7 @@ def event_flight_step(
     timed_out = now >= max_time_s - 1e-3 * dt_s
     finished = touch | out | timed_out | last
     frozen = f.done
-    new_ball = BallState._make(map(xp.where, repeat(frozen, 13), s, ended))
+    new_ball = where_record(frozen, s, ended, xp)
     landed = f.landed | (touch & flying)
     first = touch & flying
     new = Flight(
@@ -296,7 +295,7 @@ def _screen_cut(
     shift = screen.center_x * normal_x + screen.center_y * normal_y
     offset = _combine(cubics[0], cubics[1], normal_x, normal_y, shift)
     side = xp.where(offset[0] >= 0.0, 1.0, xp.zeros_like(offset[0]) - 1.0)
-    gap = (side * offset[0] - r, *(side * c for c in offset[1:]))  # centre's gap to the band
+    gap = (side * offset[0] - r, *[side * c for c in offset[1:]])  # centre's gap to the band
     reaching = (gap[0] >= 0.0) & (_at(gap, 1.0) < 0.0)
     theta = xp.where(reaching, _descent_root(gap, xp), 0.0 * gap[0])
     at = _state_at(p, s, cubics, theta, h, xp, orient)
@@ -335,7 +334,7 @@ def simulate_event_throw(
             p, flight, [pose_of(launch), *poses], wind_x, wind_y, screen, max_roll_s,
             field_radius_m, record_dt_s, xp,
         )  # fmt: skip
-    return flight_result(flight, spin_parameter, trajectory, xp)._replace(steps=steps)
+    return replaced(flight_result(flight, spin_parameter, trajectory, xp), steps=steps)
 
 
 def fly_events(
@@ -373,7 +372,8 @@ def roll_display(
     last pose repeated after them) and each ball's count of rows."""
     no = xp.zeros_like(flight.landed, dtype=xp.bool)
     # the roll's clock starts at the touchdown (``flight_time_s`` 0, substep 1)
-    roll = flight._replace(
+    roll = replaced(
+        flight,
         flight_time_s=xp.zeros_like(flight.flight_time_s), done=xp.logical_not(flight.landed),
         hit_screen=no, substep=xp.zeros_like(flight.substep) + 1.0,
         steps=0 * flight.steps + 1, samples=0 * flight.samples + 1,

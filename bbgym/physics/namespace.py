@@ -93,6 +93,26 @@ numpy = np
 """The batched reference namespace."""
 
 
+def replaced(record: Any, **changes: Any) -> Any:
+    """``record`` (a NamedTuple) with the fields in ``changes`` replaced: ``_replace``
+    spelled as a plain constructor call. Under ``torch.compile`` in torch 2.11, a record
+    made by ``_replace`` came out of the compiled function as an empty tuple (Dynamo
+    traced its ``_make`` wrongly); a constructor call traces the same on every version.
+    The package makes records by their constructors alone (a test keeps it so)."""
+    values = [changes.pop(name, value) for name, value in zip(record._fields, record, strict=True)]
+    if changes:
+        raise ValueError(f"{type(record).__name__} has no field {sorted(changes)}")
+    return type(record)(*values)
+
+
+def where_record(condition: Array, if_true: Any, if_false: Any, xp: Any) -> Any:
+    """Field by field ``xp.where(condition, ...)`` of two records of one NamedTuple type,
+    built by the constructor (not ``_make`` over ``map``: torch 2.11's Dynamo could not
+    compile the iterator that leaves behind)."""
+    pairs = zip(if_true, if_false, strict=True)
+    return type(if_true)(*[xp.where(condition, a, b) for a, b in pairs])
+
+
 def namespace_of(x: Any) -> Any:
     """``numpy`` for NumPy arrays, :data:`floats` for Python numbers."""
     return np if isinstance(x, np.ndarray) else floats

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bbgym.physics.dinghy import DinghyParams, DinghyState, dinghy_at_rest
+from bbgym.physics.namespace import replaced
 from bbgym.physics.sailing_step import substep
 
 
@@ -64,7 +65,7 @@ def sail_steady(
             params, state, rudder, limit, wind_x, wind_y, dt_s, jib_sheet=jib_sheet
         )
         # Hold the course: the helmsman keeps the bow where it is.
-        state = state._replace(heading_rad=np.zeros(batch), yaw_rate_rps=np.zeros(batch))
+        state = replaced(state, heading_rad=np.zeros(batch), yaw_rate_rps=np.zeros(batch))
     return state
 
 

@@ -50,7 +50,7 @@ import numpy as np
 
 from bbgym.physics.common import AIR_DENSITY_KGM3, quadratic_drag_rate, split_along
 from bbgym.physics.dinghy import DinghyParams, DinghyState, StepEvents
-from bbgym.physics.namespace import Array
+from bbgym.physics.namespace import Array, replaced
 from bbgym.physics.sailing import (
     apparent_wind_body,
     apply_sheet_stop,
@@ -321,14 +321,14 @@ def step_substep(
     flow, sea = None, carry.sea
     if sea is not None:
         flow = water_over(water, sea, carry.boat.x_m, carry.boat.y_m, dt_s, xp)
-        sea = sea._replace(time_s=sea.time_s + dt_s)
+        sea = replaced(sea, time_s=sea.time_s + dt_s)
     state, _impact, jibe = substep(
         p, carry.boat, carry.rudder_rad, carry.boom_limit_rad, carry.wind_x, carry.wind_y,
         dt_s, xp, flow, carry.jib_sheet,
     )  # fmt: skip
     jibes = carry.jibes + xp.astype(jibe, xp.int64)
     severity = xp.maximum(carry.jibe_severity_rps, xp.where(jibe, xp.abs(state.boom_rate_rps), 0.0))
-    return carry._replace(boat=state, jibes=jibes, jibe_severity_rps=severity, sea=sea)
+    return replaced(carry, boat=state, jibes=jibes, jibe_severity_rps=severity, sea=sea)
 
 
 def step_end(

@@ -40,7 +40,7 @@ from typing import Any, NamedTuple
 
 from bbgym.physics.ball import BallParams, ball_at_rest, ground_contact
 from bbgym.physics.ball import substep as ball_substep
-from bbgym.physics.namespace import Array, floats
+from bbgym.physics.namespace import Array, floats, replaced
 from bbgym.physics.wall import LOOSE, STANDING, WallParams, ball_hits_wall, wall_step
 from bbgym.physics.wind import GustParams, gust_step, wind_vector
 
@@ -124,7 +124,7 @@ def select(mask: Array, new: Any, old: Any, xp: Any) -> Any:
 
 def _with(state: Any, **changes: Any) -> Any:
     if isinstance(state, tuple):
-        return state._replace(**changes)
+        return replaced(state, **changes)
     return dataclasses.replace(state, **changes)
 
 
@@ -203,7 +203,7 @@ def interval_substep(
     i = c.substep
     live = c.running & (i < params.n_substeps)
     if xp is floats and not live:  # one env, stopped or past the end: nothing changes
-        return c._replace(substep=i + 1)
+        return replaced(c, substep=i + 1)
     wp, p, dt = params.wall, params.ball, params.sim_dt
     gust, wind_x, wind_y, noise_used = c.gust, c.wind_x, c.wind_y, c.noise_used
     ge, count = params.gust_every, params.n_gust_updates

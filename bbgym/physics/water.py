@@ -55,7 +55,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bbgym.physics.common import GRAVITY_MPS2
-from bbgym.physics.namespace import Array
+from bbgym.physics.namespace import Array, replaced
 from bbgym.physics.validation import accepted_interval, check_fields, interval, param
 
 MAX_WAVE_STEEPNESS = 0.6
@@ -336,7 +336,7 @@ def water_over(
                          dt_s * current_y)  # fmt: skip
     a_x, a_y = particle_label(p, sea, x_m, y_m, xp)
     vx, vy, _, _ = _particle_velocity(p, sea, a_x, a_y, xp)
-    later = sea._replace(time_s=sea.time_s + dt_s)
+    later = replaced(sea, time_s=sea.time_s + dt_s)
     next_vx, next_vy, _, _ = _particle_velocity(p, later, a_x, a_y, xp)
     next_x, next_y, _ = particle_position(p, later, a_x, a_y, xp)
     return WaterFlow(

@@ -54,7 +54,7 @@ from bbgym.physics.flight_events import (
     roll_display,
     simulate_event_throw,
 )
-from bbgym.physics.namespace import Array, floats
+from bbgym.physics.namespace import Array, floats, replaced
 from bbgym.physics.validation import (
     build_params,
     check_bool,
@@ -486,7 +486,7 @@ class ThrowTask(TaskCore):
                     self.ball, flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
                     self.max_flight_time, self.field_radius, xp, orient=False,
                 )  # fmt: skip
-            return carry._replace(flight=flight)
+            return replaced(carry, flight=flight)
         recording = carry.poses is not None
         first = sample_count(carry.flight.substep, xp) if recording else 0
         flight, poses = flight_chunk(
@@ -498,7 +498,7 @@ class ThrowTask(TaskCore):
             poses = carry.poses + recorded_poses(
                 poses, first, self.record_every, self.flight_substeps
             )
-        return carry._replace(flight=flight, poses=poses if recording else None)
+        return replaced(carry, flight=flight, poses=poses if recording else None)
 
     def all_done(self, carry: ThrowCarry, xp: Any) -> Any:
         """Every ball has finished its flight."""
@@ -519,7 +519,7 @@ class ThrowTask(TaskCore):
             self.field_radius,
         )  # fmt: skip
         recorded = carry.poses + poses if record else None
-        return self.end(state, carry._replace(flight=flight, poses=recorded), xp)
+        return self.end(state, replaced(carry, flight=flight, poses=recorded), xp)
 
     def _fly_events(self, carry: ThrowCarry, record: bool, xp: Any) -> ThrowCarry:
         """A throw's RK4 flight on the host; when recording, the poses (one per step)
@@ -529,14 +529,14 @@ class ThrowTask(TaskCore):
             self.max_flight_time, self.field_radius, record, xp,
         )  # fmt: skip
         if not record:
-            return carry._replace(flight=flight)
+            return replaced(carry, flight=flight)
         poses, steps = roll_display(
             self.ball, flight, carry.poses + poses, carry.wind_x, carry.wind_y, carry.screen,
             self.max_roll_time, self.field_radius, RECORD_DT_S, xp,
         )  # fmt: skip
         # the recorded rows: each ball's own, the longest's number for the batch
-        counted = flight._replace(steps=steps, samples=xp.zeros_like(steps) + len(poses))
-        return carry._replace(flight=counted, poses=poses)
+        counted = replaced(flight, steps=steps, samples=xp.zeros_like(steps) + len(poses))
+        return replaced(carry, flight=counted, poses=poses)
 
     def end(self, state: ThrowState, carry: ThrowCarry, xp: Any) -> tuple[ThrowState, ThrowEvents]:
         """Score the throw (first touchdown against the ring), move the gusts on by

@@ -36,7 +36,7 @@ from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 # (validation.interval by its module: the constructor's argument `interval` shadows the name)
 from bbgym.physics import validation
 from bbgym.physics.ball import BallParams, ball_at
-from bbgym.physics.namespace import Array, floats
+from bbgym.physics.namespace import Array, floats, replaced
 from bbgym.physics.toppling import (
     IntervalCarry,
     IntervalParams,
@@ -389,7 +389,7 @@ class ToppleTask(TaskCore):
             self.host_interval_params, carry.interval, sc.wind_speed, sc.wind_from,
             sc.gusts, carry.noise, xp,
         )  # fmt: skip
-        return self.end(state, carry._replace(interval=interval), xp)
+        return self.end(state, replaced(carry, interval=interval), xp)
 
     def begin(
         self, state: ToppleState, action: Any, noise: Any, xp: Any, record: bool = False
@@ -407,10 +407,10 @@ class ToppleTask(TaskCore):
         thrown = speed >= self.wait_speed
         # Zeros of their own (a compiled chunk's inputs must not alias each other).
         x, y, z, qx, qy, qz = (xp.zeros_like(c) for c in (*v, *w))
-        ball = ball_at(x, y, z + self.launch_height, *v, *w)._replace(qx=qx, qy=qy, qz=qz)
+        ball = replaced(ball_at(x, y, z + self.launch_height, *v, *w), qx=qx, qy=qy, qz=qz)
         # The interval starts with no stress on the foot, in a new state (states are never
         # changed once made).
-        wall = state.wall._replace(stress=0.0 * state.wall.stress)
+        wall = replaced(state.wall, stress=0.0 * state.wall.stress)
         sc = state.scenario
         # Every env runs until its own interval ends (bbgym.physics.toppling): a stopped env
         # changes no more, draws no more gust pairs, takes no more samples.
@@ -430,7 +430,7 @@ class ToppleTask(TaskCore):
             self.interval_params, carry.interval, sc.wind_speed, sc.wind_from, sc.gusts,
             carry.noise, xp,
         )  # fmt: skip
-        return carry._replace(interval=interval)
+        return replaced(carry, interval=interval)
 
     def all_done(self, carry: ToppleCarry, xp: Any) -> Any:
         """Per env: its interval has ended (its wall is down and its ball stopped)."""
