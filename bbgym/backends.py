@@ -167,6 +167,16 @@ def torch_namespace() -> Any:
     return _TORCH_NAMESPACE
 
 
+INDUCTOR_OPTIONS: dict[str, Any] = {}
+"""Inductor's settings for bbgym's compiled steps (``torch.compile(options=...)``, these
+graphs only); empty: inductor's defaults. Measured and left so: a lower
+``realize_opcount_threshold`` (inductor stores a pointwise result costing more ops than
+this, else recomputes it in every kernel that reads it; default 30) halves the cold
+compile of the ball envs' steps (22 or less: 34-44 s instead of 68-81 s on the 2-core
+machine) but slows their steps by 17-61%, so it is a trade for each user, not a default
+(docs/pages/speed.md, "Compile time"; ``python scripts/bench_inductor.py``)."""
+
+
 def compiled(fn: Any, backend: Backend) -> Any:
     """``fn`` under ``torch.compile`` (a static graph per input shape), or ``fn`` itself
     unless the backend is torch with ``compile=True``.
@@ -190,7 +200,7 @@ def compiled(fn: Any, backend: Backend) -> Any:
     # A static graph per batch size: dynamic=True let one graph serve every num_envs, with
     # the same bits, but its steps were 30-51% slower on CPU (docs/pages/speed.md,
     # scripts/bench_compile.py), and a warm cache recompiles a new size in seconds.
-    compiled_fn = torch.compile(fn, dynamic=False)
+    compiled_fn = torch.compile(fn, dynamic=False, options=dict(INDUCTOR_OPTIONS))
     name = getattr(fn, "__qualname__", repr(fn))
 
     def call(*args: Any) -> Any:

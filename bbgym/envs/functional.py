@@ -312,30 +312,32 @@ def tree_with_leaves(tree: Any, leaves: list) -> Any:
 
 
 def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
-    """``task.chunks`` chunks of a transition from ``carry``: the first as it is, the rest
-    in a ``while_loop`` (torch's loop primitive, which ``torch.compile`` keeps rolled:
-    one chunk in the graph, not hundreds) that also stops once every env is done
-    (``task.stops_early``). The loop carries only the tensors a chunk changes (those the
-    first chunk returned anew); the rest (the wind, the screen) it reads as constants."""
-    first = task.chunk(carry, xp)
+    """``task.chunks`` chunks of a transition from ``carry`` in a ``while_loop`` (torch's
+    loop primitive, which ``torch.compile`` keeps rolled: one chunk in the graph, not
+    hundreds) that also stops once every env is done (``task.stops_early``). The loop
+    carries only the tensors a chunk changes; the rest (the wind, the screen) it reads as
+    constants."""
     if task.chunks <= 1:
-        return first
+        return task.chunk(carry, xp)
     import torch
     from torch._higher_order_ops import while_loop
 
-    before, leaves = tree_leaves(carry), tree_leaves(first)
-    varying = [j for j, (old, new) in enumerate(zip(before, leaves, strict=True))
+    # Which leaves a chunk changes, from a chunk traced for that alone: its results are
+    # unused, so the compiler drops its ops, and the graph holds the chunk once (in the
+    # loop), not twice, which is most of what it costs to compile.
+    probe = task.chunk(carry, xp)
+    before = tree_leaves(carry)
+    varying = [j for j, (old, new) in enumerate(zip(before, tree_leaves(probe), strict=True))
                if isinstance(new, torch.Tensor) and new is not old]  # fmt: skip
-    # The loop takes the constants as inputs too, and no two inputs may share memory
-    # (rows of one noise draw are views of it): each gets its own copy.
-    leaves = [leaf.clone() if isinstance(leaf, torch.Tensor) and j not in varying else leaf
-              for j, leaf in enumerate(leaves)]  # fmt: skip
+    # No two of the loop's inputs may share memory (rows of one noise draw are views of
+    # it, a flight's fields may be one array): each gets its own copy.
+    leaves = [leaf.clone() if isinstance(leaf, torch.Tensor) else leaf for leaf in before]
 
     def rebuild(tensors: tuple) -> Any:
         replaced = list(leaves)
         for j, tensor in zip(varying, tensors, strict=True):
             replaced[j] = tensor
-        return tree_with_leaves(first, replaced)
+        return tree_with_leaves(carry, replaced)
 
     def more(done_chunks: Any, *tensors: Any) -> Any:
         go = done_chunks < task.chunks
@@ -350,6 +352,6 @@ def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
         new = [out[j].clone() if any(out[j] is t for t in tensors) else out[j] for j in varying]
         return (done_chunks + 1, *new)
 
-    one = torch.ones((), dtype=torch.int64, device=leaves[varying[0]].device)
-    out = while_loop(more, chunk, (one, *[leaves[j] for j in varying]))
+    zero = torch.zeros((), dtype=torch.int64, device=leaves[varying[0]].device)
+    out = while_loop(more, chunk, (zero, *[leaves[j] for j in varying]))
     return rebuild(tuple(out[1:]))
