@@ -228,10 +228,10 @@ def test_counter_rng_agrees_on_numpy_torch_and_strict() -> None:
 def test_replaced_is_replace_spelled_as_a_constructor() -> None:
     """``replaced`` gives ``_replace``'s record (torch 2.11's Dynamo returned an empty tuple
     from a compiled ``_replace``), names a field the record lacks, and the package calls
-    it and ``where_record`` instead of ``_replace`` and ``_make`` everywhere."""
+    it and ``select`` instead of ``_replace`` and ``_make`` everywhere."""
     from pathlib import Path
 
-    from bbgym.physics.namespace import replaced, where_record
+    from bbgym.physics.namespace import replaced, select
     from bbgym.physics.sailing_step import StepCarry
 
     carry = StepCarry(*range(7))
@@ -241,7 +241,7 @@ def test_replaced_is_replace_spelled_as_a_constructor() -> None:
     compiled = torch.compile(lambda c: replaced(c, jibes=c.jibes + 1), fullgraph=True)
     out = compiled(StepCarry(*(torch.zeros(2) for _ in range(7))))
     assert len(out) == len(StepCarry._fields) and torch.equal(out.jibes, torch.ones(2))
-    mixed = where_record(
+    mixed = select(
         np.array([True, False]), StepCarry(*([1, 1],) * 9), StepCarry(*([2, 2],) * 9), np
     )
     assert type(mixed) is StepCarry and all(list(field) == [1, 2] for field in mixed)

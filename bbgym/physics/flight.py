@@ -24,7 +24,7 @@ from bbgym.physics.ball import (
     substep,
 )
 from bbgym.physics.compaction import scatter, take
-from bbgym.physics.namespace import Array, replaced, skippable, where_record
+from bbgym.physics.namespace import Array, replaced, select, skippable
 
 
 class Screen(NamedTuple):
@@ -185,7 +185,7 @@ def _flight_substep(
         landing_x, landing_y = xp.where(first, x, landing_x), xp.where(first, y, landing_y)
         flight_time = xp.where(first, t, flight_time)
     if not skippable(frozen):
-        s = where_record(frozen, before, s, xp)
+        s = select(frozen, before, s, xp)
     steps, samples = f.steps, f.samples
     recorded = (i % record_every) == 0
     if not skippable(recorded):

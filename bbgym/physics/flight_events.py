@@ -57,7 +57,7 @@ from bbgym.physics.flight import (
     pose_of,
     sample_count,
 )
-from bbgym.physics.namespace import Array, replaced, skippable, where_record
+from bbgym.physics.namespace import Array, replaced, select, skippable
 
 CUT_SPEED_MPS = 0.5
 """A screen contact approaching faster than this cuts the step at its moment; a slower
@@ -226,7 +226,7 @@ def event_flight_step(
 
     ended = _state_at(p, s, cubics, end_theta, h, xp, orient)
     if screen is not None and not skippable(cut):
-        ended = where_record(cut, bounced, ended, xp)
+        ended = select(cut, bounced, ended, xp)
     if screen is not None and not skippable(leaning):  # slow contacts, at the step's end
         ended = _lean(p, ended, screen, leaning, side, xp)
         cut = cut | leaning
@@ -246,7 +246,7 @@ def event_flight_step(
     timed_out = now >= max_time_s - 1e-3 * dt_s
     finished = touch | out | timed_out | last
     frozen = f.done
-    new_ball = where_record(frozen, s, ended, xp)
+    new_ball = select(frozen, s, ended, xp)
     landed = f.landed | (touch & flying)
     first = touch & flying
     new = Flight(

@@ -29,6 +29,7 @@ other namespace (torch, compiled or not; ``array_api_strict``) takes the masked 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import operator
 from types import SimpleNamespace
@@ -105,12 +106,24 @@ def replaced(record: Any, **changes: Any) -> Any:
     return type(record)(*values)
 
 
-def where_record(condition: Array, if_true: Any, if_false: Any, xp: Any) -> Any:
-    """Field by field ``xp.where(condition, ...)`` of two records of one NamedTuple type,
-    built by the constructor (not ``_make`` over ``map``: torch 2.11's Dynamo could not
-    compile the iterator that leaves behind)."""
-    pairs = zip(if_true, if_false, strict=True)
-    return type(if_true)(*[xp.where(condition, a, b) for a, b in pairs])
+def _values(record: Any) -> tuple:
+    if isinstance(record, tuple):
+        return tuple(record)
+    return tuple(getattr(record, f.name) for f in dataclasses.fields(record))
+
+
+def select(mask: Array, new: Any, old: Any, xp: Any) -> Any:
+    """A record with ``new``'s values where ``mask`` (per env) and ``old``'s elsewhere
+    (NamedTuple or dataclass of arrays, built by its constructor: see :func:`replaced`). A
+    field ``new`` took over from ``old`` (the same object: states are never written, so
+    sharing is safe) is kept without a ``where``."""
+    if xp is floats:
+        return xp.where(mask, new, old)  # one env: the whole record is one choice
+    values = [
+        b if a is b else xp.where(mask, a, b)
+        for a, b in zip(_values(new), _values(old), strict=True)
+    ]
+    return type(old)(*values)
 
 
 def namespace_of(x: Any) -> Any:

@@ -40,7 +40,7 @@ from typing import Any, NamedTuple
 
 from bbgym.physics.ball import BallParams, ball_at_rest, ground_contact
 from bbgym.physics.ball import substep as ball_substep
-from bbgym.physics.namespace import Array, floats, replaced
+from bbgym.physics.namespace import Array, floats, replaced, select
 from bbgym.physics.wall import LOOSE, STANDING, WallParams, ball_hits_wall, wall_step
 from bbgym.physics.wind import GustParams, gust_step, wind_vector
 
@@ -101,25 +101,6 @@ class IntervalCarry(NamedTuple):
     noise_used: Array
     substep: Array
     taken: tuple | None
-
-
-def _values(state: Any) -> tuple:
-    if isinstance(state, tuple):
-        return tuple(state)
-    return tuple(getattr(state, f.name) for f in dataclasses.fields(state))
-
-
-def select(mask: Array, new: Any, old: Any, xp: Any) -> Any:
-    """A state with ``new``'s values where ``mask`` (per env) and ``old``'s elsewhere
-    (NamedTuple or dataclass of arrays). A field ``new`` took over from ``old`` (the same
-    object: states are never written, so sharing is safe) is kept without a ``where``."""
-    if xp is floats:
-        return xp.where(mask, new, old)  # one env: the whole state is one choice
-    values = [
-        b if a is b else xp.where(mask, a, b)
-        for a, b in zip(_values(new), _values(old), strict=True)
-    ]
-    return type(old)(*values)
 
 
 def _with(state: Any, **changes: Any) -> Any:
