@@ -31,6 +31,8 @@ PINNED = {
                            "screen": True}),
     "BeachballTopple-v1": ({"windsock_noise": 0.0},
                            {"wind": (1.5, 0.5), "wall_distance": 6.0, "gusts": False}),
+    "BeachballTopple-v2": ({"windsock_noise": 0.0},
+                           {"wind": (1.5, 0.5), "wall_distance": 4.0, "gusts": False}),
     "BeachballSail-v1": ({"max_episode_steps": 40},
                          {"wind_speed": 5.0, "wind_from": 1.0, "speed": 1.0, "heading": 0.3,
                           "mark": (30.0, 10.0), "gusts": False}),

@@ -1,6 +1,7 @@
-"""BeachballTopple-v0 on the torch backend runs the same core as NumPy: equal in float64,
-close in float32 where it matters (the wall's state, the hits), compiled equal to eager,
-each part compiled once. The approach of ``tests/test_backends.py`` (BeachballSail-v0)."""
+"""BeachballTopple-v0 (and -v2, whose interval is in RK4 steps) on the torch backend runs
+the same core as NumPy: equal in float64, close in float32 where it matters (the wall's
+state, the hits), compiled equal to eager, each part compiled once. The approach of
+``tests/test_backends.py`` (BeachballSail-v0)."""
 
 from __future__ import annotations
 
@@ -26,8 +27,8 @@ STEPS = 200
 FAST = dict(interval=0.5, gust_dt=0.1, wall_distance_range=(4.0, 5.5), wind_speed_range=(0.0, 12.0))
 
 
-def make_torch(num_envs: int = N, **kwargs):
-    return backend_replica.make_torch("BeachballTopple-v0", num_envs, **kwargs)
+def make_torch(num_envs: int = N, env_id: str = "BeachballTopple-v0", **kwargs):
+    return backend_replica.make_torch(env_id, num_envs, **kwargs)
 
 
 def throws(rng: np.random.Generator, steps: int, num_envs: int) -> np.ndarray:
@@ -49,10 +50,12 @@ def throws(rng: np.random.Generator, steps: int, num_envs: int) -> np.ndarray:
     return actions.astype(np.float32)
 
 
-def replica_run(seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
+def replica_run(
+    seed: int, actions: np.ndarray, env_id: str = "BeachballTopple-v0", **kwargs
+) -> list[tuple]:
     """(obs, reward, terminated, truncated, wall angle) per step."""
     return backend_replica.replica_run(
-        "BeachballTopple-v0",
+        env_id,
         N,
         seed,
         actions,
@@ -61,12 +64,15 @@ def replica_run(seed: int, actions: np.ndarray, **kwargs) -> list[tuple]:
     )
 
 
-@pytest.mark.parametrize("gusts", [True, False])
-def test_torch_float64_equals_numpy_replica(gusts: bool) -> None:
+@pytest.mark.parametrize(
+    ("env_id", "gusts"),
+    [("BeachballTopple-v0", True), ("BeachballTopple-v0", False), ("BeachballTopple-v2", True)],
+)
+def test_torch_float64_equals_numpy_replica(env_id: str, gusts: bool) -> None:
     actions = throws(np.random.default_rng(3), STEPS, N)
     kwargs = {**FAST, "gusts": gusts}
-    expected = replica_run(5, actions, **kwargs)
-    venv = make_torch(**kwargs)
+    expected = replica_run(5, actions, env_id, **kwargs)
+    venv = make_torch(env_id=env_id, **kwargs)
     venv.reset(seed=5)
     ends = 0
     for a, (obs, reward, term, trunc, angle) in zip(actions, expected, strict=True):
@@ -81,10 +87,11 @@ def test_torch_float64_equals_numpy_replica(gusts: bool) -> None:
     assert venv.unwrapped.state.wall.angle.dtype == torch.float64
 
 
-def test_host_transition_equals_the_compiled_steps_chunks() -> None:
+@pytest.mark.parametrize("integrator", [{}, {"interval_integrator": "rk4_events", "sim_dt": 0.05}])
+def test_host_transition_equals_the_compiled_steps_chunks(integrator: dict) -> None:
     """The host's long chunks (``transition``) and the compiled step's short ones
     (``begin``, ``chunk``..., ``end``) give the same states, on NumPy."""
-    task = ToppleTask(**FAST)
+    task = ToppleTask(**FAST, **integrator)
     assert task.host_interval_params.chunk_substeps != task.interval_params.chunk_substeps
     rng = np.random.default_rng(1)
     keys = backends.env_keys(0, 16, np)
@@ -143,8 +150,11 @@ def test_torch_float32_keeps_the_walls_and_hits_of_float64() -> None:
     assert any((s != "standing").any() for _, _, s, _ in runs["float64"])  # some fell
 
 
-@pytest.mark.parametrize("step_graph", ["parts", "one"])
-def test_compiled_equals_eager_and_compiles_each_graph_once(step_graph: str) -> None:
+@pytest.mark.parametrize(
+    ("env_id", "step_graph"),
+    [("BeachballTopple-v0", "parts"), ("BeachballTopple-v0", "one"), ("BeachballTopple-v2", "one")],
+)
+def test_compiled_equals_eager_and_compiles_each_graph_once(env_id: str, step_graph: str) -> None:
     """Compiled (its parts, or the whole step as one graph with the interval's chunks in a
     loop) equals eager torch (the parts called one by one)."""
     actions = throws(np.random.default_rng(2), 5, N)
@@ -152,7 +162,7 @@ def test_compiled_equals_eager_and_compiles_each_graph_once(step_graph: str) -> 
     for compile in (False, True):
         with backend_replica.compiles() if compile else contextlib.nullcontext() as counters:
             venv = make_torch(compile=compile, throws_per_episode=2, step_graph=step_graph,
-                              **FAST)  # fmt: skip
+                              env_id=env_id, **FAST)  # fmt: skip
             out = [venv.reset(seed=2)[0]]
             out += [venv.step(a)[0] for a in actions]
         results.append(np.array(out))

@@ -42,6 +42,25 @@ def test_registered_with_entry_points():
 def test_check_env_passes():
     check_env(gym.make("BeachballTopple-v0").unwrapped, skip_render_check=True)
     check_env(gym.make("BeachballTopple-v1").unwrapped, skip_render_check=True)
+    check_env(gym.make("BeachballTopple-v2").unwrapped, skip_render_check=True)
+
+
+def test_v2_is_v1_in_rk4_steps():
+    """v2's registered kwargs: v1's walls and winds, the interval in RK4 steps of 0.05 s;
+    a pinned reset gives v1's observation (the scenario's draws are the same)."""
+    assert gym.spec("BeachballTopple-v2").kwargs == {
+        **gym.spec("BeachballTopple-v1").kwargs,
+        "interval_integrator": "rk4_events",
+        "sim_dt": 0.05,
+    }
+    v1, v2 = gym.make("BeachballTopple-v1"), gym.make("BeachballTopple-v2")
+    pinned = {"wind": (-1.0, 0.5), "wall_distance": 4.0}
+    np.testing.assert_array_equal(v1.reset(seed=3, options=pinned)[0],
+                                  v2.reset(seed=3, options=pinned)[0])  # fmt: skip
+    throw = np.array([0.6, 0.0, 0.15, 0.0, 0.0, 0.0], np.float32)
+    info1, info2 = v1.step(throw)[4], v2.step(throw)[4]
+    assert info1["hits"] == info2["hits"] == 1
+    assert abs(info1["wall_angle"] - info2["wall_angle"]) < 0.02
 
 
 def test_v1_puts_the_wall_near_in_an_onshore_breeze():

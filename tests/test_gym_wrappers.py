@@ -36,11 +36,13 @@ ENV_IDS = [
     "BeachballCurve-v0",
     "BeachballTopple-v0",
     "BeachballTopple-v1",
+    "BeachballTopple-v2",
 ]
 BALL_IDS = [e for e in ENV_IDS if not e.startswith("BeachballSail")]
 LENGTH_KEY = {"BeachballThrow-v0": "trajectory_length", "BeachballCurve-v0": "trajectory_length",
               "BeachballTopple-v0": "samples_length",
-              "BeachballTopple-v1": "samples_length"}  # fmt: skip
+              "BeachballTopple-v1": "samples_length",
+              "BeachballTopple-v2": "samples_length"}  # fmt: skip
 """The info counting a step's recorded rows (its flight's frames: one per row)."""
 PADDED = {
     "BeachballSail-v0": {},
@@ -51,7 +53,7 @@ PADDED = {
         "loose_samples": (60, 3), "loose_mask": (60,),
     },
 }  # fmt: skip
-PADDED["BeachballTopple-v1"] = PADDED["BeachballTopple-v0"]
+PADDED["BeachballTopple-v1"] = PADDED["BeachballTopple-v2"] = PADDED["BeachballTopple-v0"]
 PADDED["BeachballSail-v1"] = PADDED["BeachballSail-v0"]
 """The per-step records of each env and their fixed shapes (record_capacity rows)."""
 

@@ -33,6 +33,7 @@ ENV_IDS = [
     "BeachballCurve-v2",
     "BeachballTopple-v0",
     "BeachballTopple-v1",
+    "BeachballTopple-v2",
 ]
 SAC_IDS = ("BeachballSail-v1", "BeachballSail-v2")
 ALGO_OF = {env_id: "sac" if env_id in SAC_IDS else "ppo" for env_id in ENV_IDS}

@@ -85,7 +85,9 @@ def _acceleration(p: BallParams, s: BallState, wind_x: Array, wind_y: Array, xp:
     return fx / p.mass_kg, fy / p.mass_kg, fz / p.mass_kg
 
 
-def _stages(p: BallParams, s: BallState, wind_x: Array, wind_y: Array, h: Array, xp: Any) -> tuple:
+def rk4_stages(
+    p: BallParams, s: BallState, wind_x: Array, wind_y: Array, h: Array, xp: Any
+) -> tuple:
     """The four RK4 stages of ``(position, velocity)`` over a step ``h``: the velocities
     (position rates) and accelerations at each. The spin at each stage is exact."""
     half_decay = spin_decay(p, 0.5 * h, xp)
@@ -105,7 +107,7 @@ def _stages(p: BallParams, s: BallState, wind_x: Array, wind_y: Array, h: Array,
     return velocities, accelerations
 
 
-def _cubic(value: Array, rates: tuple, h: Array) -> tuple:
+def dense_cubic(value: Array, rates: tuple, h: Array) -> tuple:
     """The dense output ``y(theta) = c0 + c1 theta + c2 theta^2 + c3 theta^3`` of one
     component over the step (``theta`` in [0, 1]) from its four stage rates: the weights
     ``b1 = theta - 3/2 theta^2 + 2/3 theta^3``, ``b2 = b3 = theta^2 - 2/3 theta^3``,
@@ -120,15 +122,27 @@ def _cubic(value: Array, rates: tuple, h: Array) -> tuple:
     )
 
 
-def _at(c: tuple, theta: Array) -> Array:
+def rk4_cubics(
+    p: BallParams, s: BallState, wind_x: Array, wind_y: Array, h: Array, xp: Any
+) -> tuple:
+    """One RK4 step of the ball over ``h`` as its dense output: the cubics of ``x, y, z,
+    vx, vy, vz`` in ``theta`` (:func:`dense_cubic`; at ``theta = 1`` the RK4 step)."""
+    velocities, accelerations = rk4_stages(p, s, wind_x, wind_y, h, xp)
+    start = (s.x, s.y, s.z, s.vx, s.vy, s.vz)
+    rates = [tuple(v[k] for v in velocities) for k in range(3)]
+    rates += [tuple(a[k] for a in accelerations) for k in range(3)]
+    return tuple(dense_cubic(y0, r, h) for y0, r in zip(start, rates, strict=True))
+
+
+def cubic_at(c: tuple, theta: Array) -> Array:
     return c[0] + theta * (c[1] + theta * (c[2] + theta * c[3]))
 
 
-def _slope(c: tuple, theta: Array) -> Array:
+def cubic_slope(c: tuple, theta: Array) -> Array:
     return c[1] + theta * (2.0 * c[2] + theta * 3.0 * c[3])
 
 
-def _combine(a: tuple, b: tuple, wa: Array, wb: Array, shift: Array) -> tuple:
+def combine_cubics(a: tuple, b: tuple, wa: Array, wb: Array, shift: Array) -> tuple:
     """The cubic ``wa a + wb b - shift`` (a linear combination of two components)."""
     return (
         wa * a[0] + wb * b[0] - shift,
@@ -136,18 +150,18 @@ def _combine(a: tuple, b: tuple, wa: Array, wb: Array, shift: Array) -> tuple:
     )
 
 
-def _descent_root(c: tuple, xp: Any) -> Array:
+def descent_root(c: tuple, xp: Any) -> Array:
     """Where the cubic ``c``, positive at ``theta = 0`` and not at 1, first falls to zero
     on [0, 1] (0 if it starts at or below zero): Newton's iteration kept inside a shrinking
     bracket (a step that leaves it, or goes uphill, bisects instead), started at the
     secant's root. Where the cubic does not fall to zero, the result is meaningless and
     masked by the caller."""
-    start, end = c[0], _at(c, 1.0)
+    start, end = c[0], cubic_at(c, 1.0)
     drop = start - end
     theta = xp.clip(start / xp.where(drop > 0.0, drop, 1.0), 0.0, 1.0)
     low, high = xp.zeros_like(theta), xp.zeros_like(theta) + 1.0
     for _ in range(NEWTON_ITERATIONS):
-        value, slope = _at(c, theta), _slope(c, theta)
+        value, slope = cubic_at(c, theta), cubic_slope(c, theta)
         above = value > 0.0
         low, high = xp.where(above, theta, low), xp.where(above, high, theta)
         newton = theta - value / xp.where(slope < 0.0, slope, -1.0)
@@ -156,7 +170,7 @@ def _descent_root(c: tuple, xp: Any) -> Array:
     return xp.where(start > 0.0, theta, 0.0 * theta)
 
 
-def _state_at(
+def state_at(
     p: BallParams, s: BallState, cubics: tuple, theta: Array, h: Array, xp: Any,
     orient: bool = True,
 ) -> BallState:  # fmt: skip
@@ -164,7 +178,7 @@ def _state_at(
     spin and orientation exact (the spin keeps its axis and decays exponentially, so the
     ball turns by ``|omega| tau (1 - exp(-t / tau))`` about it). Without ``orient`` the
     orientation is left as it was."""
-    x, y, z, vx, vy, vz = [_at(c, theta) for c in cubics]
+    x, y, z, vx, vy, vz = [cubic_at(c, theta) for c in cubics]
     elapsed = theta * h
     decay = spin_decay(p, elapsed, xp)
     if not orient:
@@ -202,16 +216,12 @@ def event_flight_step(
     s, t0 = f.ball, f.end_time_s
     flying = xp.logical_not(f.done)
     h = xp.maximum(xp.minimum(dt_s + 0.0 * t0, max_time_s - t0), 0.0)
-    velocities, accelerations = _stages(p, s, wind_x, wind_y, h, xp)
-    start = (s.x, s.y, s.z, s.vx, s.vy, s.vz)
-    rates = [tuple(v[k] for v in velocities) for k in range(3)]
-    rates += [tuple(a[k] for a in accelerations) for k in range(3)]
-    cubics = tuple(_cubic(y0, r, h) for y0, r in zip(start, rates, strict=True))
+    cubics = rk4_cubics(p, s, wind_x, wind_y, h, xp)
 
     # Touchdown: the height's cubic falls to one radius.
     height = (cubics[2][0] - p.radius_m, *cubics[2][1:])
-    touch = flying & (_at(height, 1.0) <= 0.0)
-    touch_theta = xp.where(touch, _descent_root(height, xp), 1.0 + 0.0 * t0)
+    touch = flying & (cubic_at(height, 1.0) <= 0.0)
+    touch_theta = xp.where(touch, descent_root(height, xp), 1.0 + 0.0 * t0)
     end_theta = touch_theta
 
     cut = leaning = xp.zeros_like(touch, dtype=xp.bool)
@@ -224,7 +234,7 @@ def event_flight_step(
         touch = touch & xp.logical_not(cut)
         end_theta = xp.where(cut, cut_theta, end_theta)
 
-    ended = _state_at(p, s, cubics, end_theta, h, xp, orient)
+    ended = state_at(p, s, cubics, end_theta, h, xp, orient)
     if screen is not None and not skippable(cut):
         ended = select(cut, bounced, ended, xp)
     if screen is not None and not skippable(leaning):  # slow contacts, at the step's end
@@ -234,12 +244,12 @@ def event_flight_step(
 
     # Apex: where the vertical velocity falls to zero, if before the step's end.
     vertical = cubics[5]
-    falling_at_end = _at(vertical, end_theta)
+    falling_at_end = cubic_at(vertical, end_theta)
     drop = vertical[0] - falling_at_end
     apex_theta = end_theta * vertical[0] / xp.where(drop > 0.0, drop, 1.0)
     apex_inside = (vertical[0] > 0.0) & (falling_at_end <= 0.0)
     apex = xp.maximum(f.apex_height_m, ended.z)
-    apex = xp.where(apex_inside, xp.maximum(apex, _at(cubics[2], apex_theta)), apex)
+    apex = xp.where(apex_inside, xp.maximum(apex, cubic_at(cubics[2], apex_theta)), apex)
 
     out = ended.x * ended.x + ended.y * ended.y > field_radius_m * field_radius_m
     last = f.substep >= flight_steps(dt_s, max_time_s)
@@ -293,12 +303,12 @@ def _screen_cut(
     r = p.radius_m
     normal_x, normal_y = -screen.along_y, screen.along_x
     shift = screen.center_x * normal_x + screen.center_y * normal_y
-    offset = _combine(cubics[0], cubics[1], normal_x, normal_y, shift)
+    offset = combine_cubics(cubics[0], cubics[1], normal_x, normal_y, shift)
     side = xp.where(offset[0] >= 0.0, 1.0, xp.zeros_like(offset[0]) - 1.0)
     gap = (side * offset[0] - r, *[side * c for c in offset[1:]])  # centre's gap to the band
-    reaching = (gap[0] >= 0.0) & (_at(gap, 1.0) < 0.0)
-    theta = xp.where(reaching, _descent_root(gap, xp), 0.0 * gap[0])
-    at = _state_at(p, s, cubics, theta, h, xp, orient)
+    reaching = (gap[0] >= 0.0) & (cubic_at(gap, 1.0) < 0.0)
+    theta = xp.where(reaching, descent_root(gap, xp), 0.0 * gap[0])
+    at = state_at(p, s, cubics, theta, h, xp, orient)
     lateral = (at.x - screen.center_x) * screen.along_x + (at.y - screen.center_y) * screen.along_y
     over_face = (xp.abs(lateral) <= screen.half_width_m) & (at.z <= screen.height_m)
     approach = at.vx * normal_x + at.vy * normal_y
@@ -307,8 +317,8 @@ def _screen_cut(
     contact = screen.enabled & flying & over_face & (reaching | inside)
     cut = contact & (closing >= CUT_SPEED_MPS)
     # the rest of the contacts, if the step ends within a radius of the plane (or past it)
-    leaning = contact & xp.logical_not(cut) & (_at(gap, 1.0) < 0.0)
-    bounced = panel_bounce(at, r, normal_x, normal_y, _at(offset, theta), side, approach,
+    leaning = contact & xp.logical_not(cut) & (cubic_at(gap, 1.0) < 0.0)
+    bounced = panel_bounce(at, r, normal_x, normal_y, cubic_at(offset, theta), side, approach,
                            screen.restitution, cut, xp)  # fmt: skip
     return cut, leaning, theta, bounced, side
 

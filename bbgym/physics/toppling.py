@@ -14,6 +14,11 @@ One step of BeachballTopple is a throw (or a wait) followed by ``n_substeps`` su
 5. an env stops once its wall is down (a loose panel: landed) and its ball has stopped,
    or once its wall is down and no ball flies.
 
+Steps 3 and 4 are the integrator's (:attr:`IntervalParams.integrator`): one semi-implicit
+Euler substep of each body, its contacts found at the substep's end (:func:`euler_bodies`,
+Topple-v0 and -v1, 0.01 s), or one RK4 step of each with the ball's bounce or hit located
+inside it (:func:`event_bodies`, Topple-v2, 0.05 s).
+
 Every update is masked (``xp.where``) instead of skipped: a stopped env, or a ball at rest,
 keeps exactly its values, so the result does not depend on how the envs are batched nor on
 how many substeps run past the last env's stop. :func:`interval_chunk` runs
@@ -40,8 +45,23 @@ from typing import Any, NamedTuple
 
 from bbgym.physics.ball import BallParams, ball_at_rest, ground_contact
 from bbgym.physics.ball import substep as ball_substep
-from bbgym.physics.namespace import Array, floats, replaced, select
-from bbgym.physics.wall import LOOSE, STANDING, WallParams, ball_hits_wall, wall_step
+from bbgym.physics.flight_events import (
+    combine_cubics,
+    cubic_at,
+    descent_root,
+    rk4_cubics,
+    state_at,
+)
+from bbgym.physics.namespace import Array, floats, replaced, select, skippable
+from bbgym.physics.wall import (
+    LOOSE,
+    STANDING,
+    WallParams,
+    ball_hits_wall,
+    face_frame,
+    wall_rk4_step,
+    wall_step,
+)
 from bbgym.physics.wind import GustParams, gust_step, wind_vector
 
 SAMPLE_FIELDS = (
@@ -50,6 +70,14 @@ SAMPLE_FIELDS = (
 )  # fmt: skip
 """What one recorded sample holds, in order: the ball's position and orientation, the
 wall's lean, the loose panel's centre and angle, the wall's status code."""
+
+
+INTEGRATORS = ("semi_implicit_euler", "rk4_events")
+"""How an interval's substep moves the bodies: ``semi_implicit_euler``, one semi-implicit
+Euler step of the ball and of the wall, each contact found at the substep's end
+(Topple-v0, -v1, in substeps of 0.01 s: :func:`euler_bodies`); ``rk4_events``, one RK4
+step of each with the ball's bouncing touchdown and its hit on the wall located inside
+the step (Topple-v2, in steps of 0.05 s: :func:`event_bodies`)."""
 
 
 @dataclass(frozen=True)
@@ -66,6 +94,8 @@ class IntervalParams:
     record_every: int
     chunk_substeps: int = 1
     """Substeps per :func:`interval_chunk` (any: the results do not depend on it)."""
+    integrator: str = "semi_implicit_euler"
+    """How a substep moves the ball and the wall (:data:`INTEGRATORS`)."""
 
     @property
     def n_gust_updates(self) -> int:
@@ -185,7 +215,6 @@ def interval_substep(
     live = c.running & (i < params.n_substeps)
     if xp is floats and not live:  # one env, stopped or past the end: nothing changes
         return replaced(c, substep=i + 1)
-    wp, p, dt = params.wall, params.ball, params.sim_dt
     gust, wind_x, wind_y, noise_used = c.gust, c.wind_x, c.wind_y, c.noise_used
     ge, count = params.gust_every, params.n_gust_updates
     # A gust update can fall here only if the offset is a multiple of gcd(chunk, gust_every).
@@ -213,6 +242,27 @@ def interval_substep(
         samples = samples + xp.astype(live & (i % re == 0), xp.int64)
     elif offset % re == 0:  # chunks start at multiples of record_every
         samples = samples + xp.astype(live, xp.int64)
+    bodies = euler_bodies if params.integrator == "semi_implicit_euler" else event_bodies
+    ball, wall, flying, hits, hit_height, hit_y = bodies(params, c, live, wind_x, wind_y, xp)
+    settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)
+    done = (settled | xp.logical_not(flying)) & (wall.status != STANDING)
+    running = c.running & xp.logical_not(done & live)
+    return IntervalCarry(  # in field order (faster than keywords, every substep)
+        ball, wall, gust, wind_x, wind_y, flying, running, hits, hit_height, hit_y, samples,
+        noise_used, i + 1, taken,
+    )  # fmt: skip
+
+
+def euler_bodies(
+    params: IntervalParams, c: IntervalCarry, live: Array, wind_x: Array, wind_y: Array, xp: Any
+) -> tuple:
+    """One semi-implicit Euler substep of the ball and the wall (``semi_implicit_euler``):
+    the ball flies (:func:`~bbgym.physics.ball.substep`), bounces, and strikes the wall if
+    it ends the substep within a radius of its face; then the wall steps
+    (:func:`~bbgym.physics.wall.wall_step`). Returns ``(ball, wall, flying, hits,
+    hit_height, hit_y)``."""
+    wp, p, dt = params.wall, params.ball, params.sim_dt
+    ball, wall = c.ball, c.wall
     # The ball: only a moving one flies and strikes (one at rest against the face must not
     # change the wall's rate).
     moving = c.flying & live
@@ -236,15 +286,188 @@ def interval_substep(
             hit_height = xp.where(struck, height, hit_height)
             hit_y = xp.where(struck, ball.y, hit_y)
         flying = flying & xp.logical_not(moving & ball_at_rest(p, ball, check_spin=False))
-    # The wall.
     wall = select(live, wall_step(wp, wall, wind_x, dt, xp), wall, xp)
-    settled = (wall.status != STANDING) & ((wall.status != LOOSE) | wall.landed)
-    done = (settled | xp.logical_not(flying)) & (wall.status != STANDING)
-    running = c.running & xp.logical_not(done & live)
-    return IntervalCarry(  # in field order (faster than keywords, every substep)
-        ball, wall, gust, wind_x, wind_y, flying, running, hits, hit_height, hit_y, samples,
-        noise_used, i + 1, taken,
-    )  # fmt: skip
+    return ball, wall, flying, hits, hit_height, hit_y
+
+
+def event_bodies(
+    params: IntervalParams, c: IntervalCarry, live: Array, wind_x: Array, wind_y: Array, xp: Any
+) -> tuple:
+    """One step of the ball and the wall (``rk4_events``, Topple-v2), ``sim_dt`` long:
+
+    - the ball: one RK4 step (:func:`~bbgym.physics.flight_events.rk4_cubics`), on whose
+      dense output the first event is located, a touchdown that bounces (the centre falls
+      to one radius faster than ``rest_speed_mps``) or the ball reaching the wall's face
+      (its centre one radius from the face's plane, over the face, the wall as it stood
+      at the step's start). The event happens at its moment (the bounce of
+      :func:`~bbgym.physics.ball.ground_contact`, the impulse of
+      :func:`~bbgym.physics.wall.ball_hits_wall`), and the rest of the step is a second
+      RK4 step whose contacts, a rolling ball's and a second event's, are resolved at its
+      end, as a substep's;
+    - the wall: one RK4 step of its rocking (:func:`~bbgym.physics.wall.wall_rk4_step`)
+      to the hit's moment, the hit's angular impulse, one over the rest of the step (of
+      zero length without a hit), and a late hit's impulse at the end.
+
+    Returns ``(ball, wall, flying, hits, hit_height, hit_y)``, as :func:`euler_bodies`.
+
+    Every update is masked; on the host (floats, NumPy) one whose mask is false for the
+    whole batch is skipped (``skippable``): the same values, without the work (most steps
+    have no event, and a ball at rest no flight)."""
+    wp, p, h = params.wall, params.ball, params.sim_dt
+    ball, wall = c.ball, c.wall
+    moving = c.flying & live
+    flying, hits, hit_height, hit_y = c.flying, c.hits, c.hit_height, c.hit_y
+    # One env on floats takes Python numbers; a batch, arrays (per ball: the rest of a cut
+    # step differs from ball to ball).
+    step = h if xp is floats else h + 0.0 * ball.x
+    strike = late = moving & False
+    kick = late_kick = 0.0 * step
+    kick_pivot = late_pivot = wall.pivot
+    hit_time = step
+    if not skippable(moving):
+        b = _ball_step(params, ball, wall, moving, step, wind_x, wind_y, c.taken is not None, xp)
+        strike, late = b.strike, b.late
+        ball = select(moving, b.ball, ball, xp)
+        hits = hits + xp.astype(strike, xp.int64) + xp.astype(late, xp.int64)
+        hit_height = xp.where(late, b.late_height, xp.where(strike, b.hit_height, hit_height))
+        hit_y = xp.where(late, ball.y, xp.where(strike, b.hit_y, hit_y))
+        flying = flying & xp.logical_not(moving & ball_at_rest(p, ball, check_spin=False))
+        kick = xp.where(strike, b.struck.rate - wall.rate, 0.0)
+        late_kick = xp.where(late, b.late_wall.rate - wall.rate, 0.0)
+        kick_pivot, late_pivot = b.struck.pivot, b.late_wall.pivot
+        hit_time = xp.where(strike, b.hit_theta * step, step)
+    # The wall: to the hit, its angular impulse, the rest of the step (a wall not hit: the
+    # whole step at once), a late hit's impulse. A kick is exact: the torque on a wall
+    # resting on its foot jumps once it turns, so the step is cut there, not corrected.
+    rocked = _kicked(wall_rk4_step(wp, wall, wind_x, hit_time, xp), kick, kick_pivot, xp)
+    if not skippable(strike):
+        # (A panel loose at the step's start is never hit: its step is all in the first
+        # part; one that breaks loose in the first part flies from the next step, as in v1.)
+        rest = wall_rk4_step(wp, rocked, wind_x, step - hit_time, xp, fly_loose=False)
+        rocked = select(strike, rest, rocked, xp)
+    wall = select(live, _kicked(rocked, late_kick, late_pivot, xp), wall, xp)
+    return ball, wall, flying, hits, hit_height, hit_y
+
+
+class _BallStep(NamedTuple):
+    """What :func:`_ball_step` did, per env: the ball after the step, whether it struck
+    the wall at a located moment (at ``hit_theta`` of the step, ``hit_height`` up the
+    face, ``hit_y`` across it, the wall then ``struck``) and whether it struck it late (at
+    the step's end, ``late_height`` up it, the wall then ``late_wall``)."""
+
+    ball: Any
+    strike: Array
+    hit_theta: Array
+    hit_height: Array
+    hit_y: Array
+    struck: Any
+    late: Array
+    late_height: Array
+    late_wall: Any
+
+
+def _ball_step(
+    params: IntervalParams, ball: Any, wall: Any, moving: Array, step: Array, wind_x: Array,
+    wind_y: Array, orient: bool, xp: Any,
+) -> _BallStep:  # fmt: skip
+    """The ball's part of :func:`event_bodies`. ``orient``: turn the ball's orientation
+    (nothing but the recorded samples reads it, and its turn in a step is exact, so a
+    step that records nothing leaves it as it is)."""
+    wp, p, r = params.wall, params.ball, params.ball.radius_m
+    one = 1.0 + 0.0 * step
+    no = moving & False
+    cubics = rk4_cubics(p, ball, wind_x, wind_y, step, xp)
+    # A touchdown that bounces: the centre falls to one radius, fast enough.
+    height = (cubics[2][0] - r, *cubics[2][1:])
+    touch = moving & (height[0] > 0.0) & (cubic_at(height, 1.0) <= 0.0)
+    touch_theta = one
+    if not skippable(touch):
+        touch_theta = xp.where(touch, descent_root(height, xp), one)
+        touch = touch & (cubic_at(cubics[5], touch_theta) < -p.rest_speed_mps)
+    # The ball reaching the face, the wall as it stood at the step's start.
+    face_theta, reaches = _face_contact(wp, wall, cubics, r, moving, one, xp)
+    strike, struck, hit_vx, hit_vz = no, wall, ball.vx, ball.vz
+    hit_height, hit_y = 0.0 * step - 1.0, 0.0 * step
+    if not skippable(reaches):
+        hit_x, hit_y, hit_z, vx, vz = [cubic_at(cubics[k], face_theta) for k in (0, 1, 2, 3, 5)]
+        struck, hit_vx, hit_vz, hit_height = ball_hits_wall(
+            wp, wall, p.mass_kg, r, hit_x, hit_y, hit_z, vx, vz, xp, located=reaches
+        )
+        first = xp.logical_not(touch) | (face_theta <= touch_theta)
+        strike = reaches & (hit_height >= 0.0) & first
+        touch = touch & xp.logical_not(strike)
+    theta = xp.where(strike, face_theta, xp.where(touch, touch_theta, one))
+    at = state_at(p, ball, cubics, theta, step, xp, orient)
+    if not skippable(touch):  # bounced, the centre one radius up (the root's rounding aside)
+        landed = replaced(at, z=xp.where(touch, r + 0.0 * at.z, at.z))
+        at = select(touch, ground_contact(p, landed, params.sim_dt, xp)[0], at, xp)
+    if not skippable(strike):
+        at = replaced(at, vx=xp.where(strike, hit_vx, at.vx), vz=xp.where(strike, hit_vz, at.vz))
+    evented = touch | strike
+    if not skippable(evented):  # the rest of the step after the event
+        rest = (1.0 - theta) * step
+        after = state_at(p, at, rk4_cubics(p, at, wind_x, wind_y, rest, xp), one, rest, xp, orient)
+        at = select(evented, after, at, xp)
+    # Contacts at the step's end: a rolling ball's, a second event's.
+    at, _ = ground_contact(p, at, params.sim_dt, xp)
+    late_wall, late_vx, late_vz, late_height = ball_hits_wall(
+        wp, wall, p.mass_kg, r, at.x, at.y, at.z, at.vx, at.vz, xp
+    )
+    late = moving & (late_height >= 0.0)
+    if not skippable(late):
+        at = replaced(at, vx=xp.where(late, late_vx, at.vx), vz=xp.where(late, late_vz, at.vz))
+    return _BallStep(at, strike, theta, hit_height, hit_y, struck, late, late_height, late_wall)
+
+
+def _face_contact(
+    wp: WallParams, wall: Any, cubics: tuple, radius_m: float, moving: Array, one: Array,
+    xp: Any,
+) -> tuple[Array, Array]:  # fmt: skip
+    """When in the step a moving ball first touches a standing wall's face, the wall as
+    it stands at the step's start: ``(theta, reaches)``. It touches when its centre comes
+    within one radius of the face's plane while over the face, or comes down over the
+    face's top while within a radius of the plane (where ``reaches`` is false, ``theta``
+    means nothing)."""
+    _, c, sn, _, foot_x, foot_z = face_frame(wp, wall, xp)
+    # behind the face: (x - foot_x) cos - (z - foot_z) sin + t / 2; up it:
+    # (x - foot_x) sin + (z - foot_z) cos
+    behind = combine_cubics(
+        cubics[0], cubics[2], c, -sn, foot_x * c - foot_z * sn - 0.5 * wp.thickness_m
+    )
+    up = combine_cubics(cubics[0], cubics[2], sn, c, foot_x * sn + foot_z * c)
+    lateral = cubics[1]
+    candidates = moving & (wall.status == STANDING)
+
+    def across(theta: Array) -> Array:
+        return xp.abs(cubic_at(lateral, theta)) <= 0.5 * wp.width_m
+
+    gap = (-behind[0] - radius_m, *[-k for k in behind[1:]])  # > 0 clear, on the near side
+    plane = candidates & (gap[0] > 0.0) & (cubic_at(gap, 1.0) <= 0.0)
+    theta = one
+    if not skippable(plane):
+        theta = xp.where(plane, descent_root(gap, xp), one)
+        along = cubic_at(up, theta)
+        plane = plane & across(theta) & (along >= 0.0) & (along <= wp.height_m)
+    above = (up[0] - wp.height_m, *up[1:])  # > 0 over the top
+    top = candidates & (above[0] > 0.0) & (cubic_at(above, 1.0) <= 0.0)
+    if not skippable(top):
+        top_theta = xp.where(top, descent_root(above, xp), one)
+        in_band = xp.abs(cubic_at(behind, top_theta)) < radius_m
+        top = top & in_band & across(top_theta)
+        top = top & (xp.logical_not(plane) | (top_theta < theta))
+        theta = xp.where(top, top_theta, theta)
+    return theta, plane | top
+
+
+def _kicked(wall: Any, rate_change: Array, pivot: Array, xp: Any) -> Any:
+    """A standing wall after a hit's angular impulse (``rate_change``, zero where none): a
+    wall resting on its foot turns about the hit's edge from then on."""
+    kicked = (rate_change != 0.0) & (wall.status == STANDING)
+    return replaced(
+        wall,
+        rate=xp.where(kicked, wall.rate + rate_change, wall.rate),
+        pivot=xp.where(kicked & (wall.pivot == 0), pivot, wall.pivot),
+    )
 
 
 def interval_chunk(

@@ -18,10 +18,13 @@ of the batch's dtype (``STANDING`` ... ``LOOSE`` compare equal to it).
 law                         function
 ==========================  ============================================================
 wind and gravity torques    :func:`wall_torques`
-rocking, toppling, landing  :func:`wall_step` (semi-implicit Euler about the pivot edge)
-breaking loose              :func:`wall_step` (edge shear against ``hold_n``)
+rocking, toppling, landing  :func:`wall_step` (semi-implicit Euler about the pivot edge),
+                            :func:`wall_rk4_step` (RK4, Topple-v2); both end in the same
+                            events (:func:`_wall_events`)
+breaking loose              :func:`_edge_shear` against ``hold_n`` (:func:`_wall_events`)
 loose panel flight          :func:`loose_step`
-ball hits                   :func:`ball_hits_wall` (restitution formula of §4, ``r x J``)
+ball hits                   :func:`ball_hits_wall` (restitution formula of §4, ``r x J``;
+                            the face's place: :func:`face_frame`)
 ==========================  ============================================================
 """
 
@@ -186,28 +189,89 @@ def wall_torques(p: WallParams, angle: Array, side: Array, wind_x: Array, xp: An
     return 0.5 * p.height_m * face, p.mass_kg * GRAVITY_MPS2 * x_cm, face
 
 
-def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any = np) -> WallState:
-    """Advance a wall by ``dt_s``: standing walls rock or topple, loose panels fly."""
-    standing = s.status == STANDING
-    m, g, b = p.mass_kg, GRAVITY_MPS2, p.half_base_m
-    # A wall resting on its foot starts to tip only when the wind's torque beats the
-    # righting moment of its weight about an edge, m g b.
-    tau_rest, _, _ = wall_torques(p, 0.0 * s.angle, 0.0 * s.angle, wind_x, xp)
+def _tipping_pivot(p: WallParams, s: WallState, standing: Array, wind_x: Array, xp: Any) -> Array:
+    """The edge the wall turns about: a wall resting on its foot starts to tip only when
+    the wind's torque beats the righting moment of its weight about an edge, ``m g b``."""
+    limit = p.mass_kg * GRAVITY_MPS2 * p.half_base_m
+    # The wind's torque on the upright wall, wall_torques' at phi = 0 (where its cos is 1).
+    tau_rest = 0.5 * p.height_m * (p.face_drag_kg_m * wind_x * xp.abs(wind_x))
     start = (s.pivot == 0) & standing
-    pivot = xp.where(start & (tau_rest > m * g * b), 1.0, s.pivot)
-    pivot = xp.where(start & (tau_rest < -m * g * b), -1.0, pivot)
-    tau_wind, tau_gravity, face = wall_torques(p, s.angle, pivot, wind_x, xp)
-    acc = xp.where(pivot == 0, 0.0, (tau_wind + tau_gravity) / p.inertia_kgm2)
+    pivot = xp.where(start & (tau_rest > limit), 1.0, s.pivot)
+    return xp.where(start & (tau_rest < -limit), -1.0, pivot)
+
+
+def _angular_acceleration(
+    p: WallParams, angle: Array, pivot: Array, wind_x: Array, xp: Any
+) -> tuple[Array, Array]:
+    """``(angular acceleration, face force)`` of a wall leaning ``angle`` about the edge
+    ``pivot`` (none on its foot, ``pivot == 0``)."""
+    tau_wind, tau_gravity, face = wall_torques(p, angle, pivot, wind_x, xp)
+    return xp.where(pivot == 0, 0.0, (tau_wind + tau_gravity) / p.inertia_kgm2), face
+
+
+def _edge_shear(
+    p: WallParams, angle: Array, rate: Array, acc: Array, pivot: Array, face: Array, xp: Any
+) -> Array:
+    """The force along the ground the pivot edge must give to hold the wall from sliding:
+    ``m a_cm`` minus the face force's horizontal part."""
+    b, half_h = p.half_base_m, 0.5 * p.height_m
+    c, sn = xp.cos(angle), xp.sin(angle)
+    a_cm_x = (pivot * b * sn + half_h * c) * acc + (pivot * b * c - half_h * sn) * rate * rate
+    return xp.abs(p.mass_kg * a_cm_x - face * c)
+
+
+def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any = np) -> WallState:
+    """Advance a wall by ``dt_s`` in one semi-implicit Euler step: standing walls rock or
+    topple, loose panels fly."""
+    standing = s.status == STANDING
+    pivot = _tipping_pivot(p, s, standing, wind_x, xp)
+    acc, face = _angular_acceleration(p, s.angle, pivot, wind_x, xp)
     rate = s.rate + acc * dt_s
     angle = s.angle + rate * dt_s
+    shear = _edge_shear(p, s.angle, s.rate, acc, pivot, face, xp)
+    return _wall_events(p, s, standing, pivot, angle, rate, shear, wind_x, dt_s, xp)
 
-    # The edge holds the wall against sliding: the force it must give is m a_cm minus the
-    # face force's horizontal part. Past hold_n the wall breaks loose.
-    c, sn = xp.cos(s.angle), xp.sin(s.angle)
-    a_cm_x = (pivot * b * sn + 0.5 * p.height_m * c) * acc + (
-        pivot * b * c - 0.5 * p.height_m * sn
-    ) * s.rate * s.rate
-    shear = xp.abs(m * a_cm_x - face * c)
+
+def wall_rk4_step(
+    p: WallParams, s: WallState, wind_x: Array, dt_s: Array, xp: Any = np, fly_loose: bool = True
+) -> WallState:
+    """Advance a wall by ``dt_s`` (a float, or an array of one step per wall) in one
+    classical Runge-Kutta step of its rocking, ``phi'' = tau(phi) / I`` about the edge
+    chosen at the step's start; the events after it as :func:`wall_step`'s. The edge's
+    shear is the largest of the four stages'. Without ``fly_loose`` a loose panel stays
+    where it is (a caller whose step has no time for it)."""
+    standing = s.status == STANDING
+    pivot = _tipping_pivot(p, s, standing, wind_x, xp)
+    half = 0.5 * dt_s
+    angle, rate = s.angle, s.rate
+    angles, rates, accs, shear = [], [], [], None
+    for k in range(4):
+        if k:  # the stage's point: from the start along the previous stage's rates
+            step = half if k < 3 else dt_s
+            angle, rate = s.angle + step * rates[-1], s.rate + step * accs[-1]
+        acc, face = _angular_acceleration(p, angle, pivot, wind_x, xp)
+        stage_shear = _edge_shear(p, angle, rate, acc, pivot, face, xp)
+        shear = stage_shear if shear is None else xp.maximum(shear, stage_shear)
+        angles.append(angle)
+        rates.append(rate)
+        accs.append(acc)
+    sixth = dt_s / 6.0
+    new_angle = s.angle + sixth * (rates[0] + 2.0 * (rates[1] + rates[2]) + rates[3])
+    new_rate = s.rate + sixth * (accs[0] + 2.0 * (accs[1] + accs[2]) + accs[3])
+    return _wall_events(
+        p, s, standing, pivot, new_angle, new_rate, shear, wind_x, dt_s, xp, fly_loose
+    )
+
+
+def _wall_events(
+    p: WallParams, s: WallState, standing: Array, pivot: Array, angle: Array, rate: Array,
+    shear: Array, wind_x: Array, dt_s: Array, xp: Any, fly_loose: bool = True,
+) -> WallState:  # fmt: skip
+    """What follows a step of the rocking from ``s`` to ``(angle, rate)``: breaking loose
+    (``shear`` past ``hold_n``: the panel leaves with the motion it had at the step's
+    start), landing back on the foot (plastic) or flat on the ground, and a loose panel's
+    flight over the step."""
+    b = p.half_base_m
     breaks = standing & (shear > p.hold_n)
 
     # Back onto the foot (a plastic landing), or down flat on the ground.
@@ -230,7 +294,7 @@ def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any =
         loose = _freeze_select(breaks, leaving, loose, xp)
     flying = (s.status == LOOSE) & xp.logical_not(s.landed)
     landed = s.landed
-    if not skippable(flying):
+    if fly_loose and not skippable(flying):
         flown = loose_step(p, *loose, wind_x, dt_s, xp)
         loose = _freeze_select(flying, flown[:6], loose, xp)
         landed = landed | (flying & flown[6])
@@ -318,6 +382,20 @@ def loose_step(
     )
 
 
+def face_frame(p: WallParams, s: WallState, xp: Any = np) -> tuple:
+    """Where the panel is: ``(side, cos, sin, pivot_x, foot_x, foot_z)``, the edge it
+    turns about (+1 far, -1 near; a wall on its foot is pushed about its far edge), the
+    cosine and sine of its lean, that edge's x, and the panel's foot point (the middle of
+    its bottom). A point ``(x, z)`` is ``(x - foot_x) sin + (z - foot_z) cos`` up the
+    panel and ``(x - foot_x) cos - (z - foot_z) sin + thickness / 2`` behind its near
+    face (the one toward the thrower)."""
+    side = xp.where(s.pivot == 0, 1.0, s.pivot)
+    b = p.half_base_m
+    c, sn = xp.cos(s.angle), xp.sin(s.angle)
+    pivot_x = s.base_x + side * b
+    return side, c, sn, pivot_x, pivot_x - side * b * c, side * b * sn
+
+
 def ball_hits_wall(
     p: WallParams,
     s: WallState,
@@ -329,6 +407,7 @@ def ball_hits_wall(
     bvx: Array,
     bvz: Array,
     xp: Any = np,
+    located: Array | None = None,
 ) -> tuple[WallState, Array, Array, Array]:
     """A ball striking the face of a standing wall.
 
@@ -338,15 +417,16 @@ def ball_hits_wall(
     momentum ``r x J`` of the impulse, so a high hit turns it more than a low one, and the
     ball rebounds. A wall resting on its foot is pushed about its far edge.
 
+    A ball touches the face when its centre is less than a radius from the face's plane,
+    over the face; ``located``, where given, says per ball whether it is in contact (a
+    contact its caller located in time, where the centre is one radius from the plane
+    up to rounding) in place of the test of its distance.
+
     Returns ``(wall, new ball vx, new ball vz, hit height along the face or -1)``.
     """
     standing = s.status == STANDING
-    side = xp.where(s.pivot == 0, 1.0, s.pivot)
-    b, t = p.half_base_m, p.thickness_m
-    c, sn = xp.cos(s.angle), xp.sin(s.angle)
-    pivot_x = s.base_x + side * b
-    # The panel's foot point and its near face (toward the thrower).
-    foot_x, foot_z = pivot_x - side * b * c, side * b * sn
+    t = p.thickness_m
+    side, c, sn, pivot_x, foot_x, foot_z = face_frame(p, s, xp)
     along = (bx - foot_x) * sn + (bz - foot_z) * c
     offset = (bx - foot_x) * c - (bz - foot_z) * sn + 0.5 * t  # > 0 behind the near face
     # k = velocity of the contact point per unit rate: (r_z, -r_x) about the pivot edge.
@@ -355,15 +435,12 @@ def ball_hits_wall(
     k_n = rz * c + rx * sn
     wall_speed = s.rate * k_n
     ball_speed = bvx * c - bvz * sn
-    hit = (
-        standing
-        & (xp.abs(by) <= 0.5 * p.width_m)
-        & (along >= 0.0)
-        & (along <= p.height_m)
-        & (offset > -ball_radius_m)
-        & (offset < ball_radius_m)
-        & (ball_speed > wall_speed)
-    )
+    if located is None:
+        touching = (offset > -ball_radius_m) & (offset < ball_radius_m)
+    else:
+        touching = located
+    over_face = (xp.abs(by) <= 0.5 * p.width_m) & (along >= 0.0) & (along <= p.height_m)
+    hit = standing & over_face & touching & (ball_speed > wall_speed)
     # The §4 formula with the wall's effective mass m_w = I / k_n^2, as the impulse it
     # implies: u_b' = u_b - J / m_b, J = (1 + e) (u_b - u_w) / (1 / m_b + k_n^2 / I), and the
     # wall's angular impulse k_n J. Written so, it never divides by k_n (a hit level with

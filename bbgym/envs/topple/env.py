@@ -1,4 +1,4 @@
-"""BeachballTopple-v0 and -v1: the Gymnasium adapters (single and native vector env) over
+"""BeachballTopple-v0, -v1 and -v2: the Gymnasium adapters (single and native vector env) over
 :class:`~bbgym.envs.topple.task.ToppleTask`, with the docstring tables.
 """
 
@@ -23,7 +23,8 @@ _DOC_ARGS = """
     Keyword arguments of ``gym.make("BeachballTopple-v0", ...)`` and ``gym.make_vec``; the
     defaults are the preset in ``configs/beachball_topple.yaml``. ``BeachballTopple-v1``
     is registered with ``wall_distance_range=(3.0, 5.0)`` and
-    ``wind_from_range=(pi / 2, 3 pi / 2)`` (see Version History).
+    ``wind_from_range=(pi / 2, 3 pi / 2)``, ``BeachballTopple-v2`` with those and
+    ``interval_integrator="rk4_events"``, ``sim_dt=0.05`` (see Version History).
 
     | argument | default | meaning |
     |---|---|---|
@@ -41,6 +42,7 @@ _DOC_ARGS = """
     | `wait_speed` | `0.5` | a launch slower than this (m/s) is a wait: no ball is thrown |
     | `interval` | `3.0` | s simulated per step |
     | `sim_dt` | `0.01` | s |
+    | `interval_integrator` | `"semi_implicit_euler"` | substeps, or `"rk4_events"` (v2) |
     | `success_bonus`, `failure_penalty` | `10.0`, `5.0` | |
     | `throw_cost`, `lean_weight` | `0.2`, `1.0` | |
 
@@ -170,6 +172,13 @@ class BeachballToppleEnv(FlightFrames, CoreEnv):
       v1 puts the wall 3-5 m away (`wall_distance_range=(3, 5)`) in an onshore breeze
       (`wind_from_range=(pi / 2, 3 pi / 2)`, crosswinds included): the planner wins 100 of
       its first 100 episodes, random play 1.
+    * v2 (unreleased, after bbgym 0.8.0): v1's scenarios, spaces and rewards, the interval
+      stepped another way (`interval_integrator="rk4_events"`, `sim_dt=0.05`): the ball
+      and the wall in classical RK4 steps of 0.05 s, the ball's bouncing touchdowns and
+      its hit on the wall located inside a step on the step's dense output, the hit's
+      impulse given to the wall at its moment (`bbgym.physics.toppling.event_bodies`):
+      60 steps an interval instead of 300, and closer to a fine integration than v1's
+      substeps (`scripts/topple_accuracy.py`).
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}

@@ -12,6 +12,12 @@ from bbgym.physics.wind import GustParams
 from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
 
 MAX_EPISODE_STEPS = 100
+# v1: the walls the planner can bring down: nearer, in an onshore breeze (from behind the
+# thrower: pi/2 .. 3 pi/2 counterclockwise from +x).
+ONSHORE = {"wall_distance_range": (3.0, 5.0), "wind_from_range": (0.5 * math.pi, 1.5 * math.pi)}
+RK4_INTERVAL = {"interval_integrator": "rk4_events", "sim_dt": 0.05}
+"""The interval of Topple-v2: RK4 steps of 0.05 s, the ball's bouncing touchdowns and its
+hit on the wall located inside a step (:func:`bbgym.physics.toppling.event_bodies`)."""
 
 
 def _scripted(env: Any) -> Any:
@@ -71,6 +77,9 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
         "throws_per_episode": draw_int(draw, "throws_per_episode", 1, 10),
         "wall_distance_range": draw_pair(draw, "wall_distance_range", distances),
         "sim_dt": sim_dt,
+        "interval_integrator": task.INTEGRATORS[
+            draw_int(draw, "interval_integrator", 0, len(task.INTEGRATORS) - 1)
+        ],
         "interval": n_substeps * sim_dt,
         "gust_dt": gust_every * sim_dt,
         "wait_speed": draw("wait_speed", interval(0.0, max_speed), False),
@@ -109,15 +118,17 @@ SPEC = register_spec(
                 preset="beachball_topple",
                 base=True,
             ),
-            # v1: the walls the planner can bring down: nearer, in an onshore breeze (from
-            # behind the thrower: pi/2 .. 3 pi/2 counterclockwise from +x).
             Version(
                 "BeachballTopple-v1",
                 "walls 3-5 m away in an onshore breeze (the planner wins 100%)",
-                kwargs={
-                    "wall_distance_range": (3.0, 5.0),
-                    "wind_from_range": (0.5 * math.pi, 1.5 * math.pi),
-                },
+                kwargs=ONSHORE,
+                preset="beachball_topple",
+            ),
+            Version(
+                "BeachballTopple-v2",
+                "Topple-v1 in RK4 steps of 0.05 s with the ball's bounces and hits located "
+                "inside a step (faster, and closer to a fine integration)",
+                kwargs={**ONSHORE, **RK4_INTERVAL},
                 preset="beachball_topple",
             ),
         ),

@@ -38,6 +38,7 @@ from bbgym.physics import validation
 from bbgym.physics.ball import BallParams, ball_at
 from bbgym.physics.namespace import Array, floats, replaced
 from bbgym.physics.toppling import (
+    INTEGRATORS,
     IntervalCarry,
     IntervalParams,
     interval_chunk,
@@ -49,6 +50,7 @@ from bbgym.physics.toppling import (
 from bbgym.physics.validation import (
     build_params,
     check_bool,
+    check_choice,
     check_integer,
     check_norm,
     check_number,
@@ -92,6 +94,7 @@ ARGUMENT_TABLE = (
     ("`sim_dt`", f"{BALL_SIM_DT_S} s"),
     ("`interval`", f"{INTERVAL_S} s, a whole multiple of `sim_dt`"),
     ("`gust_dt`", "(0, interval] s, a whole multiple of `sim_dt`"),
+    ("`interval_integrator`", ", ".join(f"`{name}`" for name in INTEGRATORS)),
     ("`success_bonus`, `failure_penalty`, `throw_cost`, `lean_weight`", f"{REWARD_WEIGHT}"),
     ("`gusts`, `options['gusts']`", "bool"),
 )
@@ -216,6 +219,7 @@ class ToppleTask(TaskCore):
         wait_speed: float = 0.5,
         interval: float = 3.0,
         sim_dt: float = 0.01,
+        interval_integrator: str = "semi_implicit_euler",
         success_bonus: float = 10.0,
         failure_penalty: float = 5.0,
         throw_cost: float = 0.2,
@@ -263,6 +267,9 @@ class ToppleTask(TaskCore):
             why=f"at most max_speed = {self.max_speed:g} m/s",
         )  # fmt: skip
         self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
+        self.interval_integrator = check_choice(
+            "interval_integrator", interval_integrator, INTEGRATORS
+        )
         self.interval = check_number("interval", interval, INTERVAL_S)
         self.gust_dt = check_number(
             "gust_dt", gust_dt, validation.interval(0.0, self.interval, low_open=True),
@@ -299,6 +306,7 @@ class ToppleTask(TaskCore):
             wall=self.wall, ball=self.ball, gust=self.gust_params, sim_dt=self.sim_dt,
             gust_dt=self.gust_dt, n_substeps=self.n_substeps, gust_every=self.gust_every,
             record_every=self.record_every, chunk_substeps=COMPILED_CHUNK_SUBSTEPS,
+            integrator=self.interval_integrator,
         )  # fmt: skip
         ge, re = self.gust_every, self.record_every
         self.host_interval_params = replace(
