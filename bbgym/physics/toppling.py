@@ -43,8 +43,11 @@ import math
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
+import numpy as np
+
 from bbgym.physics.ball import BallParams, ball_at_rest, ground_contact
 from bbgym.physics.ball import substep as ball_substep
+from bbgym.physics.compaction import scatter, take
 from bbgym.physics.flight_events import (
     combine_cubics,
     cubic_at,
@@ -343,8 +346,10 @@ def event_bodies(
     if not skippable(strike):
         # (A panel loose at the step's start is never hit: its step is all in the first
         # part; one that breaks loose in the first part flies from the next step, as in v1.)
-        rest = wall_rk4_step(wp, rocked, wind_x, step - hit_time, xp, fly_loose=False)
-        rocked = select(strike, rest, rocked, xp)
+        def rock_rest(wall: Any, wind_x: Array, rest: Array) -> Any:
+            return wall_rk4_step(wp, wall, wind_x, rest, xp, fly_loose=False)
+
+        rocked = _masked(strike, rock_rest, rocked, (rocked, wind_x, step - hit_time), xp)
     wall = select(live, _kicked(rocked, late_kick, late_pivot, xp), wall, xp)
     return ball, wall, flying, hits, hit_height, hit_y
 
@@ -382,7 +387,7 @@ def _ball_step(
     touch = moving & (height[0] > 0.0) & (cubic_at(height, 1.0) <= 0.0)
     touch_theta = one
     if not skippable(touch):
-        touch_theta = xp.where(touch, descent_root(height, xp), one)
+        touch_theta = _root_where(touch, height, one, xp)
         touch = touch & (cubic_at(cubics[5], touch_theta) < -p.rest_speed_mps)
     # The ball reaching the face, the wall as it stood at the step's start.
     face_theta, reaches = _face_contact(wp, wall, cubics, r, moving, one, xp)
@@ -406,8 +411,12 @@ def _ball_step(
     evented = touch | strike
     if not skippable(evented):  # the rest of the step after the event
         rest = (1.0 - theta) * step
-        after = state_at(p, at, rk4_cubics(p, at, wind_x, wind_y, rest, xp), one, rest, xp, orient)
-        at = select(evented, after, at, xp)
+
+        def fly_rest(ball: Any, wind_x: Array, wind_y: Array, rest: Array, one: Array) -> Any:
+            cubics = rk4_cubics(p, ball, wind_x, wind_y, rest, xp)
+            return state_at(p, ball, cubics, one, rest, xp, orient)
+
+        at = _masked(evented, fly_rest, at, (at, wind_x, wind_y, rest, one), xp)
     # Contacts at the step's end: a rolling ball's, a second event's.
     at, _ = ground_contact(p, at, params.sim_dt, xp)
     late_wall, late_vx, late_vz, late_height = ball_hits_wall(
@@ -417,6 +426,23 @@ def _ball_step(
     if not skippable(late):
         at = replaced(at, vx=xp.where(late, late_vx, at.vx), vz=xp.where(late, late_vz, at.vz))
     return _BallStep(at, strike, theta, hit_height, hit_y, struck, late, late_height, late_wall)
+
+
+def _masked(mask: Array, update: Any, old: Any, args: tuple, xp: Any) -> Any:
+    """``update(*args)`` where ``mask``, ``old`` elsewhere (trees of one structure). A NumPy
+    batch computes it for ``mask``'s elements alone (taken out and put back: the same
+    values, each element's arithmetic its own); other namespaces for the whole batch."""
+    if xp is np and isinstance(mask, np.ndarray):
+        working = np.flatnonzero(mask)
+        return scatter(old, working, update(*[take(a, working, mask.shape[0]) for a in args]))
+    new = update(*args)
+    return select(mask, new, old, xp) if isinstance(old, tuple) else xp.where(mask, new, old)
+
+
+def _root_where(mask: Array, cubic: tuple, one: Array, xp: Any) -> Array:
+    """Where ``mask``, the cubic's first fall to zero in the step
+    (:func:`~bbgym.physics.flight_events.descent_root`); ``one`` elsewhere."""
+    return _masked(mask, lambda *c: descent_root(c, xp), one, cubic, xp)
 
 
 def _face_contact(
@@ -445,13 +471,13 @@ def _face_contact(
     plane = candidates & (gap[0] > 0.0) & (cubic_at(gap, 1.0) <= 0.0)
     theta = one
     if not skippable(plane):
-        theta = xp.where(plane, descent_root(gap, xp), one)
+        theta = _root_where(plane, gap, one, xp)
         along = cubic_at(up, theta)
         plane = plane & across(theta) & (along >= 0.0) & (along <= wp.height_m)
     above = (up[0] - wp.height_m, *up[1:])  # > 0 over the top
     top = candidates & (above[0] > 0.0) & (cubic_at(above, 1.0) <= 0.0)
     if not skippable(top):
-        top_theta = xp.where(top, descent_root(above, xp), one)
+        top_theta = _root_where(top, above, one, xp)
         in_band = xp.abs(cubic_at(behind, top_theta)) < radius_m
         top = top & in_band & across(top_theta)
         top = top & (xp.logical_not(plane) | (top_theta < theta))

@@ -171,8 +171,12 @@ def wall_at(base_x: Array, xp: Any = None) -> WallState:
 def _lever(p: WallParams, angle: Array, side: Array, xp: Any) -> tuple[Array, Array]:
     """Centre of mass relative to the pivot edge: the foot's edge is ``side * b`` from the
     panel, the centre is ``h/2`` up it; rotated by the lean."""
+    return _lever_at(p, xp.cos(angle), xp.sin(angle), side)
+
+
+def _lever_at(p: WallParams, c: Array, s: Array, side: Array) -> tuple[Array, Array]:
+    """:func:`_lever` from the lean's cosine and sine (each computed once a stage)."""
     b, half_h = p.half_base_m, 0.5 * p.height_m
-    c, s = xp.cos(angle), xp.sin(angle)
     return -side * b * c + half_h * s, side * b * s + half_h * c
 
 
@@ -184,8 +188,13 @@ def wall_torques(p: WallParams, angle: Array, side: Array, wind_x: Array, xp: An
     at the centre of mass: its torque ``m g x_cm`` rights the wall while the centre is
     over the foot and overturns it past.
     """
-    face = p.face_drag_kg_m * wind_x * xp.abs(wind_x) * xp.cos(angle)
-    x_cm, _ = _lever(p, angle, side, xp)
+    return _torques_at(p, xp.cos(angle), xp.sin(angle), side, wind_x, xp)
+
+
+def _torques_at(p: WallParams, c: Array, s: Array, side: Array, wind_x: Array, xp: Any) -> tuple:
+    """:func:`wall_torques` from the lean's cosine and sine."""
+    face = p.face_drag_kg_m * wind_x * xp.abs(wind_x) * c
+    x_cm, _ = _lever_at(p, c, s, side)
     return 0.5 * p.height_m * face, p.mass_kg * GRAVITY_MPS2 * x_cm, face
 
 
@@ -201,21 +210,22 @@ def _tipping_pivot(p: WallParams, s: WallState, standing: Array, wind_x: Array, 
 
 
 def _angular_acceleration(
-    p: WallParams, angle: Array, pivot: Array, wind_x: Array, xp: Any
+    p: WallParams, c: Array, sn: Array, pivot: Array, wind_x: Array, xp: Any
 ) -> tuple[Array, Array]:
-    """``(angular acceleration, face force)`` of a wall leaning ``angle`` about the edge
-    ``pivot`` (none on its foot, ``pivot == 0``)."""
-    tau_wind, tau_gravity, face = wall_torques(p, angle, pivot, wind_x, xp)
+    """``(angular acceleration, face force)`` of a wall leaning by the angle of cosine
+    ``c`` and sine ``sn`` about the edge ``pivot`` (none on its foot, ``pivot == 0``)."""
+    tau_wind, tau_gravity, face = _torques_at(p, c, sn, pivot, wind_x, xp)
     return xp.where(pivot == 0, 0.0, (tau_wind + tau_gravity) / p.inertia_kgm2), face
 
 
 def _edge_shear(
-    p: WallParams, angle: Array, rate: Array, acc: Array, pivot: Array, face: Array, xp: Any
-) -> Array:
+    p: WallParams, c: Array, sn: Array, rate: Array, acc: Array, pivot: Array, face: Array,
+    xp: Any,
+) -> Array:  # fmt: skip
     """The force along the ground the pivot edge must give to hold the wall from sliding:
-    ``m a_cm`` minus the face force's horizontal part."""
+    ``m a_cm`` minus the face force's horizontal part (the lean's cosine ``c``, sine
+    ``sn``)."""
     b, half_h = p.half_base_m, 0.5 * p.height_m
-    c, sn = xp.cos(angle), xp.sin(angle)
     a_cm_x = (pivot * b * sn + half_h * c) * acc + (pivot * b * c - half_h * sn) * rate * rate
     return xp.abs(p.mass_kg * a_cm_x - face * c)
 
@@ -225,10 +235,11 @@ def wall_step(p: WallParams, s: WallState, wind_x: Array, dt_s: float, xp: Any =
     topple, loose panels fly."""
     standing = s.status == STANDING
     pivot = _tipping_pivot(p, s, standing, wind_x, xp)
-    acc, face = _angular_acceleration(p, s.angle, pivot, wind_x, xp)
+    c, sn = xp.cos(s.angle), xp.sin(s.angle)
+    acc, face = _angular_acceleration(p, c, sn, pivot, wind_x, xp)
     rate = s.rate + acc * dt_s
     angle = s.angle + rate * dt_s
-    shear = _edge_shear(p, s.angle, s.rate, acc, pivot, face, xp)
+    shear = _edge_shear(p, c, sn, s.rate, acc, pivot, face, xp)
     return _wall_events(p, s, standing, pivot, angle, rate, shear, wind_x, dt_s, xp)
 
 
@@ -244,17 +255,21 @@ def wall_rk4_step(
     pivot = _tipping_pivot(p, s, standing, wind_x, xp)
     half = 0.5 * dt_s
     angle, rate = s.angle, s.rate
-    angles, rates, accs, shear = [], [], [], None
-    for k in range(4):
+    rates, accs, shear = [], [], None
+    # On the host, with no wall of the batch turning (all on their feet: no rate, no
+    # torque), the later stages repeat the first: it stands for them (the same values).
+    stages = 1 if skippable(pivot != 0) else 4
+    for k in range(stages):
         if k:  # the stage's point: from the start along the previous stage's rates
             step = half if k < 3 else dt_s
             angle, rate = s.angle + step * rates[-1], s.rate + step * accs[-1]
-        acc, face = _angular_acceleration(p, angle, pivot, wind_x, xp)
-        stage_shear = _edge_shear(p, angle, rate, acc, pivot, face, xp)
+        c, sn = xp.cos(angle), xp.sin(angle)
+        acc, face = _angular_acceleration(p, c, sn, pivot, wind_x, xp)
+        stage_shear = _edge_shear(p, c, sn, rate, acc, pivot, face, xp)
         shear = stage_shear if shear is None else xp.maximum(shear, stage_shear)
-        angles.append(angle)
         rates.append(rate)
         accs.append(acc)
+    rates, accs = rates * (4 // stages), accs * (4 // stages)
     sixth = dt_s / 6.0
     new_angle = s.angle + sixth * (rates[0] + 2.0 * (rates[1] + rates[2]) + rates[3])
     new_rate = s.rate + sixth * (accs[0] + 2.0 * (accs[1] + accs[2]) + accs[3])
