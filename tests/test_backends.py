@@ -324,6 +324,21 @@ def test_the_one_graph_step_equals_its_parts(env_id: str) -> None:
     assert restarts >= N
 
 
+def test_the_eager_one_graph_runs_tasks_of_different_sizes_in_one_process() -> None:
+    """Run eagerly, ``while_loop`` traces its functions itself, where Dynamo makes an int it
+    saw change (a task's chunk count: 300, then 60, then 50) symbolic, which the loop cannot
+    carry; each task's ints stay its constants (Topple-v2 after v1 failed so)."""
+    throw = np.tile(np.array([0.6, 0.0, 0.2, 0.0, 0.0, 0.0], np.float32), (N, 1))
+    for env_id, kwargs in (
+        ("BeachballTopple-v1", {}),
+        ("BeachballTopple-v2", {}),
+        ("BeachballTopple-v1", {"interval": 0.5}),
+    ):
+        venv = make_torch(env_id, step_graph="one", **kwargs)
+        venv.reset(seed=0)
+        assert np.isfinite(venv.step(throw)[0]).all()
+
+
 def test_step_graph_is_checked() -> None:
     with pytest.raises(ValueError, match="step_graph must be one of"):
         make_torch("BeachballSail-v1", step_graph="fused")

@@ -308,14 +308,16 @@ def event_bodies(
       RK4 step whose contacts, a rolling ball's and a second event's, are resolved at its
       end, as a substep's;
     - the wall: one RK4 step of its rocking (:func:`~bbgym.physics.wall.wall_rk4_step`)
-      to the hit's moment, the hit's angular impulse, one over the rest of the step (of
-      zero length without a hit), and a late hit's impulse at the end.
+      to the hit's moment, the hit's angular impulse, one over the rest of the step (a
+      wall not hit takes the whole step at once), and a late hit's impulse at the end.
 
     Returns ``(ball, wall, flying, hits, hit_height, hit_y)``, as :func:`euler_bodies`.
 
-    Every update is masked; on the host (floats, NumPy) one whose mask is false for the
-    whole batch is skipped (``skippable``): the same values, without the work (most steps
-    have no event, and a ball at rest no flight)."""
+    Every update is masked. On the host (floats, NumPy) one whose mask is false for the
+    whole batch is skipped (``skippable``), and a NumPy batch computes the rare ones (the
+    events' roots, the rest of a step after an event, the rest of a struck wall's step)
+    for the elements that need them alone (:func:`_masked`): the same values, without the
+    work."""
     wp, p, h = params.wall, params.ball, params.sim_dt
     ball, wall = c.ball, c.wall
     moving = c.flying & live
@@ -340,8 +342,8 @@ def event_bodies(
         kick_pivot, late_pivot = b.struck.pivot, b.late_wall.pivot
         hit_time = xp.where(strike, b.hit_theta * step, step)
     # The wall: to the hit, its angular impulse, the rest of the step (a wall not hit: the
-    # whole step at once), a late hit's impulse. A kick is exact: the torque on a wall
-    # resting on its foot jumps once it turns, so the step is cut there, not corrected.
+    # whole step at once), a late hit's impulse. The step is cut at the hit rather than
+    # corrected after it: the torque on a wall resting on its foot jumps once it turns.
     rocked = _kicked(wall_rk4_step(wp, wall, wind_x, hit_time, xp), kick, kick_pivot, xp)
     if not skippable(strike):
         # (A panel loose at the step's start is never hit: its step is all in the first
