@@ -353,9 +353,13 @@ def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
         return (done_chunks + 1, *new)
 
     zero = torch.zeros((), dtype=torch.int64, device=leaves[varying[0]].device)
-    # Run eagerly, while_loop traces its functions itself, and Dynamo would make an int it
-    # saw change between two tasks (their chunks, a gust period) symbolic, which the loop
-    # cannot carry: every int stays a constant, as in the compiled step (dynamic=False).
-    with torch._dynamo.config.patch(automatic_dynamic_shapes=False):
-        out = while_loop(more, chunk, (zero, *[leaves[j] for j in varying]))
+    carried = (zero, *[leaves[j] for j in varying])
+    if torch.compiler.is_compiling():  # the compiled step (dynamic=False): ints are constants
+        out = while_loop(more, chunk, carried)
+    else:
+        # Run eagerly, while_loop traces its functions itself, and Dynamo would make an int
+        # it saw change between two tasks (their chunks, a gust period) symbolic, which the
+        # loop cannot carry: every int stays a constant, as in the compiled step.
+        with torch._dynamo.config.patch(automatic_dynamic_shapes=False):
+            out = while_loop(more, chunk, carried)
     return rebuild(tuple(out[1:]))
