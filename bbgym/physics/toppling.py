@@ -392,13 +392,25 @@ def _ball_step(
         touch_theta = _root_where(touch, height, one, xp)
         touch = touch & (cubic_at(cubics[5], touch_theta) < -p.rest_speed_mps)
     # The ball reaching the face, the wall as it stood at the step's start.
-    face_theta, reaches = _face_contact(wp, wall, cubics, r, moving, one, xp)
+    frame = face_frame(wp, wall, xp)  # the wall as it stands at the step's start
+    face_theta, reaches = _face_contact(wp, wall, frame, cubics, r, moving, one, xp)
     strike, struck, hit_vx, hit_vz = no, wall, ball.vx, ball.vz
     hit_height, hit_y = 0.0 * step - 1.0, 0.0 * step
     if not skippable(reaches):
         hit_x, hit_y, hit_z, vx, vz = [cubic_at(cubics[k], face_theta) for k in (0, 1, 2, 3, 5)]
         struck, hit_vx, hit_vz, hit_height = ball_hits_wall(
-            wp, wall, p.mass_kg, r, hit_x, hit_y, hit_z, vx, vz, xp, located=reaches
+            wp,
+            wall,
+            p.mass_kg,
+            r,
+            hit_x,
+            hit_y,
+            hit_z,
+            vx,
+            vz,
+            xp,
+            located=reaches,
+            frame=frame,
         )
         first = xp.logical_not(touch) | (face_theta <= touch_theta)
         strike = reaches & (hit_height >= 0.0) & first
@@ -422,7 +434,7 @@ def _ball_step(
     # Contacts at the step's end: a rolling ball's, a second event's.
     at, _ = ground_contact(p, at, params.sim_dt, xp)
     late_wall, late_vx, late_vz, late_height = ball_hits_wall(
-        wp, wall, p.mass_kg, r, at.x, at.y, at.z, at.vx, at.vz, xp
+        wp, wall, p.mass_kg, r, at.x, at.y, at.z, at.vx, at.vz, xp, frame=frame
     )
     late = moving & (late_height >= 0.0)
     if not skippable(late):
@@ -448,15 +460,15 @@ def _root_where(mask: Array, cubic: tuple, one: Array, xp: Any) -> Array:
 
 
 def _face_contact(
-    wp: WallParams, wall: Any, cubics: tuple, radius_m: float, moving: Array, one: Array,
-    xp: Any,
+    wp: WallParams, wall: Any, frame: tuple, cubics: tuple, radius_m: float, moving: Array,
+    one: Array, xp: Any,
 ) -> tuple[Array, Array]:  # fmt: skip
     """When in the step a moving ball first touches a standing wall's face, the wall as
     it stands at the step's start: ``(theta, reaches)``. It touches when its centre comes
     within one radius of the face's plane while over the face, or comes down over the
     face's top while within a radius of the plane (where ``reaches`` is false, ``theta``
-    means nothing)."""
-    _, c, sn, _, foot_x, foot_z = face_frame(wp, wall, xp)
+    means nothing). ``frame``: the wall's :func:`~bbgym.physics.wall.face_frame`."""
+    _, c, sn, _, foot_x, foot_z = frame
     # behind the face: (x - foot_x) cos - (z - foot_z) sin + t / 2; up it:
     # (x - foot_x) sin + (z - foot_z) cos
     behind = combine_cubics(

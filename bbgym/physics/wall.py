@@ -202,8 +202,8 @@ def _tipping_pivot(p: WallParams, s: WallState, standing: Array, wind_x: Array, 
     """The edge the wall turns about: a wall resting on its foot starts to tip only when
     the wind's torque beats the righting moment of its weight about an edge, ``m g b``."""
     limit = p.mass_kg * GRAVITY_MPS2 * p.half_base_m
-    # The wind's torque on the upright wall, wall_torques' at phi = 0 (where its cos is 1).
-    tau_rest = 0.5 * p.height_m * (p.face_drag_kg_m * wind_x * xp.abs(wind_x))
+    # The wind's torque on the upright wall: wall_torques' at phi = 0, its cos exactly 1.
+    tau_rest, _, _ = _torques_at(p, 1.0, 0.0, 0.0, wind_x, xp)
     start = (s.pivot == 0) & standing
     pivot = xp.where(start & (tau_rest > limit), 1.0, s.pivot)
     return xp.where(start & (tau_rest < -limit), -1.0, pivot)
@@ -423,6 +423,7 @@ def ball_hits_wall(
     bvz: Array,
     xp: Any = np,
     located: Array | None = None,
+    frame: tuple | None = None,
 ) -> tuple[WallState, Array, Array, Array]:
     """A ball striking the face of a standing wall.
 
@@ -435,13 +436,14 @@ def ball_hits_wall(
     A ball touches the face when its centre is less than a radius from the face's plane,
     over the face; ``located``, where given, says per ball whether it is in contact (a
     contact its caller located in time, where the centre is one radius from the plane
-    up to rounding) in place of the test of its distance.
+    up to rounding) in place of the test of its distance. ``frame``: the wall's
+    :func:`face_frame`, where the caller has it already.
 
     Returns ``(wall, new ball vx, new ball vz, hit height along the face or -1)``.
     """
     standing = s.status == STANDING
     t = p.thickness_m
-    side, c, sn, pivot_x, foot_x, foot_z = face_frame(p, s, xp)
+    side, c, sn, pivot_x, foot_x, foot_z = face_frame(p, s, xp) if frame is None else frame
     along = (bx - foot_x) * sn + (bz - foot_z) * c
     offset = (bx - foot_x) * c - (bz - foot_z) * sn + 0.5 * t  # > 0 behind the near face
     # k = velocity of the contact point per unit rate: (r_z, -r_x) about the pivot edge.
