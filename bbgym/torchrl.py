@@ -298,32 +298,45 @@ def load_policy(path: str | Path) -> GaussianPolicyNet:
 
 
 class ReturnScaler:
-    """Rewards divided by the running standard deviation of the discounted return, per env
-    (stable-baselines3's ``VecNormalize(norm_reward=True)``, RL Zoo's ``norm_reward``): the
-    scale the value function learns in stays near 1 whatever the env's reward units."""
+    """Rewards divided by the running standard deviation of the discounted return, per env,
+    and clipped to +-``clip``: stable-baselines3's ``VecNormalize(norm_obs=False,
+    norm_reward=True)`` (RL Zoo's ``norm_reward``), step by step as it does, so that the
+    scale the value function learns in stays near 1 whatever the env's reward units and
+    a rare large reward (a capsize's) moves it no more than ``clip`` does there."""
 
-    def __init__(self, num_envs: int, gamma: float, device: torch.device) -> None:
-        self.gamma = gamma
+    def __init__(self, num_envs: int, gamma: float, device: torch.device,
+                 clip: float = 10.0) -> None:  # fmt: skip
+        self.gamma, self.clip = gamma, clip
         self.returns = torch.zeros(num_envs, dtype=torch.float64, device=device)
-        self.count, self.mean, self.m2 = 0, 0.0, 0.0
+        # stable-baselines3's RunningMeanStd starts at mean 0, variance 1 and a count of
+        # 1e-4 (a prior that the first batch outweighs).
+        self.count, self.mean, self.var = 1e-4, 0.0, 1.0
 
     def __call__(self, reward: torch.Tensor, done: torch.Tensor) -> torch.Tensor:
-        """Scale ``reward`` ``[num_envs, T, 1]`` (``done`` alike), updating the statistics."""
-        discounted = torch.empty(reward.shape[:2], dtype=torch.float64, device=reward.device)
+        """Scale ``reward`` ``[num_envs, T, 1]`` (``done`` alike): step ``t``'s rewards by
+        the statistics of the returns up to and including step ``t``, as
+        ``VecNormalize.step_wait`` does for each step of the vector env."""
+        scales = torch.empty(reward.shape[1], dtype=torch.float64)
         for t in range(reward.shape[1]):
             self.returns = self.returns * self.gamma + reward[:, t, 0].to(torch.float64)
-            discounted[:, t] = self.returns
+            self._update(self.returns)
+            scales[t] = (self.var + 1e-8) ** 0.5
             self.returns = torch.where(done[:, t, 0], 0.0, self.returns)
-        # Chan et al.'s parallel update of the running mean and variance.
-        n, mean = discounted.numel(), float(discounted.mean())
-        var_sum = float(((discounted - mean) ** 2).sum())
+        scales = scales.to(device=reward.device, dtype=reward.dtype).reshape(1, -1, 1)
+        return (reward / scales).clamp(-self.clip, self.clip)
+
+    def _update(self, returns: torch.Tensor) -> None:
+        """Chan et al.'s parallel update of the running mean and variance by one step's
+        returns (stable-baselines3's ``RunningMeanStd.update``)."""
+        n = returns.numel()
+        mean = float(returns.mean())
+        var = float(returns.var(correction=0))
         total = self.count + n
         delta = mean - self.mean
-        self.m2 += var_sum + delta * delta * self.count * n / total
+        m2 = self.var * self.count + var * n + delta * delta * self.count * n / total
         self.mean += delta * n / total
+        self.var = m2 / total
         self.count = total
-        std = (self.m2 / self.count) ** 0.5
-        return reward / max(std, 1e-8)
 
 
 def evaluate_policy(

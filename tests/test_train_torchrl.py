@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -173,22 +174,47 @@ def test_a_gsde_run_draws_its_noise_at_each_rollouts_first_step(tmp_path, monkey
     assert draws == [0, 1, 5, 9, 13]
 
 
-def test_return_scaler_divides_by_the_std_of_the_discounted_return():
+def test_return_scaler_is_stable_baselines3_vecnormalize_on_the_rewards():
+    """Step by step, each reward divided by the spread of the discounted returns so far and
+    clipped to +-10, ``VecNormalize(norm_obs=False, norm_reward=True)``'s numbers."""
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
     gamma = 0.9
-    scaler = bbgym_torchrl.ReturnScaler(2, gamma, torch.device("cpu"))
-    reward = torch.tensor([[1.0, 2.0, -1.0, 0.5], [0.0, 3.0, 1.0, 1.0]]).unsqueeze(-1)
-    done = torch.zeros_like(reward, dtype=torch.bool)
-    done[0, 1] = True  # env 0's episode ends at its second step: its return restarts
-    scaled = scaler(reward, done)
-    returns = np.array([[1.0, 2.9, -1.0, -0.4], [0.0, 3.0, 3.7, 4.33]])
-    assert scaled.numpy() == pytest.approx(reward.numpy() / returns.std(), rel=1e-6)
-    # A second batch updates the statistics as if both had come at once.
-    more = torch.ones(2, 2, 1)
-    scaled = scaler(more, torch.zeros_like(more, dtype=torch.bool))
-    later = [-0.4 * gamma + 1, -0.4 * gamma**2 + gamma + 1, 4.33 * gamma + 1,
-             4.33 * gamma**2 + gamma + 1]  # fmt: skip
-    both = np.concatenate([returns.ravel(), later])
-    assert scaled.numpy() == pytest.approx(1.0 / both.std(), rel=1e-6)
+    rng = np.random.default_rng(3)
+    reward = rng.normal(0.0, 2.0, size=(3, 60)).astype(np.float32)  # as its buffers hold them
+    reward[1, 55] = -400.0  # a capsize-sized reward: the clip
+    done = rng.random((3, 60)) < 0.05
+
+    class Scripted(gym.Env):
+        observation_space = gym.spaces.Box(-1.0, 1.0, (1,))
+        action_space = gym.spaces.Box(-1.0, 1.0, (1,))
+
+        def __init__(self, row: int) -> None:
+            self.row, self.t = row, 0
+
+        def reset(self, *, seed=None, options=None):
+            return np.zeros(1, dtype=np.float32), {}
+
+        def step(self, action):
+            r, d = reward[self.row, self.t], done[self.row, self.t]
+            self.t += 1
+            return np.zeros(1, dtype=np.float32), float(r), bool(d), False, {}
+
+    vec = VecNormalize(DummyVecEnv([lambda i=i: Scripted(i) for i in range(3)]),
+                       norm_obs=False, norm_reward=True, gamma=gamma)  # fmt: skip
+    vec.reset()
+    expected = np.stack([vec.step(np.zeros((3, 1)))[1] for _ in range(60)], axis=1)
+
+    scaler = bbgym_torchrl.ReturnScaler(3, gamma, torch.device("cpu"))
+    as_batch = torch.tensor(reward, dtype=torch.float64).unsqueeze(-1)
+    done_batch = torch.tensor(done).unsqueeze(-1)
+    # two batches of 30 steps: the statistics carry over from one to the next
+    scaled = torch.cat([scaler(as_batch[:, :30], done_batch[:, :30]),
+                        scaler(as_batch[:, 30:], done_batch[:, 30:])], dim=1)  # fmt: skip
+    assert scaled.squeeze(-1).numpy() == pytest.approx(expected, rel=1e-6)  # its float32
+    assert scaled[1, 55, 0] == -10.0  # clipped
+    assert (scaled.abs() < 10.0).sum() == 179  # and nothing else
 
 
 def test_every_env_preset_has_valid_torchrl_settings():
