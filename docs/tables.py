@@ -41,9 +41,11 @@ BASELINE_FILES = (
     "BeachballSail-v1-torchrl-ppo.json",
     "BeachballSail-v0-ppo.json",
     "BeachballThrow-v0-ppo.json",
+    "BeachballThrow-v0-torchrl-ppo.json",
     "BeachballCurve-v1-ppo.json",
     "BeachballCurve-v1-sac.json",
     "BeachballTopple-v1-ppo.json",
+    "BeachballTopple-v1-torchrl-ppo.json",
     "main.json",
 )
 """The baselines' results files, in the order of the table's rows."""
