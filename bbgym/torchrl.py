@@ -301,8 +301,8 @@ class ReturnScaler:
     """Rewards divided by the running standard deviation of the discounted return, per env,
     and clipped to +-``clip``: stable-baselines3's ``VecNormalize(norm_obs=False,
     norm_reward=True)`` (RL Zoo's ``norm_reward``), step by step as it does, so that the
-    scale the value function learns in stays near 1 whatever the env's reward units and
-    a rare large reward (a capsize's) moves it no more than ``clip`` does there."""
+    scale the value function learns in stays near 1 whatever the env's reward units, and a
+    rare large reward (a capsize's) counts for at most ``clip``, as there."""
 
     def __init__(self, num_envs: int, gamma: float, device: torch.device,
                  clip: float = 10.0) -> None:  # fmt: skip

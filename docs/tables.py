@@ -44,6 +44,7 @@ BASELINE_FILES = (
     "BeachballThrow-v0-torchrl-ppo.json",
     "BeachballCurve-v1-ppo.json",
     "BeachballCurve-v1-sac.json",
+    "BeachballCurve-v1-torchrl-ppo.json",
     "BeachballTopple-v1-ppo.json",
     "BeachballTopple-v1-torchrl-ppo.json",
     "main.json",
