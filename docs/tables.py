@@ -47,6 +47,7 @@ BASELINE_FILES = (
     "BeachballCurve-v1-torchrl-ppo.json",
     "BeachballTopple-v1-ppo.json",
     "BeachballTopple-v1-torchrl-ppo.json",
+    "BeachballTopple-v2-torchrl-ppo.json",
     "main.json",
 )
 """The baselines' results files, in the order of the table's rows."""
