@@ -223,6 +223,7 @@ TORCHRL_DEFAULTS: dict[str, Any] = {
     "log_std_init": -1.0,
     "use_sde": False,
     "sde_sample_freq": 8,
+    "squash_output": True,
     "net_arch": [128, 128],
     "normalize_reward": False,
     "dtype": "float32",
@@ -234,9 +235,11 @@ TORCHRL_DEFAULTS: dict[str, Any] = {
 the env's device) and what it leaves out. Names follow stable-baselines3's where the
 meaning is the same; ``num_envs x n_steps`` frames make one batch, ``minibatch_size`` of
 them one gradient step, ``log_std_init`` the state-independent log standard deviation of
-the policy's Gaussian before its tanh squashing (with ``use_sde``, of generalized
-state-dependent exploration's noise matrix, drawn anew every ``sde_sample_freq`` steps:
-:class:`bbgym.torchrl.GaussianPolicyNet`), and ``learning_rate`` may be
+the policy's Gaussian (with ``use_sde``, of generalized state-dependent exploration's
+noise matrix, drawn anew every ``sde_sample_freq`` steps), ``squash_output`` whether the
+Gaussian is squashed by tanh into the action bounds (else its samples are clipped to them,
+stable-baselines3's PPO default; :class:`bbgym.torchrl.GaussianPolicyNet`), and
+``learning_rate`` may be
 ``"lin_<initial>"`` (decaying linearly to zero); ``compile_step: false`` runs the env's
 step eagerly (no compile time, a slower step)."""
 
@@ -289,7 +292,7 @@ def load_torchrl(preset: str | Path) -> dict[str, Any]:
     if settings["dtype"] not in ("float32", "float64"):
         raise ValueError(f"{path}: torchrl.dtype must be float32 or float64, got "
                          f"{settings['dtype']!r}")  # fmt: skip
-    for name in ("normalize_reward", "use_sde", "compile_step"):
+    for name in ("normalize_reward", "use_sde", "squash_output", "compile_step"):
         if not isinstance(settings[name], bool):
             raise ValueError(f"{path}: torchrl.{name} must be true or false")
     rate = settings["learning_rate"]

@@ -163,8 +163,11 @@ checks."""
 
 class GaussianPolicyNet(torch.nn.Module):
     """The policy: an MLP (tanh hidden layers) from the observation to the mean of a
-    Gaussian, squashed by tanh into [-1, 1] (TorchRL's ``TanhNormal``); the deterministic
-    action is ``tanh(mean)``. Its standard deviation is stable-baselines3's, either one
+    Gaussian, either squashed by tanh into [-1, 1] (``squash=True``, TorchRL's
+    ``TanhNormal``; the deterministic action is ``tanh(mean)``) or not (``squash=False``,
+    an ``IndependentNormal`` whose samples the env clips to [-1, 1], as stable-baselines3's
+    PPO does without ``squash_output``; the deterministic action is the mean, clipped).
+    Its standard deviation is stable-baselines3's, either one
     learnt vector independent of the state (white noise, ``state_dependent=False``), or
     that of generalized state-dependent exploration (gSDE, ``state_dependent=True``): the
     noise is the last hidden layer's features times a random matrix, so its variance is
@@ -179,8 +182,10 @@ class GaussianPolicyNet(torch.nn.Module):
         net_arch: list[int],
         log_std_init: float,
         state_dependent: bool = False,
+        squash: bool = True,
     ) -> None:
         super().__init__()
+        self.squash = squash
         self.mean = mlp(obs_dim, act_dim, net_arch, final_gain=0.01)
         shape = (net_arch[-1], act_dim) if state_dependent else (act_dim,)
         self.log_std = torch.nn.Parameter(torch.full(shape, float(log_std_init)))
@@ -203,9 +208,22 @@ class GaussianPolicyNet(torch.nn.Module):
     def forward(self, observation: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         return self.loc_scale(self.features(observation))
 
+    @property
+    def distribution_class(self) -> type:
+        """The action distribution over ``(loc, scale)``: TorchRL's ``TanhNormal`` where
+        the policy squashes, else its ``IndependentNormal``."""
+        from torchrl.modules import IndependentNormal, TanhNormal
+
+        return TanhNormal if self.squash else IndependentNormal
+
+    def bound(self, action: torch.Tensor) -> torch.Tensor:
+        """A Gaussian sample (or the mean) as the action in [-1, 1]: tanh where the policy
+        squashes; else the sample itself, which the env clips (the evaluation clips it)."""
+        return torch.tanh(action) if self.squash else action
+
     def act(self, observation: torch.Tensor) -> torch.Tensor:
-        """The deterministic action (evaluation): the squashed mean."""
-        return torch.tanh(self.mean(observation))
+        """The deterministic action (evaluation): the mean, squashed or clipped."""
+        return self.bound(self.mean(observation)).clamp(-1.0, 1.0)
 
 
 class CorrelatedExploration(torch.nn.Module):
@@ -213,7 +231,7 @@ class CorrelatedExploration(torch.nn.Module):
     (entries normal with the policy's ``exp(log_std)``) applied to the features, the
     matrices drawn anew every ``sample_freq`` steps (stable-baselines3's
     ``sde_sample_freq``); the action and its log-probability under the policy's
-    ``TanhNormal`` go into the batch, as a ``ProbabilisticActor``'s would."""
+    distribution go into the batch, as a ``ProbabilisticActor``'s would."""
 
     def __init__(self, net: GaussianPolicyNet, num_envs: int, sample_freq: int) -> None:
         super().__init__()
@@ -230,8 +248,6 @@ class CorrelatedExploration(torch.nn.Module):
         self.calls = 0
 
     def forward(self, observation: torch.Tensor) -> tuple[torch.Tensor, ...]:
-        from torchrl.modules import TanhNormal
-
         with torch.no_grad():
             if self.calls % self.sample_freq == 0:
                 std = self.net.log_std.exp()
@@ -241,8 +257,8 @@ class CorrelatedExploration(torch.nn.Module):
             features = self.net.features(observation)
             loc, scale = self.net.loc_scale(features)
             noise = torch.bmm(features.unsqueeze(1), self.matrices).squeeze(1)
-            action = torch.tanh(loc + noise)
-            log_prob = TanhNormal(loc, scale).log_prob(action)
+            action = self.net.bound(loc + noise)
+            log_prob = self.net.distribution_class(loc, scale).log_prob(action)
         return loc, scale, action, log_prob
 
 
@@ -273,6 +289,7 @@ def save_policy(path: Path, net: GaussianPolicyNet, settings: dict[str, Any], me
         "obs_dim": net.mean[0].in_features,
         "act_dim": net.mean[-1].out_features,
         "state_dependent": net.state_dependent,
+        "squash": net.squash,
         "net_arch": list(settings["net_arch"]),
         "state_dict": {k: v.detach().cpu() for k, v in net.state_dict().items()},
         **meta,
@@ -291,8 +308,9 @@ def load_policy(path: str | Path) -> GaussianPolicyNet:
     if not isinstance(payload, dict) or payload.get("format") != POLICY_FORMAT:
         raise ValueError(f"--model {path}: not a policy saved by bbgym's TorchRL PPO "
                          f"(format {POLICY_FORMAT})")  # fmt: skip
+    # Files written before ``squash_output`` existed hold squashing policies.
     net = GaussianPolicyNet(payload["obs_dim"], payload["act_dim"], payload["net_arch"], 0.0,
-                            payload["state_dependent"])  # fmt: skip
+                            payload["state_dependent"], payload.get("squash", True))  # fmt: skip
     net.load_state_dict(payload["state_dict"])
     return net.eval()
 
@@ -379,13 +397,14 @@ def evaluate_policy(
 
 class PPOLearner:
     """PPO's learning side, from TorchRL's parts: the policy (:class:`GaussianPolicyNet` in
-    a ``ProbabilisticActor`` with a ``TanhNormal``), the value MLP (a ``ValueOperator``),
-    ``GAE`` for the advantages, ``ClipPPOLoss`` for the clipped objective and the value
-    loss (advantages normalized per minibatch, as stable-baselines3 does) and Adam."""
+    a ``ProbabilisticActor`` with its ``TanhNormal`` or ``IndependentNormal``), the value
+    MLP (a ``ValueOperator``), ``GAE`` for the advantages, ``ClipPPOLoss`` for the clipped
+    objective and the value loss (advantages normalized per minibatch, as
+    stable-baselines3 does) and Adam."""
 
     def __init__(self, env: BbgymTorchRLEnv, settings: dict[str, Any]) -> None:
         from tensordict.nn import TensorDictModule
-        from torchrl.modules import ProbabilisticActor, TanhNormal, ValueOperator
+        from torchrl.modules import ProbabilisticActor, ValueOperator
         from torchrl.objectives import ClipPPOLoss
         from torchrl.objectives.value import GAE
 
@@ -394,11 +413,12 @@ class PPOLearner:
         self.act_dim = env.action_spec.shape[-1]
         arch = settings["net_arch"]
         self.net = GaussianPolicyNet(self.obs_dim, self.act_dim, arch, settings["log_std_init"],
-                                     settings["use_sde"])  # fmt: skip
+                                     settings["use_sde"], settings["squash_output"])  # fmt: skip
         self.net.to(device=env.device, dtype=env._float)
         self.actor = ProbabilisticActor(
             TensorDictModule(self.net, in_keys=["observation"], out_keys=["loc", "scale"]),
-            in_keys=["loc", "scale"], spec=env.action_spec, distribution_class=TanhNormal,
+            in_keys=["loc", "scale"], spec=env.action_spec,
+            distribution_class=self.net.distribution_class,
             return_log_prob=True,
         )  # fmt: skip
         value_net = mlp(self.obs_dim, 1, arch, final_gain=1.0)
@@ -469,8 +489,9 @@ class PPOLearner:
 
     def cpu_policy(self) -> GaussianPolicyNet:
         """A float32 copy of the policy on the CPU (the evaluation's)."""
-        copy = GaussianPolicyNet(self.obs_dim, self.act_dim, self.settings["net_arch"], 0.0,
-                                 self.settings["use_sde"])  # fmt: skip
+        settings = self.settings
+        copy = GaussianPolicyNet(self.obs_dim, self.act_dim, settings["net_arch"], 0.0,
+                                 settings["use_sde"], settings["squash_output"])  # fmt: skip
         copy.load_state_dict({k: v.cpu().float() for k, v in self.net.state_dict().items()})
         return copy
 

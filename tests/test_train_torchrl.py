@@ -119,6 +119,24 @@ def test_saved_policy_evaluates_deterministically(small_run):
     assert np.isfinite(first["mean_return"]) and first["mean_length"] >= 1
 
 
+def test_an_unsquashed_policy_acts_with_its_clipped_mean_and_saves_so(tmp_path):
+    """``squash_output: false``: the deterministic action is the mean clipped to the
+    bounds (stable-baselines3's PPO without squashing), and the saved file says so; a file
+    saved before the setting existed loads as the squashing policy it was."""
+    train(tmp_path, squash_output=False)
+    net = bbgym_torchrl.load_policy(tmp_path / "model.pt")
+    assert not net.squash
+    obs = torch.linspace(-1.0, 1.0, net.mean[0].in_features)
+    assert torch.equal(net.act(obs), net.mean(obs))  # inside the bounds: the mean itself
+    with torch.no_grad():
+        net.mean[-1].bias.copy_(torch.tensor([3.0, -3.0]))
+    assert net.act(obs).tolist() == [1.0, -1.0]
+    payload = torch.load(tmp_path / "model.pt", weights_only=True)
+    del payload["squash"]
+    torch.save(payload, tmp_path / "old.pt")
+    assert bbgym_torchrl.load_policy(tmp_path / "old.pt").squash
+
+
 def test_state_dependent_exploration_holds_its_noise_and_matches_its_distribution():
     """gSDE (``use_sde``): the noise matrix is held for ``sde_sample_freq`` steps (the same
     observation gives the same action), its spread is the policy's ``scale`` (the
@@ -234,6 +252,7 @@ def test_every_env_preset_has_valid_torchrl_settings():
         ("net_arch: [64, -1]", "torchrl.net_arch"),
         ("learning_rate: fast", "torchrl.learning_rate"),
         ("dtype: float16", "torchrl.dtype"),
+        ("squash_output: 1", "torchrl.squash_output"),
         ("frames: 10", "unknown torchrl settings ['frames']"),
     ],
 )
@@ -334,20 +353,31 @@ SB3_PPO = {"n_steps": 32, "batch_size": 64, "n_epochs": 4, "learning_rate": 3e-3
            "gamma": 0.99, "gae_lambda": 0.95, "use_sde": True, "sde_sample_freq": 4}  # fmt: skip
 
 
-def sb3_and_learner(n_envs):
-    """An SB3 PPO (gSDE, tanh-squashed, 32x32) and a :class:`PPOLearner` with the same
+def sb3_kwargs(white_noise):
+    """SB3 PPO's arguments: gSDE with tanh squashing (Sail's preset), or white noise with
+    no squashing (SB3's default policy), its standard deviation 1 so that many samples
+    fall outside the action bounds."""
+    if white_noise:
+        return {**SB3_PPO, "use_sde": False}, {"log_std_init": 0.0, "net_arch": [32, 32]}
+    return SB3_PPO, {"log_std_init": -2.0, "net_arch": [32, 32], "squash_output": not white_noise}
+
+
+def sb3_and_learner(n_envs, white_noise=False):
+    """An SB3 PPO (:func:`sb3_kwargs`, 32x32) and a :class:`PPOLearner` with the same
     settings whose policy and value nets hold SB3's initial weights."""
     sb3 = pytest.importorskip("stable_baselines3")
     from stable_baselines3.common.env_util import make_vec_env
 
     torch.manual_seed(0)
     venv = make_vec_env(ENV, n_envs=n_envs, seed=0, env_kwargs=SHORT)
-    model = sb3.PPO("MlpPolicy", venv, seed=0, **SB3_PPO, policy_kwargs={
-        "log_std_init": -2.0, "net_arch": [32, 32], "squash_output": True})  # fmt: skip
+    kwargs, policy_kwargs = sb3_kwargs(white_noise)
+    model = sb3.PPO("MlpPolicy", venv, seed=0, **kwargs, policy_kwargs=policy_kwargs)
     shared = ("learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "gamma",
               "gae_lambda", "use_sde", "sde_sample_freq", "n_epochs")  # fmt: skip
-    settings = {**SMALL, **{k: SB3_PPO[k] for k in shared}, "net_arch": [32, 32],
-                "log_std_init": -2.0, "minibatch_size": SB3_PPO["batch_size"]}  # fmt: skip
+    settings = {**SMALL, **{k: kwargs[k] for k in shared}, "net_arch": [32, 32],
+                "log_std_init": policy_kwargs["log_std_init"],
+                "minibatch_size": SB3_PPO["batch_size"],
+                "squash_output": not white_noise}  # fmt: skip
     env = bbgym_torchrl.BbgymTorchRLEnv(ENV, n_envs, compile_step=False, seed=0, **SHORT)
     learner = bbgym_torchrl.PPOLearner(env, settings)
     policy = model.policy
@@ -364,15 +394,18 @@ def sb3_and_learner(n_envs):
     return model, learner, env
 
 
-def test_an_update_learns_what_stable_baselines3_ppo_learns_from_the_same_rollout():
+@pytest.mark.parametrize("white_noise", [False, True], ids=["gsde-squashed", "white-unsquashed"])
+def test_an_update_learns_what_stable_baselines3_ppo_learns_from_the_same_rollout(white_noise):
     """From SB3's initial weights and one rollout SB3 collected, :meth:`PPOLearner.learn`
     over SB3's own minibatches (the same order) ends with the weights SB3's ``PPO.train``
     ends with: TorchRL's ``ClipPPOLoss`` with these settings is SB3's objective, value
-    loss, advantage normalization, gradient clipping and Adam, to float32 rounding."""
+    loss, advantage normalization, gradient clipping and Adam, to float32 rounding; with
+    gSDE and tanh squashing (``squash_output``), and with white noise unsquashed, whose
+    samples beyond the bounds (the env clips them) keep their Gaussian log-probability."""
     from tensordict import TensorDict
 
     torch.set_num_threads(1)
-    model, learner, env = sb3_and_learner(n_envs=4)
+    model, learner, env = sb3_and_learner(n_envs=4, white_noise=white_noise)
     _, callback = model._setup_learn(SB3_PPO["n_steps"] * 4, None)
     model.collect_rollouts(model.env, callback, model.rollout_buffer, SB3_PPO["n_steps"])
     buffer = model.rollout_buffer
@@ -396,17 +429,20 @@ def test_an_update_learns_what_stable_baselines3_ppo_learns_from_the_same_rollou
     policy = model.policy
     moved = (learner.net.mean[-1].weight - policy.action_net.weight.detach()).abs().max()
     assert moved < 1e-5  # where SB3's update itself moved it by over 1e-3:
-    assert (policy.action_net.weight.detach() - policy_at_start(model)).abs().max() > 1e-3
+    start = policy_at_start(model, white_noise)
+    assert (policy.action_net.weight.detach() - start).abs().max() > 1e-3
     value = learner.advantage.value_network.module[-1].weight
     assert (value - policy.value_net.weight.detach()).abs().max() < 1e-5
     assert (learner.net.log_std - policy.log_std.detach()).abs().max() < 1e-5
     assert model.logger.name_to_value["train/clip_fraction"] > 0.0  # the clip did act
+    if white_noise:  # some samples fell outside [-1, 1]: the unsquashed case is exercised
+        assert (flat["action"].abs() > 1.0).any()
 
 
-def policy_at_start(model):
+def policy_at_start(model, white_noise):
     """The action layer's weights SB3's PPO starts from (the same seed's construction)."""
-    clone = type(model)("MlpPolicy", model.env, seed=0, **SB3_PPO, policy_kwargs={
-        "log_std_init": -2.0, "net_arch": [32, 32], "squash_output": True})  # fmt: skip
+    kwargs, policy_kwargs = sb3_kwargs(white_noise)
+    clone = type(model)("MlpPolicy", model.env, seed=0, **kwargs, policy_kwargs=policy_kwargs)
     return clone.policy.action_net.weight.detach()
 
 
