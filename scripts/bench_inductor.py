@@ -6,11 +6,12 @@ steps/s, for each env and each setting, every run in a fresh process.
         "bbgym" "realize_opcount_threshold=30"] [--num-envs 4096] [--rounds 1]
 
 An option is ``bbgym`` (the package's settings as they are), ``none`` (inductor's own
-defaults) or ``key=value,key=value`` (inductor config names, integer values) over
-inductor's defaults. Runs are interleaved (env by env, option by option, ``--rounds``
-times) so a busy machine slows them alike; each prints a JSON line, and the table at the
-end keeps each (env, option)'s best rate and its compile times. float32, one torch
-thread per run by default (``--torch-threads``), each env's default ``step_graph``.
+defaults) or ``key=value,key=value`` (inductor config names, Python literals such as
+``22`` or ``False``) over inductor's defaults. Runs are interleaved (env by env, option
+by option, ``--rounds`` times) so a busy machine slows them alike; each prints a JSON
+line, and the table at the end keeps each (env, option)'s best rate and its compile
+times. float32, one torch thread per run by default (``--torch-threads``), each env's
+default ``step_graph``.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import sys
 import tempfile
 
 RUN = r"""
-import json, sys, time
+import ast, json, sys, time
 import gymnasium as gym
 import torch
 import bbgym
@@ -33,7 +34,7 @@ env_id, option, num_envs, threads, seconds = sys.argv[1:6]
 torch.set_num_threads(int(threads))
 if option != "bbgym":
     pairs = [] if option == "none" else [kv.split("=") for kv in option.split(",")]
-    backends.INDUCTOR_OPTIONS = {k: int(v) for k, v in pairs}
+    backends.INDUCTOR_OPTIONS = {k: ast.literal_eval(v) for k, v in pairs}
 env = gym.make_vec(env_id, num_envs=int(num_envs), vectorization_mode="vector_entry_point",
                    backend="torch", dtype="float32")
 env.action_space.seed(0)
