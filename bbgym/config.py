@@ -239,9 +239,8 @@ the policy's Gaussian (with ``use_sde``, of generalized state-dependent explorat
 noise matrix, drawn anew every ``sde_sample_freq`` steps), ``squash_output`` whether the
 Gaussian is squashed by tanh into the action bounds (else its samples are clipped to them,
 stable-baselines3's PPO default; :class:`bbgym.torchrl.GaussianPolicyNet`), and
-``learning_rate`` may be
-``"lin_<initial>"`` (decaying linearly to zero); ``compile_step: false`` runs the env's
-step eagerly (no compile time, a slower step)."""
+``learning_rate`` may be ``"lin_<initial>"`` (decaying linearly to zero);
+``compile_step: false`` runs the env's step eagerly (no compile time, a slower step)."""
 
 
 def load_torchrl(preset: str | Path) -> dict[str, Any]:

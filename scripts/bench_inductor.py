@@ -9,9 +9,10 @@ An option is ``bbgym`` (the package's settings as they are), ``none`` (inductor'
 defaults) or ``key=value,key=value`` (inductor config names, Python literals such as
 ``22`` or ``False``) over inductor's defaults. Runs are interleaved (env by env, option
 by option, ``--rounds`` times) so a busy machine slows them alike; each prints a JSON
-line, and the table at the end keeps each (env, option)'s best rate and its compile
-times. float32, one torch thread per run by default (``--torch-threads``), each env's
-default ``step_graph``.
+line (with ``phases_s``: where the first step's time went, by Dynamo's timers), and the
+table at the end keeps each (env, option)'s best rate and its compile times. float32,
+one torch thread per run by default (``--torch-threads``), each env's default
+``step_graph``.
 """
 
 from __future__ import annotations
@@ -51,8 +52,15 @@ for _ in range(3):
         env.step(actions[done % len(actions)])
         done += 1
     rate = max(rate, done * int(num_envs) / (time.perf_counter() - start))
+# Where the first step's time went, from Dynamo's own timers (seconds; nested: inductor's
+# kernel code generation is inside its lowering to a module, which is inside the total).
+timers = torch._dynamo.utils.compilation_time_metrics
+phases = {name: round(sum(timers.get(key, [0.0])), 1) for name, key in [
+    ("dynamo_tracing", "bytecode_tracing"), ("inductor", "compile_fx_inner"),
+    ("inductor_lowering", "GraphLowering.run"), ("kernel_codegen", "Scheduler.codegen"),
+    ("waiting_for_cc", "async_compile.wait")]}
 print(json.dumps({"env": env_id, "option": option, "first_step_s": round(first, 1),
-                  "rate": round(rate)}))
+                  "rate": round(rate), "phases_s": phases}))
 """
 
 

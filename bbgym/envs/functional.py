@@ -26,6 +26,7 @@ counter-based generator of :mod:`bbgym.backends` inside the compiled step.
 
 from __future__ import annotations
 
+import contextlib
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -354,12 +355,15 @@ def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
 
     zero = torch.zeros((), dtype=torch.int64, device=leaves[varying[0]].device)
     carried = (zero, *[leaves[j] for j in varying])
-    if torch.compiler.is_compiling():  # the compiled step (dynamic=False): ints are constants
+    # In the compiled step (dynamic=False) every int is a constant. Run eagerly,
+    # while_loop traces its functions itself, and Dynamo would make an int it saw change
+    # between two tasks (their chunks, a gust period) symbolic, which the loop cannot
+    # carry: every int stays a constant there too.
+    constant_ints = (
+        contextlib.nullcontext()
+        if torch.compiler.is_compiling()
+        else torch._dynamo.config.patch(automatic_dynamic_shapes=False)
+    )
+    with constant_ints:
         out = while_loop(more, chunk, carried)
-    else:
-        # Run eagerly, while_loop traces its functions itself, and Dynamo would make an int
-        # it saw change between two tasks (their chunks, a gust period) symbolic, which the
-        # loop cannot carry: every int stays a constant, as in the compiled step.
-        with torch._dynamo.config.patch(automatic_dynamic_shapes=False):
-            out = while_loop(more, chunk, carried)
     return rebuild(tuple(out[1:]))
