@@ -29,6 +29,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "rllib": ("ray", "torch"),
     "zoo": ("rl_zoo3", "torch"),
     "torchrl": ("torchrl", "tensordict", "torch", "array_api_compat"),
+    "race": ("pettingzoo",),
 }
 """Extra -> the modules a command needs of it (imported by name; ``PIL`` is Pillow). The
 ``plots`` extra's imageio-ffmpeg is needed only for ``.mp4`` and MoviePy only for

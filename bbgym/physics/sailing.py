@@ -12,6 +12,7 @@ apparent wind               :func:`apparent_wind_body`      ``v_a = v_w - v_s`` 
 sail normal coefficient     :func:`sail_normal_coefficient` ``"seed"`` / ``"lift"``
 cambered sail lift, drag    :func:`cambered_sail_coefficients` ``"cambered"``
 sail force and boom torque  :func:`sail_force`              planar, friction-free (§9)
+the whole rig's force       :func:`rig_force`               main and jib (wind shadow)
 the jib's angle             :func:`jib_angle`               two sheets; backed (§9)
 sails that steer            :func:`sail_yaw_moment`         force at the centre of effort
 hull and keel drag          :func:`hull_force`              split along/across hull (§9)
@@ -280,6 +281,25 @@ def jib_angle(p: DinghyParams, jib_sheet: Array, aw_u: Array, aw_v: Array, xp: A
     high = xp.where(port, limit, -across)
     low = xp.where(port, across, -limit)
     return xp.minimum(xp.maximum(free, low), high)
+
+
+def rig_force(
+    p: DinghyParams, state: DinghyState, jib_sheet: Array | None, aw_u: Array, aw_v: Array,
+    xp: Any = np,
+) -> tuple[Array, Array]:  # fmt: skip
+    """The force of all the boat's sails in the apparent wind ``(aw_u, aw_v)``, body frame
+    (``drive`` ahead, ``side`` to port): the main's (:func:`sail_force`) and a sloop's
+    jib's at its angle for ``jib_sheet`` (:func:`jib_angle`; None: its sheets eased).
+    What the rig takes from the air (:mod:`bbgym.physics.shadow`)."""
+    drive, side, _ = sail_force(p, state, aw_u, aw_v, xp)
+    if p.rig == "sloop":
+        jib = jib_angle(p, 0.0 * aw_u if jib_sheet is None else jib_sheet, aw_u, aw_v, xp)
+        upright = xp.logical_not(state.capsized)
+        jib_drive, jib_side = sail_force_linearised(
+            p, jib, xp.cos(state.heel_rad), upright, aw_u, aw_v, xp, p._jib_q
+        )[:2]
+        drive, side = drive + jib_drive, side + jib_side
+    return drive, side
 
 
 def sail_yaw_moment(

@@ -370,10 +370,13 @@ class SailTask(TaskCore):
 
     def chunk(self, carry: tuple, xp: Any) -> tuple:
         """``substeps_per_chunk`` physics substeps."""
-        boat = carry[0]
         for _ in range(self.substeps_per_chunk):
-            boat = step_substep(self.params, boat, self.sim_dt, xp, self.water)
-        return (boat, carry[1], carry[2])
+            carry = self.substep(carry, xp)
+        return carry
+
+    def substep(self, carry: tuple, xp: Any) -> tuple:
+        """One physics substep of ``sim_dt`` (what a fleet steps between its collisions)."""
+        return (step_substep(self.params, carry[0], self.sim_dt, xp, self.water), *carry[1:])
 
     def end(self, state: SailState, carry: tuple, xp: Any) -> tuple[SailState, StepEvents]:
         """Finish a transition: count the tack, move the gusts, score the step."""

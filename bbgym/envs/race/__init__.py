@@ -1,0 +1,28 @@
+"""BeachballRace: a fleet of dinghies on one course (PettingZoo; the ``race`` extra).
+
+    import pettingzoo
+    import bbgym.envs.race  # registers bbgym/BeachballRace-v0 with PettingZoo
+
+    env = pettingzoo.make("parallel", "bbgym/BeachballRace-v0", num_boats=4)
+    observations, infos = env.reset(seed=0)
+    while env.agents:
+        actions = {agent: env.action_space(agent).sample() for agent in env.agents}
+        observations, rewards, terminations, truncations, infos = env.step(actions)
+
+``pettingzoo.make("aec", "bbgym/BeachballRace-v0")`` is the AEC form (boats act in turn);
+``parallel_env()`` and ``env()`` here make the same. The race's core
+(:mod:`bbgym.envs.race.task`) and its course (:mod:`bbgym.envs.race.course`) need NumPy
+alone.
+"""
+
+import pettingzoo
+
+from bbgym.envs.race.env import ENV_ID, BeachballRaceEnv, env, parallel_env
+
+# Once per process (PettingZoo warns when an id is registered again).
+if ENV_ID not in pettingzoo.parallel_registry:
+    pettingzoo.register("parallel", ENV_ID, entry_point=parallel_env)
+if ENV_ID not in pettingzoo.aec_registry:
+    pettingzoo.register("aec", ENV_ID, entry_point=env)
+
+__all__ = ["ENV_ID", "BeachballRaceEnv", "env", "parallel_env"]

@@ -1,0 +1,231 @@
+"""BeachballRace as a PettingZoo ``ParallelEnv`` (the ``race`` extra: PettingZoo)."""
+
+from __future__ import annotations
+
+import functools
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+
+try:
+    from pettingzoo import ParallelEnv
+    from pettingzoo.utils import parallel_to_aec
+except ImportError as error:  # the fix, not a bare ModuleNotFoundError
+    from bbgym._extras import install_hint
+
+    raise ImportError(f"BeachballRace needs PettingZoo (the 'race' extra): "
+                      f"{install_hint('race')}") from error  # fmt: skip
+
+from bbgym.envs.common import check_box_action
+from bbgym.envs.functional import tree_map
+from bbgym.envs.race.task import RaceState, RaceTask
+
+ENV_ID = "bbgym/BeachballRace-v0"
+"""The race's id in PettingZoo's registries (``pettingzoo.make("parallel", ENV_ID)``)."""
+BOAT_KEYS = ("sail_model", "dinghy", "initial_sheet")
+
+
+def newest_boat() -> dict[str, Any]:
+    """The sail family's newest version's boat (its sail model, dinghy and initial sheet),
+    as its spec declares it: the race's default boat."""
+    from bbgym.envs.sail.spec import SPEC
+
+    kwargs = SPEC.versions[-1].kwargs
+    return {key: kwargs[key] for key in BOAT_KEYS if key in kwargs}
+
+
+class BeachballRaceEnv(ParallelEnv):
+    """A fleet of dinghies racing on one windward course: a start with a countdown, a
+    windward mark, a leeward gate, laps and a finish, the wind shared by the fleet and each
+    boat's sails shadowing the boats downwind of it. A PettingZoo ``ParallelEnv``: every
+    boat acts at every step; :func:`bbgym.envs.race.env` gives the AEC form.
+
+    Each boat is the sailing env's boat at its newest version (BeachballSail-v2's sloop,
+    calibrated to a Laser) in still water; alone on the course it sails exactly as that
+    env's boat does in the same wind. A step is 0.25 s.
+
+    ## Agents
+
+    ``boat_0`` .. ``boat_{K-1}`` (``num_boats`` K, default 4). A boat leaves ``agents``
+    when it finishes or capsizes (terminated) or when the race's time is up (truncated).
+
+    ## Action Space
+
+    Per boat, ``Box(-1, 1, (3,), float32)``, the sail env's: rudder, main sheet, jib sheet
+    (2 columns for a cat-rigged ``boat``).
+
+    ## Observation Space
+
+    Per boat, ``Box(-1, 1, (23 + 11 + 7 n,), float32)`` with ``n`` the ``neighbours`` (3):
+
+    | index | observation | scale |
+    |---|---|---|
+    | 0-22 | BeachballSail-v2's observation, its mark the point steered for | as there |
+    | 23 | time to the gun, a share of the countdown (1 at the reset, < 0 after) | `countdown_s` |
+    | 24 | time since the gun | `max_race_time_s` |
+    | 25 | started (1) or not (0) | - |
+    | 26 | over the line early and not yet back (1) | - |
+    | 27 | waypoints passed, as a share of all | - |
+    | 28-30 | the committee boat: cos, sin of its bearing off the bow, distance | 200 m |
+    | 31-33 | the pin, alike | 200 m |
+    | 34 + 7 i | the i-th nearest other boat racing: present (1) or not (0) | - |
+    | 35-36 + 7 i | its position ahead and to port | 50 m |
+    | 37-38 + 7 i | its velocity relative to this boat's, ahead and to port | 6 m/s |
+    | 39-40 + 7 i | cos and sin of its heading relative to this boat's | - |
+
+    The point steered for: the start line's centre, then a point 5 m above the windward
+    mark and 5 m to its starboard side while the boat is on its port side, to its port
+    side once the boat is on its starboard side (steering for it rounds the mark to port),
+    the gate's centre, the finish line's centre; a boat over the line early steers for a
+    point 10 m behind the line's centre. An absent neighbour's columns are zeros.
+
+    ## Rewards
+
+    Per boat, per step: progress toward the waypoint it steers for after the gun (the
+    sail env's, at most 1 a step), ``waypoint_bonus`` (5) for each waypoint passed (the
+    start included), ``finish_bonus`` (20) times ``(K - place + 1) / K`` at the finish,
+    ``-ocs_penalty`` (5) when over the line at the gun, ``-capsize_penalty`` (30) at a
+    capsize, ``-time_penalty`` (0.1) a step after the gun until it finishes. The infos'
+    ``reward_terms`` hold each.
+
+    ## The course and the rules sailed
+
+    Laid square to the race's mean wind: a start line ``line_length_m`` (60 m) long, the
+    committee boat at its starboard end; the windward mark ``leg_length_m`` (120 m) upwind of
+    it, left to port (rounded counterclockwise); a gate ``gate_width_m`` (30 m) wide
+    ``gate_depth_m`` (15 m) below the line. ``laps`` (1) times: the windward mark, then the
+    gate, the last lap the finish (the start line crossed downwind). The start: the gun
+    fires ``countdown_s`` (30 s) after the reset; a boat on the course side of the line (or
+    its extensions) at the gun must return below it before it can start, crossing the line
+    upwind between its ends.
+
+    ## Starting State
+
+    The race's mean wind: speed uniform in ``wind_speed_range`` (3-7 m/s), from any
+    direction, the gusts started in their stationary distribution (shared by the fleet).
+    Each boat in its own slot along the line (K equal slots, a uniform place in its own),
+    uniform in ``start_depth_range`` (10-40 m) behind it, heading anywhere, moving ahead at
+    the sail env's initial speed (0.5-2 m/s), its sheets eased.
+
+    ## Episode End
+
+    A boat's episode terminates when it finishes or capsizes; every boat still racing is
+    truncated when the race clock reaches ``max_race_time_s`` (600 s).
+
+    ## Arguments
+
+    ``num_boats``, ``boat`` (a mapping of ``sail_model``, ``dinghy``, ``initial_sheet``,
+    ``initial_speed_range`` for the sail core), ``laps``, ``line_length_m``,
+    ``leg_length_m``, ``gate_depth_m``, ``gate_width_m``, ``countdown_s``,
+    ``start_depth_range``, ``max_race_time_s``, ``wind_speed_range``, ``gusts``,
+    ``gust_params``, ``shadow`` (on), ``shadow_params``
+    (:class:`bbgym.physics.shadow.ShadowParams`), ``neighbours``, and the reward weights
+    above. ``reset(options=...)`` pins ``wind_speed``, ``wind_from`` (rad) and ``gusts``.
+
+    ## Version History
+
+    * v0: the first version (collisions and the right-of-way rules are not yet modelled).
+    """
+
+    metadata = {"name": "beachball_race_v0", "render_modes": [], "is_parallelizable": True}
+
+    def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
+        if render_mode is not None:
+            raise ValueError(f"render_mode must be None (drawing a race is not built yet), "
+                             f"got {render_mode!r}")  # fmt: skip
+        boat = newest_boat()
+        boat.update(kwargs.pop("boat", None) or {})
+        self.task = RaceTask(boat=boat, **kwargs)
+        self.render_mode = render_mode
+        self.possible_agents = [f"boat_{k}" for k in range(self.task.num_boats)]
+        self.agents: list[str] = []
+        self.state_: RaceState | None = None
+        self._np_random, _ = seeding.np_random(None)
+
+    @functools.cache  # noqa: B019 (PettingZoo's own idiom: one space per agent)
+    def observation_space(self, agent: str) -> spaces.Box:
+        return self.task.observation_space
+
+    @functools.cache  # noqa: B019
+    def action_space(self, agent: str) -> spaces.Box:
+        return self.task.action_space
+
+    def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple:
+        if seed is not None:
+            self._np_random, _ = seeding.np_random(seed)
+        checked = self.task.check_options(options)
+        k = self.task.num_boats
+        uniform = self._np_random.uniform(size=(1, 2 + 4 * k))
+        normal = self._np_random.standard_normal(size=(1, 2))
+        self.state_ = self.task.initial(uniform, normal, checked, np)
+        self.agents = list(self.possible_agents)
+        return self._observations(), self._infos()
+
+    def step(self, actions: dict[str, Any]) -> tuple:
+        if self.state_ is None or not self.agents:
+            raise RuntimeError("step() called before reset() or after every boat's race ended")
+        for agent in actions:
+            if agent not in self.agents:
+                raise ValueError(f"actions[{agent!r}]: no such boat racing; racing: "
+                                 f"{self.agents}")  # fmt: skip
+        size = self.task.action_space.shape[0]
+        action = np.zeros((self.task.num_boats, size))
+        for agent in self.agents:
+            if agent not in actions:
+                raise ValueError(f"actions has no {agent!r}: every boat racing acts")
+            k = self.possible_agents.index(agent)
+            try:
+                action[k] = check_box_action(actions[agent], size, 0)
+            except ValueError as error:
+                raise ValueError(f"actions[{agent!r}]: {error}") from None
+        gust_noise = self._np_random.standard_normal(size=(1, 2))
+        state = self.task.transition(self.state_, action, gust_noise, np)
+        self.state_ = state
+        racing = list(self.agents)
+        reward = self.task.reward(state, np)[0]
+        out = self.task.terminal(state, np)[0]
+        timed_out = bool(self.task.timed_out(state, np)[0])
+        observations, infos = self._observations(racing), self._infos(racing)
+        rewards, terminations, truncations = {}, {}, {}
+        for agent in racing:
+            k = self.possible_agents.index(agent)
+            rewards[agent] = float(reward[k])
+            terminations[agent] = bool(out[k])
+            truncations[agent] = timed_out and not bool(out[k])
+        self.agents = [a for a in racing if not (terminations[a] or truncations[a])]
+        return observations, rewards, terminations, truncations, infos
+
+    def _observations(self, agents: list[str] | None = None) -> dict[str, np.ndarray]:
+        obs = self.task.observation(self.state_, np)[0]
+        return {a: obs[self.possible_agents.index(a)] for a in agents or self.agents}
+
+    def _infos(self, agents: list[str] | None = None) -> dict[str, dict[str, Any]]:
+        info = self.task.info(self.state_, np)
+
+        def boat(k: int) -> dict[str, Any]:
+            def pick(leaf: Any) -> Any:
+                value = np.asarray(leaf)[0, k]
+                return value.item() if value.ndim == 0 else value
+
+            return tree_map(pick, info)
+
+        return {a: boat(self.possible_agents.index(a)) for a in agents or self.agents}
+
+    def render(self) -> None:
+        return None
+
+    def close(self) -> None:
+        pass
+
+
+def parallel_env(**kwargs: Any) -> BeachballRaceEnv:
+    """A race as a PettingZoo ``ParallelEnv`` (:class:`BeachballRaceEnv`)."""
+    return BeachballRaceEnv(**kwargs)
+
+
+def env(**kwargs: Any) -> Any:
+    """A race in PettingZoo's AEC form (boats act in turn), through PettingZoo's
+    ``parallel_to_aec``."""
+    return parallel_to_aec(BeachballRaceEnv(**kwargs))

@@ -1,0 +1,329 @@
+"""BeachballRace as users meet it: PettingZoo's API tests, determinism, a boat alone
+sailing exactly as the sail env's, the shadow slowing a boat, the start, the finish and
+the penalties, and errors that name the argument."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+pytest.importorskip("pettingzoo")
+
+from bbgym.agents import VMGAutopilot  # noqa: E402
+from pettingzoo.test import api_test, parallel_api_test  # noqa: E402
+from pettingzoo.utils import parallel_to_aec  # noqa: E402
+
+from bbgym.envs.race import ENV_ID, BeachballRaceEnv, parallel_env  # noqa: E402
+from bbgym.envs.race.env import newest_boat  # noqa: E402
+from bbgym.physics.namespace import replaced  # noqa: E402
+
+
+class WithoutProbe(BeachballRaceEnv):
+    """PettingZoo's API tests reset with ``options={"options": 1}`` to see that ``reset``
+    takes the keyword; the race refuses unknown option keys (naming them, as every bbgym
+    env does: the last tests here), so the tests' probe key alone is dropped."""
+
+    def reset(self, seed=None, options=None):
+        if options == {"options": 1}:
+            options = None
+        return super().reset(seed=seed, options=options)
+
+
+def test_parallel_api() -> None:
+    parallel_api_test(WithoutProbe(num_boats=3), num_cycles=300)
+
+
+def test_aec_api() -> None:
+    api_test(parallel_to_aec(WithoutProbe(num_boats=2)), num_cycles=100)
+
+
+def test_made_through_pettingzoos_registry() -> None:
+    import pettingzoo
+
+    parallel = pettingzoo.make("parallel", ENV_ID, num_boats=2)
+    assert isinstance(parallel, BeachballRaceEnv) and parallel.possible_agents == [
+        "boat_0",
+        "boat_1",
+    ]
+    aec = pettingzoo.make("aec", ENV_ID)
+    aec.reset(seed=0)
+    assert aec.agent_selection == "boat_0"
+
+
+def play(env, seed: int, steps: int, policy=None) -> list:
+    """Observations and rewards of ``steps`` steps of random (seeded) or given play."""
+    obs, _ = env.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    trace = []
+    for _ in range(steps):
+        if not env.agents:
+            break
+        if policy is None:
+            actions = {a: rng.uniform(-1, 1, 3) for a in env.agents}
+        else:
+            actions = policy(env, obs)
+        obs, rewards, _, _, _ = env.step(actions)
+        trace.append((obs, rewards))
+    return trace
+
+
+def test_deterministic_under_a_seed() -> None:
+    a = play(parallel_env(), 7, 200)
+    b = play(parallel_env(), 7, 200)
+    c = play(parallel_env(), 8, 200)
+    for (oa, ra), (ob, rb) in zip(a, b, strict=True):
+        assert ra == rb
+        for agent in oa:
+            np.testing.assert_array_equal(oa[agent], ob[agent])
+    assert any(not np.array_equal(a[-1][0][k], c[-1][0][k]) for k in a[-1][0])
+
+
+def test_random_play_stays_finite_and_in_bounds() -> None:
+    env = parallel_env(num_boats=8, laps=2)
+    for seed in range(2):
+        for obs, rewards in play(env, seed, 400):
+            for agent, o in obs.items():
+                assert o.dtype == np.float32 and env.observation_space(agent).contains(o)
+            assert all(math.isfinite(r) for r in rewards.values())
+
+
+def test_a_boat_alone_sails_exactly_as_the_sail_env() -> None:
+    """One boat, the sail family's newest boat in still water, the same wind, heading,
+    speed and actions: the same boat state, bit for bit, as the sail family's NumPy
+    vector env's, started where the race started it."""
+    race = parallel_env(num_boats=1, gusts=False)
+    race.reset(seed=3, options={"wind_speed": 5.0, "wind_from": 1.0})
+    start = race.state_.boats.boat
+    sail = gym.make_vec("BeachballSail-v2", num_envs=1, vectorization_mode="vector_entry_point",
+                        water={"wave_amplitude_m": 0.0}, current_speed_range=(0.0, 0.0),
+                        gusts=False)  # fmt: skip
+    sail.reset(seed=0, options={"wind_speed": 5.0, "wind_from": 1.0})
+    # the race's boat where the race put it, heading and moving as it drew
+    state = sail.unwrapped.state
+    sail.unwrapped.state = replaced(state, boat=start)
+    rng = np.random.default_rng(0)
+    for _ in range(300):
+        action = rng.uniform(-1, 1, 3).astype(np.float32)
+        race.step({"boat_0": action})
+        sail.step(action[None])
+    ours, theirs = race.state_.boats.boat, sail.unwrapped.state.boat
+    for field, ours_value in zip(ours._fields, ours, strict=True):
+        np.testing.assert_array_equal(ours_value, getattr(theirs, field), err_msg=field)
+    assert math.hypot(ours.x_m[0] - start.x_m[0], ours.y_m[0] - start.y_m[0]) > 5.0  # it moved
+
+
+def place(env, **fields) -> None:
+    """Set fields of every boat's state (arrays of one value per boat) between steps."""
+    state = env.state_
+    boat = replaced(state.boats.boat, **{k: np.asarray(v, dtype=float) for k, v in fields.items()})
+    env.state_ = replaced(state, boats=replaced(state.boats, boat=boat))
+
+
+def _two_boats_in_line(shadow: bool, gap_m: float):
+    """Two boats on a beam reach (heading east, the wind from the north), boat 1 ``gap_m``
+    behind boat 0 along boat 0's apparent wind (where its sail sends the air)."""
+    env = parallel_env(num_boats=2, gusts=False, shadow=shadow, countdown_s=0.0)
+    env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
+    flow = np.array([-2.5, -5.0]) / math.hypot(2.5, 5.0)  # the wind (0, -5) less (2.5, 0)
+    place(env, x_m=[0.0, gap_m * flow[0]], y_m=[-30.0, -30.0 + gap_m * flow[1]],
+          heading_rad=[0.0, 0.0], vx_mps=[2.5, 2.5], vy_mps=[0.0, 0.0],
+          yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    return env
+
+
+def test_a_boat_in_anothers_shadow_is_slower() -> None:
+    """Boat 1 sails 6 m behind boat 0 along its apparent wind, both on the same beam reach
+    with the same controls: with shadows boat 1 feels some 5% less wind and after 10 s is
+    measurably slower than without them; boat 0, upwind, sails exactly as without."""
+    speeds = {}
+    for shadow in (False, True):
+        env = _two_boats_in_line(shadow, 6.0)
+        factors = []
+        for _ in range(40):
+            _, _, _, _, infos = env.step({"boat_0": [0.0, 0.2, 0.2], "boat_1": [0.0, 0.2, 0.2]})
+            factors.append(infos["boat_1"]["wind_factor"])
+        speeds[shadow] = [infos[a]["boat_speed"] for a in ("boat_0", "boat_1")]
+        if shadow:
+            assert np.mean(factors) < 0.97
+            assert infos["boat_0"]["wind_factor"] == 1.0
+        else:
+            assert set(factors) == {1.0}
+    assert speeds[True][1] < 0.99 * speeds[False][1]
+    assert speeds[True][0] == speeds[False][0]
+
+
+def test_boats_on_collision_course_bounce_and_never_overlap() -> None:
+    """Two boats sailing at each other bow to bow: they touch, the step reports it, and
+    their hulls never overlap by more than a centimetre."""
+    from bbgym.physics.collision import hull_contacts
+
+    env = parallel_env(num_boats=2, gusts=False, countdown_s=0.0, shadow=False)
+    env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
+    place(env, x_m=[-6.0, 6.0], y_m=[-30.0, -30.0], heading_rad=[0.0, math.pi],
+          vx_mps=[3.0, -3.0], vy_mps=[0.0, 0.0], yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    touched = False
+    for _ in range(12):
+        _, _, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+        touched |= infos["boat_0"]["touched"]
+        boat = env.state_.boats.boat
+        gap = hull_contacts(env.task.hulls, boat.x_m[None], boat.y_m[None],
+                            boat.heading_rad[None], np).gap_m[0, 0, 1]  # fmt: skip
+        assert gap > -0.01
+    assert touched
+    assert env.state_.boats.boat.vx_mps[0] < 1.0  # stopped or sent back
+
+
+def test_over_the_line_at_the_gun_must_return() -> None:
+    """A boat on the course side at the gun is OCS, costs the OCS penalty, cannot start
+    until it has been back below the line, and then starts."""
+    env = parallel_env(num_boats=1, gusts=False, countdown_s=1.0)
+    env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
+    place(env, x_m=[0.0], y_m=[3.0])
+    for _ in range(4):  # the gun fires at the fourth step's end
+        _, r, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
+    assert infos["boat_0"]["ocs"] and infos["boat_0"]["reward_terms"]["ocs"] == -5.0
+    _, r, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
+    assert infos["boat_0"]["ocs"] and infos["boat_0"]["reward_terms"]["ocs"] == 0.0
+    assert infos["boat_0"]["leg"] == 0
+    # carried back behind the line: clear; then sailing up across it: started
+    place(env, y_m=[-2.0])
+    _, _, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
+    assert not infos["boat_0"]["ocs"] and infos["boat_0"]["leg"] == 0
+    place(env, y_m=[-0.5], heading_rad=[math.pi / 2], vx_mps=[0.0], vy_mps=[4.0])
+    _, r, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
+    assert infos["boat_0"]["leg"] == 1 and infos["boat_0"]["reward_terms"]["waypoint"] == 5.0
+
+
+def autopilots(env, obs) -> dict:
+    """The sail env's VMG autopilot on each boat's first 23 columns (the sail env's
+    observation, its mark the point steered for)."""
+    if not hasattr(env, "_pilot"):
+        env._pilot = VMGAutopilot(env.task.sail.params)
+    agents = list(env.agents)
+    actions = env._pilot(np.stack([obs[a][:23] for a in agents]))
+    return {a: actions[i] for i, a in enumerate(agents)}
+
+
+def test_autopilots_finish_the_course_in_order() -> None:
+    """Boats far apart (no shadows, collisions or fouls between them) steered by the
+    sail env's autopilot to the points the race names: every boat passes the start, the
+    windward mark and the finish, places are 1..K in the order they finished, and the
+    winner takes the largest finish reward."""
+    env = parallel_env(num_boats=3, line_length_m=300.0, shadow=False, collisions=False)
+    obs, _ = env.reset(seed=1)
+    finish = {}
+    for _ in range(3000):
+        if not env.agents:
+            break
+        obs, _, terms, truncs, infos = env.step(autopilots(env, obs))
+        for agent, info in infos.items():
+            assert not truncs[agent]
+            if terms[agent]:
+                assert info["finished"] and info["leg"] == 3
+                finish[agent] = (info["finish_time"], info["place"],
+                                 info["reward_terms"]["finish"])  # fmt: skip
+    assert sorted(p for _, p, _ in finish.values()) == [1, 2, 3]
+    by_time = sorted(finish.values())
+    assert [p for _, p, _ in by_time] == [1, 2, 3]
+    assert by_time[0][2] > by_time[1][2] > by_time[2][2] > 0.0
+
+
+def _port_starboard_crossing(**kwargs):
+    """Boat 0 on port tack (heading north-east, the wind from the north) and boat 1 on
+    starboard tack (north-west), their bows touching."""
+    env = parallel_env(num_boats=2, gusts=False, countdown_s=0.0, shadow=False, **kwargs)
+    env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
+    place(env, x_m=[0.0, 2.5], y_m=[-40.0, -40.0],
+          heading_rad=[math.radians(45.0), math.radians(135.0)], vx_mps=[0.0, 0.0],
+          vy_mps=[0.0, 0.0], yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    return env
+
+
+def test_a_foul_costs_a_penalty_turn_before_the_next_waypoint() -> None:
+    """The port-tack boat fouls the starboard-tack one: one foul, a turn owed, the foul's
+    reward; the encounter going on is no new foul; a full circle pays the turn."""
+    env = _port_starboard_crossing()
+    _, r, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+    assert infos["boat_0"]["fouls"] == 1 and infos["boat_1"]["fouls"] == 0
+    assert infos["boat_0"]["turns_owed"] == 1
+    assert (
+        infos["boat_0"]["reward_terms"]["foul"]
+        == -2.0
+        == r["boat_0"] - sum(v for k, v in infos["boat_0"]["reward_terms"].items() if k != "foul")
+    )
+    _, _, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+    assert infos["boat_0"]["fouls"] == 1
+    # boat 0 spun round (a yaw rate set before each step), far from boat 1
+    for step in range(24):  # noqa: B007 (read after the loop)
+        boat = env.state_.boats.boat
+        place(env, x_m=boat.x_m - [30.0, 0.0], yaw_rate_rps=[4.0, 0.0])
+        _, _, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+        if infos["boat_0"]["turns_owed"] == 0:
+            break
+    # about half a radian a step: 2 pi takes 13 steps or more
+    assert infos["boat_0"]["turns_owed"] == 0 and step >= 11
+
+
+def test_time_penalty_delays_the_finish() -> None:
+    """With ``penalty="time"`` the foul owes 20 s: two boats crossing the finish together,
+    the one that fouled finishes 80 steps (20 s) after the other and second."""
+    env = _port_starboard_crossing(penalty="time", penalty_time_s=20.0)
+    _, _, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+    assert infos["boat_0"]["penalty_owed"] == 20.0 and infos["boat_0"]["turns_owed"] == 0
+    env.state_ = replaced(env.state_, leg=np.array([[2, 2]]))  # on the way to the finish
+    place(env, x_m=[-10.0, 10.0], y_m=[0.5, 0.5], heading_rad=[-math.pi / 2] * 2,
+          vx_mps=[0.0, 0.0], vy_mps=[-4.0, -4.0], yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    finished = {}
+    for step in range(200):
+        _, _, terms, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+        finished |= {a: (step, infos[a]["place"]) for a in terms if terms[a]}
+        if not env.agents:
+            break
+    assert finished["boat_1"] == (0, 1) and finished["boat_0"][1] == 2
+    assert 79 <= finished["boat_0"][0] - finished["boat_1"][0] <= 81
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "names"),
+    [
+        ({"num_boats": 0}, ValueError, "num_boats"),
+        ({"num_boats": 2.0}, TypeError, "num_boats"),
+        ({"laps": 9}, ValueError, "laps"),
+        ({"shadow_params": {"length_m": -1.0}}, ValueError, "shadow_params.length_m"),
+        ({"boat": {"dinghy": {"mass_kg": -3.0}}}, ValueError, "dinghy.mass_kg"),
+        ({"boat": {"hull": 1}}, TypeError, "hull"),
+        ({"penalty": "dsq"}, ValueError, "penalty"),
+        ({"restitution": 1.5}, ValueError, "restitution"),
+        ({"render_mode": "human"}, ValueError, "render_mode"),
+    ],
+)
+def test_bad_arguments_name_themselves(kwargs, error, names) -> None:
+    with pytest.raises(error, match=names.replace(".", r"\.")):
+        parallel_env(**kwargs)
+
+
+def test_bad_options_and_actions_name_themselves() -> None:
+    env = parallel_env(num_boats=2)
+    with pytest.raises(ValueError, match=r"options\['wind_speed'\]"):
+        env.reset(options={"wind_speed": -1.0})
+    with pytest.raises(TypeError, match="tide"):
+        env.reset(options={"tide": 1.0})
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"actions\['boat_1'\]"):
+        env.step({"boat_0": [0, 0, 0], "boat_1": [np.nan, 0, 0]})
+    with pytest.raises(ValueError, match="boat_1"):
+        env.step({"boat_0": [0, 0, 0]})
+    with pytest.raises(ValueError, match="boat_7"):
+        env.step({"boat_0": [0, 0, 0], "boat_1": [0, 0, 0], "boat_7": [0, 0, 0]})
+
+
+def test_the_default_boat_is_the_sail_familys_newest() -> None:
+    from bbgym.envs.sail.spec import SPEC
+
+    env = parallel_env()
+    assert newest_boat()["dinghy"] == SPEC.versions[-1].kwargs["dinghy"]
+    assert env.task.sail.params.rig == "sloop"
+    assert env.action_space("boat_0").shape == (3,)
