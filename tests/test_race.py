@@ -12,7 +12,7 @@ import pytest
 
 pytest.importorskip("pettingzoo")
 
-from bbgym.agents import VMGAutopilot  # noqa: E402
+from bbgym.agents import RaceRacer  # noqa: E402
 from pettingzoo.test import api_test, parallel_api_test  # noqa: E402
 from pettingzoo.utils import parallel_to_aec  # noqa: E402
 
@@ -183,8 +183,9 @@ def test_over_the_line_at_the_gun_must_return() -> None:
     env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
     place(env, x_m=[0.0], y_m=[3.0])
     for _ in range(4):  # the gun fires at the fourth step's end
-        _, r, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
+        obs, r, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
     assert infos["boat_0"]["ocs"] and infos["boat_0"]["reward_terms"]["ocs"] == -5.0
+    assert obs["boat_0"][26] == 1.0 and obs["boat_0"][25] == 0.0  # the docstring's columns
     _, r, _, _, infos = env.step({"boat_0": [0.0, 1.0, 1.0]})
     assert infos["boat_0"]["ocs"] and infos["boat_0"]["reward_terms"]["ocs"] == 0.0
     assert infos["boat_0"]["leg"] == 0
@@ -197,14 +198,18 @@ def test_over_the_line_at_the_gun_must_return() -> None:
     assert infos["boat_0"]["leg"] == 1 and infos["boat_0"]["reward_terms"]["waypoint"] == 5.0
 
 
-def autopilots(env, obs) -> dict:
+class AutopilotAlone(RaceRacer):
     """The sail env's VMG autopilot on each boat's first 23 columns (the sail env's
-    observation, its mark the point steered for)."""
+    observation, its mark the point steered for), nothing else."""
+
+    def __call__(self, obs):
+        return self.pilot(np.asarray(obs)[..., : self.sail_size])
+
+
+def autopilots(env, obs) -> dict:
     if not hasattr(env, "_pilot"):
-        env._pilot = VMGAutopilot(env.task.sail.params)
-    agents = list(env.agents)
-    actions = env._pilot(np.stack([obs[a][:23] for a in agents]))
-    return {a: actions[i] for i, a in enumerate(agents)}
+        env._pilot = AutopilotAlone.for_env(env)
+    return env._pilot.actions(obs, env.agents)
 
 
 def test_autopilots_finish_the_course_in_order() -> None:
@@ -246,9 +251,12 @@ def test_a_foul_costs_a_penalty_turn_before_the_next_waypoint() -> None:
     """The port-tack boat fouls the starboard-tack one: one foul, a turn owed, the foul's
     reward; the encounter going on is no new foul; a full circle pays the turn."""
     env = _port_starboard_crossing()
-    _, r, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+    obs, r, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
     assert infos["boat_0"]["fouls"] == 1 and infos["boat_1"]["fouls"] == 0
     assert infos["boat_0"]["turns_owed"] == 1
+    # the docstring's columns: a turn owed, and each sees who keeps clear of whom
+    assert obs["boat_0"][28] == 0.5 and obs["boat_1"][28] == 0.0
+    assert obs["boat_0"][35] == 1.0 and obs["boat_0"][42] == -1.0 and obs["boat_1"][42] == 1.0
     assert (
         infos["boat_0"]["reward_terms"]["foul"]
         == -2.0
@@ -297,7 +305,7 @@ def test_time_penalty_delays_the_finish() -> None:
         ({"boat": {"hull": 1}}, TypeError, "hull"),
         ({"penalty": "dsq"}, ValueError, "penalty"),
         ({"restitution": 1.5}, ValueError, "restitution"),
-        ({"render_mode": "human"}, ValueError, "render_mode"),
+        ({"render_mode": "ansi"}, ValueError, "render_mode"),
     ],
 )
 def test_bad_arguments_name_themselves(kwargs, error, names) -> None:
@@ -327,3 +335,80 @@ def test_the_default_boat_is_the_sail_familys_newest() -> None:
     assert newest_boat()["dinghy"] == SPEC.versions[-1].kwargs["dinghy"]
     assert env.task.sail.params.rig == "sloop"
     assert env.action_space("boat_0").shape == (3,)
+
+
+def test_the_scripted_racer_finishes_and_fouls_less_than_the_autopilot() -> None:
+    """Two seeded four-boat races: every RaceRacer boat finishes, none over early at the
+    gun is left unreturned, and the fleet commits fewer fouls than the autopilot alone
+    (which neither avoids nor takes its penalty turns)."""
+    fouls = {}
+    for name in ("racer", "autopilot"):
+        env = parallel_env(num_boats=4)
+        racer = (RaceRacer if name == "racer" else AutopilotAlone).for_env(env)
+        total, finished = 0, 0
+        for seed in (0, 1):
+            obs, _ = env.reset(seed=seed)
+            racer.reset()
+            last = {}
+            while env.agents:
+                obs, _, _, _, infos = env.step(racer.actions(obs, env.agents))
+                last |= infos
+            total += sum(info["fouls"] for info in last.values())
+            finished += sum(info["finished"] for info in last.values())
+        fouls[name] = total
+        if name == "racer":
+            assert finished == 8
+    assert fouls["racer"] < fouls["autopilot"]
+
+
+def test_render_draws_the_course_the_boats_and_their_shadows() -> None:
+    """``rgb_array`` frames of a race: the course's white line and orange marks, each boat
+    in its own colour, and the shaded cones (darker water) downwind of the boats; no
+    frame without a render mode."""
+    pytest.importorskip("pygame")
+    from bbgym.envs.race.view import BOAT_COLORS, MARK_COLOR, WATER_COLOR
+
+    env = parallel_env(num_boats=3, render_mode="rgb_array")
+    env.reset(seed=0)
+    for _ in range(8):
+        env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
+    frame = env.render()
+    env.close()
+    assert frame.shape == (480, 640, 3) and frame.dtype == np.uint8
+    pixels = frame.reshape(-1, 3)
+    colours = {tuple(p) for p in np.unique(pixels, axis=0)}
+    assert tuple(WATER_COLOR) in colours and tuple(MARK_COLOR) in colours
+    for colour in BOAT_COLORS[:3]:
+        assert tuple(colour) in colours, colour
+    shaded = np.all(pixels < np.array(WATER_COLOR), axis=1).sum()
+    assert shaded > 2000  # three cones of about 140 m^2, at some 2.3 px a metre
+    assert parallel_env(num_boats=2).render() is None
+
+
+def test_the_solo_view_is_a_gymnasium_env() -> None:
+    """One boat against scripted racers: Gymnasium's env checker passes, a seed gives the
+    same episode, and Gymnasium's vector env runs it."""
+    from gymnasium.utils.env_checker import check_env
+
+    from bbgym.envs.race import BeachballRaceSoloEnv
+
+    env = BeachballRaceSoloEnv(num_boats=3)
+    check_env(env, skip_render_check=True)
+    runs = []
+    for _ in range(2):
+        obs, _ = env.reset(seed=4)
+        trace = [obs]
+        for t in range(60):
+            obs, reward, terminated, truncated, info = env.step(
+                env.action_space.sample() if t < 0 else [0.0, 0.3, 0.3]
+            )
+            trace.append(obs)
+        runs.append(np.stack(trace))
+    np.testing.assert_array_equal(runs[0], runs[1])
+    assert set(info) >= {"is_success", "won", "place", "fouls"}
+    vec = gym.vector.SyncVectorEnv([lambda: BeachballRaceSoloEnv(num_boats=2)] * 2)
+    obs, _ = vec.reset(seed=0)
+    obs, rewards, *_ = vec.step(np.zeros((2, 3), dtype=np.float32))
+    # two boats: one neighbour observed (where three boats observe two)
+    assert obs.shape == (2, 23 + 12 + 8) and np.isfinite(rewards).all()
+    vec.close()

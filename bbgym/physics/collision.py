@@ -125,6 +125,12 @@ def collide(
     k = x.shape[1]
     others = xp.logical_not(xp.eye(k, dtype=xp.bool, device=getattr(x, "device", None)))
     pairs = others[None, :, :] & active[:, :, None] & active[:, None, :]
+    # Broad phase: hulls whose centres are further apart than a hull's length cannot touch;
+    # where no pair is that close (most steps of a race), nothing is computed.
+    reach = 2.0 * (h.half_segment_m + h.radius_m)
+    near = xp.hypot(x[:, :, None] - x[:, None, :], y[:, :, None] - y[:, None, :]) < reach
+    if not bool(xp.any(pairs & near)):
+        return x, y, vx, vy, yaw_rate, pairs & near
     contacts = hull_contacts(h, x, y, heading, xp)
     touching = pairs & (contacts.gap_m < 0.0)
     nx, ny = contacts.normal_x, contacts.normal_y

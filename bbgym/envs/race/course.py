@@ -144,8 +144,11 @@ BEHIND_LINE_M = 10.0
 
 def steer_target(course: Course, kind: Array, ocs: Array, x: Array, y: Array,
                  xp: Any) -> tuple[Array, Array]:  # fmt: skip
-    """The point a boat at ``(x, y)`` steers for on its way to a waypoint of ``kind``: the
-    line's centre (start, finish), the gate's centre, and for the windward mark a point
+    """The point a boat at ``(x, y)`` steers for on its way to a waypoint of ``kind``: for
+    the start a point :data:`ROUNDING_OFFSET_M` above the line, level with the boat (so a
+    fleet spreads along the line rather than heading for one point), at least as far
+    inside the line's ends; the finish line's centre, the gate's centre, and for the
+    windward mark a point
     :data:`ROUNDING_OFFSET_M` above it, on its starboard side while the boat is on its
     port side and on its port side once the boat is on its starboard side, so that
     steering for it rounds the mark to port (:func:`rounded_windward`). A boat over the
@@ -163,6 +166,10 @@ def steer_target(course: Course, kind: Array, ocs: Array, x: Array, y: Array,
     target_y = xp.where(
         kind == WINDWARD, mark_y, xp.where(kind == GATE, course.gate_y_m + zero, zero)
     )
+    inside = max(course.line_half_m - ROUNDING_OFFSET_M, 0.0)
+    level = xp.clip(x * ax + y * ay, -inside, inside)
+    target_x = xp.where(kind == START, level * ax + ROUNDING_OFFSET_M * ux, target_x)
+    target_y = xp.where(kind == START, level * ay + ROUNDING_OFFSET_M * uy, target_y)
     target_x = xp.where(ocs & (kind == START), -BEHIND_LINE_M * ux + zero, target_x)
     target_y = xp.where(ocs & (kind == START), -BEHIND_LINE_M * uy + zero, target_y)
     return target_x, target_y

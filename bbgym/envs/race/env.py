@@ -38,9 +38,10 @@ def newest_boat() -> dict[str, Any]:
 
 class BeachballRaceEnv(ParallelEnv):
     """A fleet of dinghies racing on one windward course: a start with a countdown, a
-    windward mark, a leeward gate, laps and a finish, the wind shared by the fleet and each
-    boat's sails shadowing the boats downwind of it. A PettingZoo ``ParallelEnv``: every
-    boat acts at every step; :func:`bbgym.envs.race.env` gives the AEC form.
+    windward mark, a leeward gate, laps and a finish, the wind shared by the fleet, each
+    boat's sails shadowing the boats downwind of it, hulls that bounce off each other and
+    the right-of-way rules. A PettingZoo ``ParallelEnv``: every boat acts at every step;
+    :func:`bbgym.envs.race.env` gives the AEC form.
 
     Each boat is the sailing env's boat at its newest version (BeachballSail-v2's sloop,
     calibrated to a Laser) in still water; alone on the course it sails exactly as that
@@ -58,7 +59,9 @@ class BeachballRaceEnv(ParallelEnv):
 
     ## Observation Space
 
-    Per boat, ``Box(-1, 1, (23 + 11 + 7 n,), float32)`` with ``n`` the ``neighbours`` (3):
+    Per boat, ``Box(-1, 1, (23 + 12 + 8 n,), float32)``, ``n`` the ``neighbours`` (3, at
+    most ``num_boats - 1``); column names in :data:`bbgym.envs.race.task.RACE_COLUMNS` and
+    :data:`~bbgym.envs.race.task.NEIGHBOUR_COLUMNS`:
 
     | index | observation | scale |
     |---|---|---|
@@ -68,27 +71,30 @@ class BeachballRaceEnv(ParallelEnv):
     | 25 | started (1) or not (0) | - |
     | 26 | over the line early and not yet back (1) | - |
     | 27 | waypoints passed, as a share of all | - |
-    | 28-30 | the committee boat: cos, sin of its bearing off the bow, distance | 200 m |
-    | 31-33 | the pin, alike | 200 m |
-    | 34 + 7 i | the i-th nearest other boat racing: present (1) or not (0) | - |
-    | 35-36 + 7 i | its position ahead and to port | 50 m |
-    | 37-38 + 7 i | its velocity relative to this boat's, ahead and to port | 6 m/s |
-    | 39-40 + 7 i | cos and sin of its heading relative to this boat's | - |
+    | 28 | penalty owed: turns / 2 + seconds / 60 | - |
+    | 29-31 | the committee boat: cos, sin of its bearing off the bow, distance | 200 m |
+    | 32-34 | the pin, alike | 200 m |
+    | 35 + 8 i | the i-th nearest other boat sailing: present (1) or not (0) | - |
+    | 36-37 + 8 i | its position ahead and to port | 50 m |
+    | 38-39 + 8 i | its velocity relative to this boat's, ahead and to port | 6 m/s |
+    | 40-41 + 8 i | cos and sin of its heading relative to this boat's | - |
+    | 42 + 8 i | right of way: -1 this boat keeps clear of it, 1 it of this boat | - |
 
-    The point steered for: the start line's centre, then a point 5 m above the windward
-    mark and 5 m to its starboard side while the boat is on its port side, to its port
-    side once the boat is on its starboard side (steering for it rounds the mark to port),
-    the gate's centre, the finish line's centre; a boat over the line early steers for a
-    point 10 m behind the line's centre. An absent neighbour's columns are zeros.
+    The point steered for: a point 5 m above the start line level with the boat (at least
+    5 m inside the line's ends), then a point 5 m above the windward mark and 5 m to its
+    starboard side while the boat is on its port side, to its port side once the boat is
+    on its starboard side (steering for it rounds the mark to port), the gate's centre,
+    the finish line's centre; a boat over the line early steers for a point 10 m behind
+    the line's centre. An absent neighbour's columns are zeros.
 
     ## Rewards
 
-    Per boat, per step: progress toward the waypoint it steers for after the gun (the
-    sail env's, at most 1 a step), ``waypoint_bonus`` (5) for each waypoint passed (the
-    start included), ``finish_bonus`` (20) times ``(K - place + 1) / K`` at the finish,
+    Per boat, per step: progress toward the point it steers for after the gun (the sail
+    env's, at most 1 a step), ``waypoint_bonus`` (5) for each waypoint passed (the start
+    included), ``finish_bonus`` (20) times ``(K - place + 1) / K`` at the finish,
     ``-ocs_penalty`` (5) when over the line at the gun, ``-capsize_penalty`` (30) at a
-    capsize, ``-time_penalty`` (0.1) a step after the gun until it finishes. The infos'
-    ``reward_terms`` hold each.
+    capsize, ``-foul_penalty`` (2) for each foul, ``-time_penalty`` (0.1) a step after the
+    gun until it finishes. The infos' ``reward_terms`` hold each.
 
     ## The course and the rules sailed
 
@@ -99,7 +105,12 @@ class BeachballRaceEnv(ParallelEnv):
     gate, the last lap the finish (the start line crossed downwind). The start: the gun
     fires ``countdown_s`` (30 s) after the reset; a boat on the course side of the line (or
     its extensions) at the gun must return below it before it can start, crossing the line
-    upwind between its ends.
+    upwind between its ends. Hulls touching bounce (``collisions``, ``restitution`` 0.3).
+    Rules 10 (port keeps clear of starboard), 12 (clear astern keeps clear), 11 (windward
+    keeps clear) and a simplified 18 (the outside boat gives mark room): a boat that must
+    keep clear and comes within ``keep_clear_m`` (0.5 m) of the other fouls her, and owes
+    a full turn before her next waypoint (``penalty="turn"``) or ``penalty_time_s`` (30 s)
+    on her finishing time (``penalty="time"``).
 
     ## Starting State
 
@@ -111,8 +122,9 @@ class BeachballRaceEnv(ParallelEnv):
 
     ## Episode End
 
-    A boat's episode terminates when it finishes or capsizes; every boat still racing is
-    truncated when the race clock reaches ``max_race_time_s`` (600 s).
+    A boat's episode terminates when it finishes (its time penalty served) or capsizes;
+    every boat still racing is truncated when the race clock reaches ``max_race_time_s``
+    (600 s).
 
     ## Arguments
 
@@ -121,20 +133,29 @@ class BeachballRaceEnv(ParallelEnv):
     ``leg_length_m``, ``gate_depth_m``, ``gate_width_m``, ``countdown_s``,
     ``start_depth_range``, ``max_race_time_s``, ``wind_speed_range``, ``gusts``,
     ``gust_params``, ``shadow`` (on), ``shadow_params``
-    (:class:`bbgym.physics.shadow.ShadowParams`), ``neighbours``, and the reward weights
-    above. ``reset(options=...)`` pins ``wind_speed``, ``wind_from`` (rad) and ``gusts``.
+    (:class:`bbgym.physics.shadow.ShadowParams`), ``collisions`` (on), ``restitution``,
+    ``keep_clear_m``, ``penalty``, ``penalty_time_s``, ``neighbours``, the reward weights
+    above, ``render_mode`` (None, ``"rgb_array"`` or ``"human"``). ``reset(options=...)``
+    pins ``wind_speed``, ``wind_from`` (rad) and ``gusts``; an unknown key raises
+    ``TypeError``.
 
     ## Version History
 
-    * v0: the first version (collisions and the right-of-way rules are not yet modelled).
+    * v0: the first version.
     """
 
-    metadata = {"name": "beachball_race_v0", "render_modes": [], "is_parallelizable": True}
+    metadata = {
+        "name": "beachball_race_v0",
+        "render_modes": ["human", "rgb_array"],
+        "render_fps": 4,  # a frame a step of 0.25 s: real time
+        "is_parallelizable": True,
+    }
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
-        if render_mode is not None:
-            raise ValueError(f"render_mode must be None (drawing a race is not built yet), "
-                             f"got {render_mode!r}")  # fmt: skip
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be None or one of "
+                             f"{self.metadata['render_modes']}, got {render_mode!r}")  # fmt: skip
+        self._renderer: Any = None
         boat = newest_boat()
         boat.update(kwargs.pop("boat", None) or {})
         self.task = RaceTask(boat=boat, **kwargs)
@@ -213,11 +234,23 @@ class BeachballRaceEnv(ParallelEnv):
 
         return {a: boat(self.possible_agents.index(a)) for a in agents or self.agents}
 
-    def render(self) -> None:
-        return None
+    def render(self) -> np.ndarray | None:
+        """The race from above (:mod:`bbgym.envs.race.view`): an RGB frame
+        ``(480, 640, 3)`` in ``rgb_array`` mode, a window in ``human`` mode (pygame, the
+        ``render`` extra); nothing without a ``render_mode``."""
+        if self.render_mode is None or self.state_ is None:
+            return None
+        from bbgym.envs.race.view import RaceRenderer, race_scene
+
+        if self._renderer is None:
+            self._renderer = RaceRenderer(self.render_mode, 640, 480,
+                                          self.metadata["render_fps"])  # fmt: skip
+        return self._renderer.render(race_scene(self.task, self.state_))
 
     def close(self) -> None:
-        pass
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
 
 
 def parallel_env(**kwargs: Any) -> BeachballRaceEnv:

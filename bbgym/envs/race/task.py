@@ -66,8 +66,20 @@ PENALTY_SCALE_S = 60.0
 """A time penalty owed is observed in minutes."""
 RELATIVE_SCALE_M = 50.0
 """Neighbours' positions are divided by this: boats within 50 m are inside [-1, 1]."""
-RACE_OBS_SIZE = 12
-NEIGHBOUR_OBS_SIZE = 8
+RACE_COLUMNS = (
+    "time_to_gun", "race_time", "started", "ocs", "waypoints_passed", "penalty_owed",
+    "committee_cos", "committee_sin", "committee_distance", "pin_cos", "pin_sin",
+    "pin_distance",
+)  # fmt: skip
+"""The race's columns, after the sail env's (the env's docstring table)."""
+NEIGHBOUR_COLUMNS = (
+    "present", "ahead", "port", "speed_ahead", "speed_port", "heading_cos", "heading_sin",
+    "right_of_way",
+)  # fmt: skip
+"""Each neighbour's columns, after the race's: ``right_of_way`` is -1 where this boat must
+keep clear of it, 1 where it must keep clear of this boat."""
+RACE_OBS_SIZE = len(RACE_COLUMNS)
+NEIGHBOUR_OBS_SIZE = len(NEIGHBOUR_COLUMNS)
 REWARD_TERMS = {
     "progress": "progress",
     "waypoint": "waypoint",
@@ -220,6 +232,8 @@ class RaceTask:
                 + NEIGHBOUR_OBS_SIZE * self.neighbours)  # fmt: skip
         self.observation_space = spaces.Box(-1.0, 1.0, (size,), np.float32)
         self.action_space = self.sail.action_space
+        self.race_column = size - RACE_OBS_SIZE - NEIGHBOUR_OBS_SIZE * self.neighbours
+        """Where the race's columns begin (after the sail env's)."""
 
     # -- scenario ---------------------------------------------------------------------------
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
