@@ -131,3 +131,20 @@ def test_bench_times_tensors_in_and_out():
     row = time_backend("BeachballSail-v0", 8, 4, 1.0, 0, backend="torch", dtype="float32",
                        compile=False, output="torch")  # fmt: skip
     assert row["rate"] > 0 and row["state_mb"] > 0
+
+
+def test_bench_quick_race_rows(tmp_path):
+    """``--race``: the PettingZoo race beside CartPole's single env, the fleet vector env
+    beside CartPole's vector env at the same N, in boat-steps."""
+    done = subprocess.run(
+        [sys.executable, "-m", "bbgym", "bench", "--quick", "--race", "--envs",
+         "BeachballSail-v0", "--out", str(tmp_path)],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    rows = [r for r in json.loads((tmp_path / "bench.json").read_text())["rows"]
+            if r["env"] == "bbgym/BeachballRace-v0"]  # fmt: skip
+    assert [r["kind"] for r in rows] == ["PettingZoo, 4 boats", "fleet N=4 (1 race)",
+                                         "fleet N=8 (2 races)"]  # fmt: skip
+    assert all(r["rate"] > 0 and r["ratio"] > 0 for r in rows)
+    assert "boat-steps/s" in (tmp_path / "bench.md").read_text()

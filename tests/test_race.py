@@ -412,3 +412,60 @@ def test_the_solo_view_is_a_gymnasium_env() -> None:
     # two boats: one neighbour observed (where three boats observe two)
     assert obs.shape == (2, 23 + 12 + 8) and np.isfinite(rewards).all()
     vec.close()
+
+
+def test_the_fleet_vector_env_races_as_the_pettingzoo_env() -> None:
+    """Race ``r`` of the fleet env reset with ``seed=s`` is the PettingZoo env reset with
+    ``seed=s + r``: the same observations and rewards under the same actions."""
+    from bbgym.envs.race import BeachballRaceFleetEnv
+
+    fleet = BeachballRaceFleetEnv(num_races=3, num_boats=2)
+    obs, info = fleet.reset(seed=10)
+    assert obs.shape == (6, 43) and obs.dtype == np.float32 and info["place"].shape == (6,)
+    race = parallel_env(num_boats=2)
+    race_obs, _ = race.reset(seed=12)
+    rng = np.random.default_rng(0)
+    for _ in range(120):
+        np.testing.assert_array_equal(obs[4:6], np.stack([race_obs["boat_0"], race_obs["boat_1"]]))
+        actions = rng.uniform(-1, 1, (6, 3)).astype(np.float32)
+        obs, rewards, _, _, _ = fleet.step(actions)
+        race_obs, race_rewards, _, _, _ = race.step({"boat_0": actions[4], "boat_1": actions[5]})
+        assert list(rewards[4:6]) == [race_rewards["boat_0"], race_rewards["boat_1"]]
+    with pytest.raises(ValueError, match="actions"):
+        fleet.step(np.full((6, 3), np.nan))
+
+
+def test_a_boat_that_finished_sits_out_until_its_race_restarts() -> None:
+    """One race of two boats: boat 0 carried across the finish terminates (its real last
+    observation), then sits out (zeros, reward 0) while boat 1 races on; at the time limit
+    both stop (truncated), and the next step starts a new race (reward 0, the clock back)."""
+    from bbgym.envs.race import BeachballRaceFleetEnv
+
+    fleet = BeachballRaceFleetEnv(num_races=1, num_boats=2, countdown_s=0.0,
+                                  max_race_time_s=20.0, gusts=False)  # fmt: skip
+    fleet.reset(seed=0)
+    state = fleet.state
+    fleet.state = replaced(state, leg=np.array([[2, 0]]))  # boat 0 on its way to the finish
+    # the finish line is the start line crossed downwind: boat 0 sits on top of it
+    wind = fleet.state.wind_from_rad[0]
+    course_up = np.array([math.cos(wind), math.sin(wind)])
+    across = np.array([-course_up[1], course_up[0]])
+    positions = np.stack([0.5 * course_up, 100.0 * across])
+    heading0 = math.atan2(-course_up[1], -course_up[0])
+    boat = replaced(fleet.state.boats.boat, x_m=positions[:, 0], y_m=positions[:, 1],
+                    heading_rad=np.array([heading0, 0.0]),
+                    vx_mps=np.array([-4.0 * course_up[0], 0.0]),
+                    vy_mps=np.array([-4.0 * course_up[1], 0.0]))  # fmt: skip
+    fleet.state = replaced(fleet.state, boats=replaced(fleet.state.boats, boat=boat))
+    obs, rewards, terminated, truncated, info = fleet.step(np.zeros((2, 3), np.float32))
+    assert list(terminated) == [True, False] and info["place"][0] == 1
+    assert np.any(obs[0] != 0.0)
+    for _ in range(200):
+        obs, rewards, terminated, truncated, info = fleet.step(np.zeros((2, 3), np.float32))
+        if truncated.any():
+            break
+        assert np.all(obs[0] == 0.0) and rewards[0] == 0.0 and not terminated[0]
+    assert list(truncated) == [True, True] and not terminated.any()
+    obs, rewards, terminated, truncated, info = fleet.step(np.zeros((2, 3), np.float32))
+    assert list(rewards) == [0.0, 0.0] and not (terminated.any() or truncated.any())
+    assert np.all(info["race_clock"] == 0.0) and np.any(obs != 0.0, axis=1).all()

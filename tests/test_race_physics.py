@@ -299,3 +299,22 @@ def test_inside_boat_gets_mark_room() -> None:
     assert must[1, 0] and not must[0, 1]
     far = _must(xs, [ys[0] - 60.0, ys[1] - 60.0], [h, h], kind=rc.WINDWARD)
     assert far[0, 1] and not far[1, 0]
+
+
+def test_races_resolve_alone_as_in_a_batch() -> None:
+    """A batch of races where only some have hulls close: each race's result is the one it
+    gets resolved alone (NumPy resolves the close races only), bit for bit."""
+    rng = np.random.default_rng(5)
+    x, y = rng.uniform(-4, 4, (6, 4)), rng.uniform(-4, 4, (6, 4))
+    x[1::2] *= 40.0  # every other race spread out: no hulls near
+    heading = rng.uniform(-3, 3, (6, 4))
+    vx, vy, w = rng.normal(size=(6, 4)), rng.normal(size=(6, 4)), rng.normal(size=(6, 4))
+    active = np.ones((6, 4), dtype=bool)
+    batch = collide(HULLS, 0.3, x, y, heading, vx, vy, w, active, np)
+    assert batch[5][0::2].any() and not batch[5][1::2].any()
+    for r in range(6):
+        one = slice(r, r + 1)
+        alone = collide(HULLS, 0.3, x[one], y[one], heading[one], vx[one], vy[one], w[one],
+                        active[one], np)  # fmt: skip
+        for got, want in zip(batch, alone, strict=True):
+            np.testing.assert_array_equal(got[r], want[0])

@@ -1,7 +1,7 @@
 """Benchmark the bbgym envs against Gymnasium's CartPole, all measured in one run.
 
-    bbgym bench [--quick] [--backends] [--training] [--device DEVICE] [--out runs/bench]
-        [--seconds S] [--repeats R]
+    bbgym bench [--quick] [--backends] [--training] [--race] [--device DEVICE]
+        [--out runs/bench] [--seconds S] [--repeats R]
 
 Prints a markdown table and writes it (``bench.md``) and the raw numbers (``bench.json``)
 to ``--out``:
@@ -18,6 +18,10 @@ to ``--out``:
   (``bbgym train --engine torchrl``, each env's preset) on ``--device``, timesteps per
   second of collecting and learning after the first batch (which compiles), beside
   stable-baselines3's PPO on CartPole;
+* ``--race`` (the ``race`` extra): BeachballRace's boat-steps per second, the PettingZoo
+  env of 4 boats beside CartPole's single env, and the fleet vector env of N / 4 races
+  (:class:`bbgym.envs.race.BeachballRaceFleetEnv`) beside CartPole's native vector env at
+  the same N;
 * peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
 * the backends of the native vector envs (``--backends``, needs torch): torch float64 and
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
@@ -70,10 +74,16 @@ GPU_ENVS = (4096, 65536, 2**20)
 """The batch sizes of ``--device cuda``: up to about 10^6 envs, where a GPU fills."""
 
 
+RACE_BOATS = 4
+"""Boats in the ``--race`` rows' races (the race's default fleet)."""
+
+
 def per_second(env_id: str) -> str:
     """The unit of a row's rate where an env step is not a plain step (``" throws/s"``)."""
     if env_id == REFERENCE:
         return ""
+    if env_id.startswith("bbgym/"):  # PettingZoo's ids: a race's steps, boat by boat
+        return " boat-steps/s"
     unit = spec_of(env_id).step_unit
     return "" if unit == "steps" else f" {unit}/s"
 
@@ -100,6 +110,34 @@ def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
     elapsed = time.perf_counter() - start
     env.close()
     return done / elapsed
+
+
+def time_race(num_races: int, steps: int, seconds: float, seed: int) -> float:
+    """Boat-steps per second of BeachballRace (:data:`RACE_BOATS` boats a race, seeded
+    random actions): the PettingZoo env (``num_races`` 0) or ``num_races`` races as one
+    fleet vector env (:class:`bbgym.envs.race.BeachballRaceFleetEnv`)."""
+    import numpy as np
+
+    from bbgym.envs.race import BeachballRaceFleetEnv, parallel_env
+
+    rng = np.random.default_rng(seed)
+    n = max(num_races, 1) * RACE_BOATS
+    actions = rng.uniform(-1.0, 1.0, (min(steps, 256), n, 3)).astype(np.float32)
+    fleet = BeachballRaceFleetEnv(num_races, num_boats=RACE_BOATS) if num_races else None
+    race = None if fleet else parallel_env(num_boats=RACE_BOATS)
+    (fleet or race).reset(seed=seed)
+    done, start = 0, time.perf_counter()
+    while done < steps and (done % 16 or time.perf_counter() - start < seconds):
+        action = actions[done % len(actions)]
+        if fleet is not None:
+            fleet.step(action)
+        else:
+            if not race.agents:
+                race.reset()
+            race.step({a: action[i] for i, a in enumerate(race.possible_agents)
+                       if a in race.agents})  # fmt: skip
+        done += 1
+    return done * n / (time.perf_counter() - start)
 
 
 def time_vector(
@@ -328,6 +366,8 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
 
     if args.training:
         rows += torchrl_training_rows(args, ppo_reference)
+    if args.race:
+        rows += race_rows(args)
 
     memory = {
         env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
@@ -335,6 +375,29 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
     backend = backend_rows(args) if args.backends else []
     return {"rows": rows, "backend_rows": backend, "memory_mb": memory,
             "machine": machine_info()}  # fmt: skip
+
+
+def race_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """BeachballRace's rows: the PettingZoo env beside CartPole's single env, and the fleet
+    vector env of ``N / 4`` races beside CartPole's native vector env at the same N (boat
+    by boat: a boat's step is a sub-env's step)."""
+    from bbgym.envs.race import ENV_ID
+
+    best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
+    reference = best(time_single, REFERENCE, args.steps, args.seconds, args.seed)
+    rate = best(time_race, 0, args.steps, args.seconds, args.seed)
+    rows = [{"env": ENV_ID, "kind": f"PettingZoo, {RACE_BOATS} boats", "rate": rate,
+             "ratio": rate / reference}]  # fmt: skip
+    for n in args.num_envs:
+        races = max(n // RACE_BOATS, 1)
+        size = races * RACE_BOATS
+        reference = time_vector(REFERENCE, size, max(2, args.steps // size), args.seconds,
+                                args.seed)  # fmt: skip
+        rate = time_race(races, max(2, args.steps // size), args.seconds, args.seed)
+        plural = "s" if races > 1 else ""
+        rows.append({"env": ENV_ID, "kind": f"fleet N={size} ({races} race{plural})", "rate": rate,
+                     "ratio": rate / reference})  # fmt: skip
+    return rows
 
 
 def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
@@ -407,6 +470,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--training", action="store_true",
                         help="add TorchRL PPO's training throughput (the torchrl extra; "
                         "always with --device cuda)")  # fmt: skip
+    parser.add_argument(
+        "--race", action="store_true", help="add BeachballRace's rows (the race extra: PettingZoo)"
+    )
     parser.add_argument("--device", default="cpu",
                         help="the torch rows' device; off the CPU (cuda) only those rows run, "
                              f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "
@@ -444,9 +510,10 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends``, the
     ``torchrl`` extra for ``--training`` or a ``--device`` (the stable-baselines3 PPO rows
     are timed only where it is installed)."""
+    race = extra_needs("race") if args.race else []
     if args.training or args.device != "cpu":
-        return extra_needs("torchrl")
-    return extra_needs("torch") if args.backends else []
+        return extra_needs("torchrl") + race
+    return (extra_needs("torch") if args.backends else []) + race
 
 
 def run(args: argparse.Namespace) -> int:

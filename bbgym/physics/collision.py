@@ -17,7 +17,9 @@ impulses are equal and opposite), angular momentum about any point too, and kine
 does not grow for ``e <= 1``. The overlap left is removed by moving both hulls apart
 along ``n`` by half of it each (the boats are alike): positions only, so no momentum is
 made. All pairs of a race are treated at once; a few passes of the push settle a
-crowd.
+crowd. Where no hulls are near enough to touch, or none touch, nothing more is computed
+(the checks are host decisions on the batch, once a substep, as a flight's "all landed"
+is); on NumPy only the races with hulls that near are (:mod:`bbgym.physics.compaction`).
 
 Pure functions over a batch of races: every array is ``(races, K)``, pairs
 ``(races, K, K)`` (boat ``i``, boat ``j``).
@@ -27,6 +29,9 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
+import numpy as np
+
+from bbgym.physics.compaction import scatter, take
 from bbgym.physics.namespace import Array
 
 PUSH_PASSES = 4
@@ -129,10 +134,27 @@ def collide(
     # where no pair is that close (most steps of a race), nothing is computed.
     reach = 2.0 * (h.half_segment_m + h.radius_m)
     near = xp.hypot(x[:, :, None] - x[:, None, :], y[:, :, None] - y[:, None, :]) < reach
-    if not bool(xp.any(pairs & near)):
+    close = xp.any(pairs & near, axis=(1, 2))
+    if not bool(xp.any(close)):
         return x, y, vx, vy, yaw_rate, pairs & near
+    if xp is np and not close.all():  # NumPy: the races with boats close, alone
+        busy = np.flatnonzero(close)
+        subset = [take(a, busy) for a in (x, y, heading, vx, vy, yaw_rate, pairs)]
+        out = _resolve(h, restitution, *subset, xp)
+        full = (x, y, vx, vy, yaw_rate, np.zeros_like(pairs))
+        return tuple(scatter(a, busy, b) for a, b in zip(full, out, strict=True))
+    return _resolve(h, restitution, x, y, heading, vx, vy, yaw_rate, pairs, xp)
+
+
+def _resolve(
+    h: Hulls, restitution: float, x: Array, y: Array, heading: Array, vx: Array, vy: Array,
+    yaw_rate: Array, pairs: Array, xp: Any,
+) -> tuple[Array, Array, Array, Array, Array, Array]:  # fmt: skip
+    """:func:`collide`'s narrow phase, impulses and push for the races given."""
     contacts = hull_contacts(h, x, y, heading, xp)
     touching = pairs & (contacts.gap_m < 0.0)
+    if not bool(xp.any(touching)):  # close, but none touching: nothing to resolve
+        return x, y, vx, vy, yaw_rate, touching
     nx, ny = contacts.normal_x, contacts.normal_y
     # lever arms from each centre to the contact point
     rix, riy = contacts.point_x_m - x[:, :, None], contacts.point_y_m - y[:, :, None]
@@ -150,9 +172,12 @@ def collide(
     vx = vx + xp.sum(impulse * nx, axis=2) / h.mass_kg
     vy = vy + xp.sum(impulse * ny, axis=2) / h.mass_kg
     yaw_rate = yaw_rate + xp.sum(impulse * arm_i, axis=2) / h.yaw_inertia_kgm2
-    for _ in range(PUSH_PASSES):
+    for push in range(PUSH_PASSES):
         overlap = xp.where(pairs, xp.maximum(-contacts.gap_m, 0.0), 0.0)
         x = x + 0.5 * xp.sum(overlap * contacts.normal_x, axis=2)
         y = y + 0.5 * xp.sum(overlap * contacts.normal_y, axis=2)
-        contacts = hull_contacts(h, x, y, heading, xp)
+        if push < PUSH_PASSES - 1:
+            contacts = hull_contacts(h, x, y, heading, xp)
+            if not bool(xp.any(pairs & (contacts.gap_m < 0.0))):
+                break
     return x, y, vx, vy, yaw_rate, touching

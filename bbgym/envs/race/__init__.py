@@ -10,7 +10,9 @@
         observations, rewards, terminations, truncations, infos = env.step(actions)
 
 ``pettingzoo.make("aec", "bbgym/BeachballRace-v0")`` is the AEC form (boats act in turn);
-:class:`BeachballRaceSoloEnv` a Gymnasium env of one boat against scripted racers.
+:class:`BeachballRaceSoloEnv` a Gymnasium env of one boat against scripted racers;
+:class:`BeachballRaceFleetEnv` many races at once as a Gymnasium vector env of every boat
+(self-play with one shared policy).
 ``parallel_env()`` and ``env()`` here make the same. The race's core
 (:mod:`bbgym.envs.race.task`) and its course (:mod:`bbgym.envs.race.course`) need NumPy
 alone.
@@ -19,6 +21,7 @@ alone.
 import pettingzoo
 
 from bbgym.envs.race.env import ENV_ID, BeachballRaceEnv, env, parallel_env
+from bbgym.envs.race.fleet import BeachballRaceFleetEnv
 from bbgym.envs.race.solo import BeachballRaceSoloEnv
 
 # Once per process (PettingZoo warns when an id is registered again).
@@ -27,4 +30,7 @@ if ENV_ID not in pettingzoo.parallel_registry:
 if ENV_ID not in pettingzoo.aec_registry:
     pettingzoo.register("aec", ENV_ID, entry_point=env)
 
-__all__ = ["ENV_ID", "BeachballRaceEnv", "BeachballRaceSoloEnv", "env", "parallel_env"]
+__all__ = [
+    "ENV_ID", "BeachballRaceEnv", "BeachballRaceFleetEnv", "BeachballRaceSoloEnv", "env",
+    "parallel_env",
+]  # fmt: skip

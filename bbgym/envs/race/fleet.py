@@ -1,0 +1,136 @@
+"""Many races at once, every boat a sub-env: a Gymnasium ``VectorEnv`` of ``num_races x
+num_boats`` boats for one shared policy (self-play), stepped as one NumPy batch."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+
+from bbgym.envs.common import check_box_action, vector_info, vector_seeds
+from bbgym.envs.functional import tree_map, tree_select
+from bbgym.envs.race.env import newest_boat
+from bbgym.envs.race.task import RaceState, RaceTask
+from bbgym.physics.namespace import replaced
+
+
+class BeachballRaceFleetEnv(VectorEnv):
+    """``num_races`` races of ``num_boats`` boats as one Gymnasium ``VectorEnv`` of
+    ``num_races * num_boats`` sub-envs, boat ``k`` of race ``r`` at ``r * num_boats + k``:
+    what a shared policy learns from when every boat is its own player (self-play), as
+    stable-baselines3's or TorchRL's single-agent learners take it.
+
+    Each sub-env's observation, action and reward are its boat's in
+    :class:`~bbgym.envs.race.env.BeachballRaceEnv` (the same spaces and the same races:
+    race ``r`` reset with ``seed=s`` is the PettingZoo env reset with ``seed=s + r``, under
+    the same actions). A boat's episode ends when it finishes or capsizes (terminated) or
+    when its race's time is up (truncated). Until its race ends it then sits out: zero
+    observations, reward 0, no ends (what PettingZoo's multi-agent learners call "black
+    death"), and at its race's end that wait ends too (truncated). A race restarts, all its
+    boats at once, on the step after it ended (``AutoresetMode.NEXT_STEP``: that step
+    returns the new race's first observations, with reward 0). Infos are arrays (per
+    boat), with Gymnasium's ``_key`` masks; keyword arguments are the race env's.
+    """
+
+    metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(self, num_races: int = 16, **kwargs: Any) -> None:
+        if isinstance(num_races, bool) or not isinstance(num_races, (int, np.integer)):
+            raise TypeError(f"num_races must be an int, got {num_races!r}")
+        if num_races < 1:
+            raise ValueError(f"num_races must be at least 1, got {num_races}")
+        boat = newest_boat()
+        boat.update(kwargs.pop("boat", None) or {})
+        self.task = RaceTask(boat=boat, **kwargs)
+        self.num_races, self.num_boats = int(num_races), self.task.num_boats
+        self.num_envs = self.num_races * self.num_boats
+        self.single_observation_space = self.task.observation_space
+        self.single_action_space = self.task.action_space
+        obs_shape = (self.num_envs, *self.single_observation_space.shape)
+        self.observation_space = spaces.Box(-1.0, 1.0, obs_shape, np.float32)
+        action_shape = (self.num_envs, *self.single_action_space.shape)
+        self.action_space = spaces.Box(-1.0, 1.0, action_shape, np.float32)
+        self.state: RaceState | None = None
+        self._generators = [seeding.np_random(None)[0] for _ in range(self.num_races)]
+        self._ended = np.zeros(self.num_races, dtype=bool)
+        self._sitting_out = np.zeros((self.num_races, self.num_boats), dtype=bool)
+
+    def _fresh(self, races: np.ndarray, options: dict[str, Any]) -> RaceState:
+        """New races for every race (draws only for those in ``races``, so each race's
+        random stream is its own)."""
+        k = self.num_boats
+        uniform = np.full((self.num_races, 2 + 4 * k), 0.5)
+        normal = np.zeros((self.num_races, 2))
+        for r in np.flatnonzero(races):
+            uniform[r] = self._generators[r].uniform(size=2 + 4 * k)
+            normal[r] = self._generators[r].standard_normal(size=2)
+        return self.task.initial(uniform, normal, options, np)
+
+    def _select(self, races: np.ndarray, fresh: RaceState, old: RaceState) -> RaceState:
+        """``fresh`` for the races in ``races``, ``old`` for the others (the boats, flat,
+        by each boat's race)."""
+        boats = tree_select(np.repeat(races, self.num_boats), fresh.boats, old.boats, np)
+        # the rest by race (the boats the same object on both sides: left as they are)
+        rest = tree_select(races, replaced(fresh, boats=old.boats), old, np)
+        return replaced(rest, boats=boats)
+
+    def reset(self, *, seed: int | list[int | None] | None = None,
+              options: dict[str, Any] | None = None) -> tuple:  # fmt: skip
+        for r, s in enumerate(vector_seeds(seed, self.num_races)):
+            if s is not None or seed is not None:
+                self._generators[r] = seeding.np_random(s)[0]
+        checked = self.task.check_options(options)
+        self.state = self._fresh(np.ones(self.num_races, dtype=bool), checked)
+        self._ended[:] = False
+        self._sitting_out[:] = False
+        return self._observe(), self._info()
+
+    def step(self, actions: Any) -> tuple:
+        if self.state is None:
+            raise RuntimeError("step() called before reset()")
+        try:
+            action = check_box_action(actions, self.single_action_space.shape[0], self.num_envs)
+        except ValueError as error:
+            raise ValueError(f"actions: {error}") from None
+        restarting = self._ended.copy()
+        gust_noise = np.stack([g.standard_normal(size=2) if not restarting[r] else np.zeros(2)
+                               for r, g in enumerate(self._generators)])  # fmt: skip
+        before = self.state
+        moved = self.task.transition(before, action, gust_noise, np)
+        reward = self.task.reward(moved, np)
+        out_now = self.task.terminal(moved, np) & ~before.out
+        timed_out = self.task.timed_out(moved, np)
+        sitting_out = self._sitting_out.copy()
+        ended = np.all(moved.out, axis=1) | timed_out
+        terminated = out_now & ~sitting_out
+        # boats still racing at the time limit, and those sitting out, stop at the race's end
+        truncated = ended[:, None] & ~terminated
+        reward = np.where(sitting_out, 0.0, reward)
+        self.state = moved
+        self._sitting_out = sitting_out | out_now
+        if restarting.any():  # those races start anew; their step reports the reset
+            fresh = self._fresh(restarting, {})
+            self.state = self._select(restarting, fresh, moved)
+            reward[restarting] = 0.0
+            terminated[restarting] = False
+            truncated[restarting] = False
+            self._sitting_out[restarting] = False
+            ended[restarting] = False
+        self._ended = ended
+        obs = self._observe(sitting_out & ~restarting[:, None])
+        return (obs, reward.reshape(-1), terminated.reshape(-1), truncated.reshape(-1),
+                self._info())  # fmt: skip
+
+    def _observe(self, blank: np.ndarray | None = None) -> np.ndarray:
+        obs = self.task.observation(self.state, np)
+        if blank is not None:
+            obs = np.where(blank[:, :, None], np.float32(0.0), obs)
+        return obs.reshape(self.num_envs, -1)
+
+    def _info(self) -> dict[str, Any]:
+        info = tree_map(lambda a: np.asarray(a).reshape(self.num_envs, *np.shape(a)[2:]),
+                        self.task.info(self.state, np))  # fmt: skip
+        return vector_info(info, self.num_envs)
