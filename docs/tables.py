@@ -349,13 +349,20 @@ def families() -> dict[str, Any]:
 
 def param_groups() -> dict[str, type]:
     """The physics parameter dataclasses that envs take as mappings, by their argument
-    name, from the families' specs."""
-    return {name: cls for spec in families().values() for name, cls in spec.param_groups.items()}
+    name, from the families' specs (and the race's, which has no Gymnasium spec)."""
+    from bbgym.physics.shadow import ShadowParams
+
+    groups = {name: cls for spec in families().values() for name, cls in spec.param_groups.items()}
+    return groups | {"shadow_params": ShadowParams}
 
 
 def argument_rows(family: str) -> list[tuple[str, str]]:
     """``(names, accepted)`` rows of an env family's arguments and reset options: its
     spec's ``argument_table`` (the intervals the validation uses, formatted by it)."""
+    if family == "race":  # a PettingZoo env: no Gymnasium spec
+        from bbgym.envs.race.task import ARGUMENT_TABLE
+
+        return [(str(names), str(accepted)) for names, accepted in ARGUMENT_TABLE]
     known = families()
     if family not in known:
         raise LookupError(f"unknown env family {family!r}; known: {', '.join(known)}")

@@ -469,3 +469,68 @@ def test_a_boat_that_finished_sits_out_until_its_race_restarts() -> None:
     obs, rewards, terminated, truncated, info = fleet.step(np.zeros((2, 3), np.float32))
     assert list(rewards) == [0.0, 0.0] and not (terminated.any() or truncated.any())
     assert np.all(info["race_clock"] == 0.0) and np.any(obs != 0.0, axis=1).all()
+
+
+def _draw_arguments(rng: np.random.Generator) -> dict:
+    """Every race argument drawn over its accepted interval (the reward weights too), with
+    a short race so that a draw costs little."""
+    from bbgym.envs.race import task as rt
+    from bbgym.envs.sail.task import WIND_SPEED_MPS
+    from bbgym.physics.shadow import ShadowParams
+    from bbgym.physics.validation import accepted_interval
+
+    def within(interval, top=None):
+        high = interval.high if top is None else min(interval.high, top)
+        return float(rng.uniform(interval.low, high))
+
+    def pair(interval, top=None):
+        return tuple(sorted((within(interval, top), within(interval, top))))
+
+    shadow = {f: within(accepted_interval(ShadowParams, f))
+              for f in ("length_m", "base_width_m", "end_width_m", "acting_time_s",
+                        "air_height_m")}  # fmt: skip
+    kwargs = {
+        "num_boats": int(rng.integers(1, 9)), "laps": int(rng.integers(1, 4)),
+        "neighbours": int(rng.integers(0, 8)), "line_length_m": within(rt.LINE_LENGTH_M),
+        "leg_length_m": within(rt.LEG_LENGTH_M, 300.0), "gate_depth_m": within(rt.GATE_DEPTH_M),
+        "gate_width_m": within(rt.GATE_WIDTH_M), "countdown_s": within(rt.COUNTDOWN_S, 20.0),
+        "start_depth_range": pair(rt.START_DEPTH_M),
+        "max_race_time_s": within(rt.RACE_TIME_S, 40.0),
+        "wind_speed_range": pair(WIND_SPEED_MPS), "gusts": bool(rng.integers(2)),
+        "shadow": bool(rng.integers(2)), "shadow_params": shadow,
+        "collisions": bool(rng.integers(2)), "restitution": within(rt.RESTITUTION),
+        "keep_clear_m": within(rt.KEEP_CLEAR_M), "penalty": str(rng.choice(rt.PENALTIES)),
+        "penalty_time_s": within(rt.PENALTY_TIME_S),
+        "boat": {"sail_model": str(rng.choice(["lift", "seed", "cambered"]))},
+    }  # fmt: skip
+    for name in ("progress_weight", "waypoint_bonus", "finish_bonus", "ocs_penalty",
+                 "capsize_penalty", "time_penalty", "foul_penalty"):  # fmt: skip
+        kwargs[name] = within(rt.REWARD_WEIGHT)
+    return kwargs
+
+
+def test_random_valid_arguments_run_finite() -> None:
+    """Races of arguments drawn over their accepted intervals (a crowded 5 m line of eight
+    boats, gales, no shadows or collisions, time penalties, ...) under random actions: every
+    observation finite and inside its space, every reward finite, in the PettingZoo env
+    and in a fleet of two races."""
+    from bbgym.envs.race import BeachballRaceFleetEnv
+
+    rng = np.random.default_rng(2026)
+    for draw in range(24):
+        kwargs = _draw_arguments(rng)
+        env = parallel_env(**kwargs)
+        obs, _ = env.reset(seed=draw)
+        for _ in range(200):
+            if not env.agents:
+                break
+            actions = {a: rng.uniform(-1, 1, env.action_space(a).shape) for a in env.agents}
+            obs, rewards, _, _, infos = env.step(actions)
+            for agent, o in obs.items():
+                assert env.observation_space(agent).contains(o), (draw, kwargs)
+            assert all(math.isfinite(r) for r in rewards.values()), (draw, kwargs)
+        fleet = BeachballRaceFleetEnv(2, **kwargs)
+        fleet.reset(seed=draw)
+        for _ in range(60):
+            obs, rewards, *_ = fleet.step(rng.uniform(-1, 1, fleet.action_space.shape))
+            assert np.isfinite(obs).all() and np.isfinite(rewards).all(), (draw, kwargs)

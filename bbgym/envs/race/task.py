@@ -64,6 +64,35 @@ PENALTY_TIME_S = interval(0.0, 600.0)
 PENALTIES = ("turn", "time")
 PENALTY_SCALE_S = 60.0
 """A time penalty owed is observed in minutes."""
+ARGUMENT_TABLE = (
+    ("`num_boats`", f"{BOATS}, an int"),
+    ("`neighbours`", f"{NEIGHBOURS}, an int (at most `num_boats - 1` are observed)"),
+    ("`laps`", f"{LAPS}, an int"),
+    ("`line_length_m`", f"{LINE_LENGTH_M} m"),
+    ("`leg_length_m`", f"{LEG_LENGTH_M} m"),
+    ("`gate_depth_m`", f"{GATE_DEPTH_M} m"),
+    ("`gate_width_m`", f"{GATE_WIDTH_M} m"),
+    ("`countdown_s`", f"{COUNTDOWN_S} s"),
+    ("`start_depth_range`", f"{START_DEPTH_M} m"),
+    ("`max_race_time_s`", f"{RACE_TIME_S} s"),
+    ("`wind_speed_range`, `options['wind_speed']`", f"{WIND_SPEED_MPS} m/s"),
+    ("`options['wind_from']`", f"{ANGLE_RAD} rad"),
+    ("`gusts`, `shadow`, `collisions`, `options['gusts']`", "bool"),
+    ("`restitution`", f"{RESTITUTION}"),
+    ("`keep_clear_m`", f"{KEEP_CLEAR_M} m"),
+    ("`penalty`", " or ".join(f'`"{p}"`' for p in PENALTIES)),
+    ("`penalty_time_s`", f"{PENALTY_TIME_S} s"),
+    (
+        "`progress_weight`, `waypoint_bonus`, `finish_bonus`, `ocs_penalty`, "
+        "`capsize_penalty`, `time_penalty`, `foul_penalty`",
+        f"{REWARD_WEIGHT}",
+    ),
+    ("`boat`", "a mapping of `sail_model`, `dinghy`, `initial_sheet`, `initial_speed_range` "
+               "(the sail env's accepted values)"),
+    ("`shadow_params`", "a mapping of its fields (table below), or the dataclass"),
+)  # fmt: skip
+"""The documentation's table of the race's accepted arguments and options (the Race
+page's generated table)."""
 RELATIVE_SCALE_M = 50.0
 """Neighbours' positions are divided by this: boats within 50 m are inside [-1, 1]."""
 RACE_COLUMNS = (
