@@ -35,7 +35,10 @@ class NativeVecEnvAdapter(VecEnv):
     """A bbgym native vector env seen through stable-baselines3's ``VecEnv`` interface."""
 
     def __init__(self, venv: Any, info_keys: Sequence[str] = ("is_success",)) -> None:
-        if not isinstance(venv, BBGYM_VECTOR_ENVS):
+        # The other native vector env that restarts what a step ended at once: the race's
+        # fleet (bbgym.envs.race.BeachballRaceFleetEnv, which needs the race extra).
+        fleet = type(venv).__name__ == "BeachballRaceFleetEnv" and hasattr(venv, "reset_envs")
+        if not (isinstance(venv, BBGYM_VECTOR_ENVS) or fleet):
             raise ValueError(f"venv must be a bbgym native vector env, got {type(venv).__name__}")
         self.venv = venv
         self.info_keys = tuple(info_keys)

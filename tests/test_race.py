@@ -534,3 +534,30 @@ def test_random_valid_arguments_run_finite() -> None:
         for _ in range(60):
             obs, rewards, *_ = fleet.step(rng.uniform(-1, 1, fleet.action_space.shape))
             assert np.isfinite(obs).all() and np.isfinite(rewards).all(), (draw, kwargs)
+
+
+def test_stable_baselines3_trains_one_shared_policy_on_the_fleet() -> None:
+    """The fleet through bbgym's SB3 adapter: a boat that ends hands SB3 its last
+    observation (``terminal_observation``) and begins its wait at once; a race that ends
+    starts anew on that same step (its clock back at the countdown); and SB3's PPO learns
+    a few updates from it."""
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3 import PPO
+
+    from bbgym.envs.race import BeachballRaceFleetEnv
+    from bbgym.sb3 import NativeVecEnvAdapter
+
+    fleet = BeachballRaceFleetEnv(num_races=2, num_boats=2, max_race_time_s=10.0,
+                                  countdown_s=5.0)  # fmt: skip
+    venv = NativeVecEnvAdapter(fleet)
+    venv.seed(0)
+    venv.reset()
+    for step in range(80):  # noqa: B007 (read after the loop)
+        obs, rewards, dones, infos = venv.step(np.zeros((4, 3), np.float32))
+        if dones.any():
+            break
+    assert dones.all() and step == 59  # 15 s: every boat truncated at the time limit
+    assert all("terminal_observation" in info and info["TimeLimit.truncated"] for info in infos)
+    assert np.all(fleet.state.clock_s == -5.0) and np.any(obs != 0.0, axis=1).all()
+    model = PPO("MlpPolicy", venv, n_steps=16, batch_size=32, n_epochs=1, seed=0)
+    model.learn(128)

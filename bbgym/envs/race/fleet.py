@@ -33,6 +33,9 @@ class BeachballRaceFleetEnv(VectorEnv):
     boats at once, on the step after it ended (``AutoresetMode.NEXT_STEP``: that step
     returns the new race's first observations, with reward 0). Infos are arrays (per
     boat), with Gymnasium's ``_key`` masks; keyword arguments are the race env's.
+    ``reset`` takes an int (race ``r`` seeded ``seed + r``), a seed per race, or a seed per
+    boat (each race takes its first boat's). :meth:`reset_envs` restarts at once what a
+    step ended, for stable-baselines3 through :class:`bbgym.sb3.NativeVecEnvAdapter`.
     """
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
@@ -79,6 +82,10 @@ class BeachballRaceFleetEnv(VectorEnv):
 
     def reset(self, *, seed: int | list[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple:  # fmt: skip
+        if not isinstance(seed, (int, np.integer)) and seed is not None:
+            seed = list(seed)
+            if len(seed) == self.num_envs:  # a seed per boat: each race takes its first's
+                seed = seed[:: self.num_boats]
         for r, s in enumerate(vector_seeds(seed, self.num_races)):
             if s is not None or seed is not None:
                 self._generators[r] = seeding.np_random(s)[0]
@@ -123,6 +130,22 @@ class BeachballRaceFleetEnv(VectorEnv):
         obs = self._observe(sitting_out & ~restarting[:, None])
         return (obs, reward.reshape(-1), terminated.reshape(-1), truncated.reshape(-1),
                 self._info())  # fmt: skip
+
+    def reset_envs(self, mask: Any) -> np.ndarray:
+        """Restart at once what a step just ended, for a learner that restarts an env on
+        the step that ends its episode (stable-baselines3's ``VecEnv``, through
+        :class:`bbgym.sb3.NativeVecEnvAdapter`): the races that ended start anew (all their
+        boats; the draws are those the next step would make), and a boat ``mask`` names
+        whose race goes on begins its wait (zero observations). Returns every boat's
+        observation."""
+        if self.state is None:
+            raise RuntimeError("reset_envs() called before reset()")
+        ended = self._ended.copy()
+        if ended.any():
+            self.state = self._select(ended, self._fresh(ended, {}), self.state)
+            self._ended[ended] = False
+            self._sitting_out[ended] = False
+        return self._observe(self._sitting_out)
 
     def _observe(self, blank: np.ndarray | None = None) -> np.ndarray:
         obs = self.task.observation(self.state, np)

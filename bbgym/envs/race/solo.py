@@ -21,8 +21,8 @@ class BeachballRaceSoloEnv(gym.Env):
 
     Its action, observation and reward are ``boat_0``'s (the race env's tables); the
     others sail by the racer. The episode terminates when ``boat_0`` finishes or capsizes
-    and is truncated when the race's time is up; the infos are ``boat_0``'s, with
-    ``is_success`` (finished) and ``won`` (finished first). Every keyword argument but
+    and is truncated when the race's time is up; the infos are ``boat_0``'s (``is_success``:
+    finished), with ``won`` (finished first). Every keyword argument but
     ``render_mode`` goes to the race env (``num_boats`` 4 by default: three opponents).
     """
 
@@ -57,7 +57,7 @@ class BeachballRaceSoloEnv(gym.Env):
                 truncations[LEARNER], info)  # fmt: skip
 
     def _info(self, info: dict[str, Any]) -> dict[str, Any]:
-        return info | {"is_success": bool(info["finished"]), "won": info["place"] == 1}
+        return info | {"won": info["place"] == 1}
 
     def render(self) -> np.ndarray | None:
         return self.race.render()

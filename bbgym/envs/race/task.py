@@ -616,6 +616,7 @@ class RaceTask:
             "leg": state.leg,
             "ocs": state.ocs,
             "finished": state.finished,
+            "is_success": state.finished,
             "place": state.place,
             "finish_time": state.crossed_s + state.penalty_s,
             "touched": state.touched,
