@@ -58,12 +58,13 @@ class RaceRacer:
 
     @classmethod
     def for_env(cls, env: Any, **kwargs: Any) -> RaceRacer:
-        """A racer for a :class:`~bbgym.envs.race.env.BeachballRaceEnv`'s boats."""
+        """A racer for the boats of a :class:`~bbgym.envs.race.env.BeachballRaceEnv` (or of
+        a fleet, whose rows are its boats in order)."""
         task = env.unwrapped.task if hasattr(env, "unwrapped") else env.task
         pilot = VMGAutopilot(task.sail.params)
         kwargs.setdefault("penalty_turns", task.penalty == "turn")
         racer = cls(pilot, task.race_column, task.neighbours, task.countdown_s, **kwargs)
-        racer.boats = list(env.possible_agents)
+        racer.boats = list(getattr(env, "possible_agents", []))
         return racer
 
     boats: list[str] = []

@@ -29,15 +29,16 @@ from stable_baselines3.common.vec_env import VecEnv
 from bbgym.envs.core import CoreVectorEnv
 
 BBGYM_VECTOR_ENVS = (CoreVectorEnv,)
+RACE_VECTOR_ENVS = ("BeachballRaceFleetEnv", "BeachballRaceMatchEnv")
 
 
 class NativeVecEnvAdapter(VecEnv):
     """A bbgym native vector env seen through stable-baselines3's ``VecEnv`` interface."""
 
     def __init__(self, venv: Any, info_keys: Sequence[str] = ("is_success",)) -> None:
-        # The other native vector env that restarts what a step ended at once: the race's
-        # fleet (bbgym.envs.race.BeachballRaceFleetEnv, which needs the race extra).
-        fleet = type(venv).__name__ == "BeachballRaceFleetEnv" and hasattr(venv, "reset_envs")
+        # The other native vector envs that restart what a step ended at once: the race's
+        # fleet and its matches against scripted boats (bbgym.envs.race, the race extra).
+        fleet = type(venv).__name__ in RACE_VECTOR_ENVS and hasattr(venv, "reset_envs")
         if not (isinstance(venv, BBGYM_VECTOR_ENVS) or fleet):
             raise ValueError(f"venv must be a bbgym native vector env, got {type(venv).__name__}")
         self.venv = venv

@@ -9,6 +9,7 @@ typed by hand and none can go stale:
     <!-- table: backends -->                 docs/results/speed/bench-backends-0.3.1.json
     <!-- table: polar -->                    docs/results/polar/polar.csv (bbgym polar)
     <!-- table: polar-compare -->            docs/results/polar/compare.csv (bbgym polar --compare)
+    <!-- table: race-selfplay -->            docs/results/race/*.json (scripts/race_selfplay.py)
     <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
     <!-- table: params GROUP -->             the intervals of a physics parameter dataclass
     <!-- include: CHANGELOG.md -->           a file of docs/, as it is
@@ -54,6 +55,8 @@ BASELINE_FILES = (
 SPEED_FILE = "speed/bench.json"
 BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
 POLAR_FILE = "polar/polar.json"
+RACE_SELFPLAY_FILES = ("race/selfplay.json",)
+"""The race's self-play results (``scripts/race_selfplay.py --results``), one row each."""
 
 THROW_ENVS = ("BeachballThrow", "BeachballCurve", "BeachballTopple")
 
@@ -422,6 +425,45 @@ def params_table(group: str) -> str:
     return "\n".join([*lines, *interval_rows(cls, group)])
 
 
+def race_selfplay_table(results: Path = RESULTS) -> str:
+    """Learned boats against scripted racers: per results file a row of the learned boats
+    (mean, worst seed and interval over training seeds) and the reference row (the racer
+    in the learners' places, the same races)."""
+    lines = ["| boats in the learners' places | training | pairings ahead of a scripted boat "
+             "(mean, worst seed, 95% interval over seeds) | fouls a boat, learned / scripted "
+             "| finished, learned / scripted | return of a learning boat |",
+             "|---|---|---|---|---|---:|"]  # fmt: skip
+
+    def cells(row: dict) -> str:
+        return (f"{row['learned_fouls']:.2f} / {row['scripted_fouls']:.2f} | "
+                f"{pct(row['learned_finished'])} / {pct(row['scripted_finished'])} | "
+                f"{row['learned_return']:.1f} |")  # fmt: skip
+
+    notes = []
+    for name in RACE_SELFPLAY_FILES:
+        path = results / name
+        data = read_json(path)
+        try:
+            seeds, ref = data["seeds"], data["reference"]
+            low, high = data["ahead_share_interval"]
+            mean = {key: sum(s[key] for s in seeds) / len(seeds)
+                    for key in ("learned_fouls", "scripted_fouls", "learned_finished",
+                                "scripted_finished", "learned_return")}  # fmt: skip
+            training = (f"{len(seeds)} seeds x {budget(data['timesteps'], 'steps')}, "
+                        f"{data['races_trained_at_once']} races at once")  # fmt: skip
+            lines.append(f"| {data['policy']} | {training} | {pct(data['ahead_share_mean'])} "
+                         f"({pct(data['ahead_share_worst'])}, {pct(low)}-{pct(high)}) | "
+                         f"{cells(mean)}")  # fmt: skip
+            lines.append(f"| the scripted racer (reference) | - | {pct(ref['ahead_share'])} | "
+                         f"{cells(ref)}")  # fmt: skip
+            notes.append(f"`{_name(path)}`, written by `{data['command']} --results` "
+                         f"({data['eval_races']} races seeded from {data['eval_seed']}, "
+                         f"torch on {data['torch_threads']} threads)")  # fmt: skip
+        except (KeyError, TypeError, ValueError, ZeroDivisionError) as err:
+            raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    return "\n".join([*lines, "", "Generated from " + "; ".join(notes) + "."])
+
+
 def table(spec: str) -> str:
     """The table a marker's words ask for (``"baselines BeachballSail"``)."""
     kind, _, arg = spec.partition(" ")
@@ -436,6 +478,8 @@ def table(spec: str) -> str:
         return polar_table()
     if kind == "polar-compare" and not arg:
         return polar_compare_table()
+    if kind == "race-selfplay" and not arg:
+        return race_selfplay_table()
     if kind == "arguments":
         return arguments_table(arg)
     if kind == "params":

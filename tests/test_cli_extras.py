@@ -55,6 +55,8 @@ def test_baseline_fails_at_once_without_pygame(monkeypatch, capsys, tmp_path):
         (["record", "--env", "BeachballSail-v1", "--policy", "scripted"], {"render", "plots"}),
         (["record", "--env", "BeachballSail-v1", "--policy", "ppo", "--model", "m.zip"],
          {"render", "plots", "train"}),
+        (["record", "--env", "bbgym/BeachballRace-v0", "--policy", "scripted"],
+         {"race", "render", "plots"}),
         (["play", "--env", "BeachballSail-v1"], {"render"}),
         (["polar"], {"plots"}),
         (["demo"], {"render", "plots"}),

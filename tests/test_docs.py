@@ -63,6 +63,39 @@ def test_speed_and_polar_tables_name_their_commands():
     assert "| best upwind VMG | 45 deg, 1.51 m/s |" in polar  # the polar test's band: 38-48
 
 
+def test_the_race_selfplay_table_gives_seeds_reference_and_command(tmp_path):
+    """A row of the learned boats over their seeds (mean, worst, interval), the scripted
+    reference on the same races, and the command; a field missing fails naming the file."""
+    seed = {
+        "ahead_share": 0.25,
+        "learned_fouls": 1.0,
+        "scripted_fouls": 2.0,
+        "learned_finished": 1.0,
+        "scripted_finished": 0.5,
+        "learned_return": 100.0,
+    }
+    data = {
+        "command": "python scripts/race_selfplay.py --seeds 2", "policy": "residual PPO",
+        "timesteps": 5_000_000, "races_trained_at_once": 64, "eval_races": 100,
+        "eval_seed": 7, "torch_threads": 2, "ahead_share_mean": 0.375,
+        "ahead_share_worst": 0.25, "ahead_share_interval": [0.1, 0.65],
+        "seeds": [seed, seed | {"ahead_share": 0.5, "learned_return": 110.0}],
+        "reference": seed | {"ahead_share": 0.5, "learned_return": 90.0},
+    }  # fmt: skip
+    path = tmp_path / "race" / "selfplay.json"
+    path.parent.mkdir()
+    path.write_text(json.dumps(data))
+    table = tables.race_selfplay_table(tmp_path)
+    assert ("| residual PPO | 2 seeds x 5M steps, 64 races at once | 38% (25%, 10%-65%) | "
+            "1.00 / 2.00 | 100% / 50% | 105.0 |") in table  # fmt: skip
+    assert "| the scripted racer (reference) | - | 50% | 1.00 / 2.00 | 100% / 50% | 90.0 |" in table
+    assert "`python scripts/race_selfplay.py --seeds 2 --results` (100 races seeded from 7" in table
+    del data["reference"]["learned_return"]
+    path.write_text(json.dumps(data))
+    with pytest.raises(tables.ResultsError, match="selfplay.json: malformed"):
+        tables.race_selfplay_table(tmp_path)
+
+
 def copy_results(tmp_path: Path) -> Path:
     results = tmp_path / "results"
     shutil.copytree(tables.RESULTS, results)

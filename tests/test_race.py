@@ -536,20 +536,26 @@ def test_random_valid_arguments_run_finite() -> None:
             assert np.isfinite(obs).all() and np.isfinite(rewards).all(), (draw, kwargs)
 
 
-def test_stable_baselines3_trains_one_shared_policy_on_the_fleet() -> None:
-    """The fleet through bbgym's SB3 adapter: a boat that ends hands SB3 its last
-    observation (``terminal_observation``) and begins its wait at once; a race that ends
-    starts anew on that same step (its clock back at the countdown); and SB3's PPO learns
-    a few updates from it."""
+@pytest.mark.parametrize("kind", ["fleet", "match"])
+def test_stable_baselines3_trains_one_shared_policy_on_the_fleet(kind: str) -> None:
+    """The fleet (every boat learns) and a match (two of four boats learn, correcting the
+    racer) through bbgym's SB3 adapter: a boat that ends hands SB3 its last observation
+    (``terminal_observation``) and begins its wait at once; a race that ends starts anew on
+    that same step (its clock back at the countdown); and SB3's PPO learns a few updates
+    from it."""
     pytest.importorskip("stable_baselines3")
     from stable_baselines3 import PPO
 
-    from bbgym.envs.race import BeachballRaceFleetEnv
+    from bbgym.envs.race import BeachballRaceFleetEnv, BeachballRaceMatchEnv
     from bbgym.sb3 import NativeVecEnvAdapter
 
-    fleet = BeachballRaceFleetEnv(num_races=2, num_boats=2, max_race_time_s=10.0,
-                                  countdown_s=5.0)  # fmt: skip
-    venv = NativeVecEnvAdapter(fleet)
+    short = {"max_race_time_s": 10.0, "countdown_s": 5.0}
+    if kind == "fleet":
+        env = fleet = BeachballRaceFleetEnv(num_races=2, num_boats=2, **short)
+    else:
+        env = BeachballRaceMatchEnv(2, residual=True, **short)
+        fleet = env.fleet
+    venv = NativeVecEnvAdapter(env)
     venv.seed(0)
     venv.reset()
     for step in range(80):  # noqa: B007 (read after the loop)

@@ -19,6 +19,13 @@ far (during a throw's flight the return before it, so the caption does not give 
 away), and on the last frame the final return and the outcome ("success: reached the mark",
 "capsized", "timed out", "missed", "success: wall down", "failed: out of throws", ...).
 Runs headless (SDL's dummy video driver). Prints a one-line summary.
+
+The race (``--env bbgym/BeachballRace-v0``, the PettingZoo env; the ``race`` extra): a
+whole race, every boat, a frame per 0.25 s step. ``--policy scripted``: every boat the
+scripted racer; ``random``: every boat random; ``ppo --model M.zip``: a model of
+``scripts/race_selfplay.py`` sails its learning boats (as it was trained: the
+``M.json`` beside it says which, and whether it corrects the racer) against scripted
+racers. The last frame's caption gives the places.
 """
 
 from __future__ import annotations
@@ -287,13 +294,30 @@ def default_out(args: argparse.Namespace) -> Path:
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs: :func:`animation_needs`, and for a saved model's
-    policy the extra that loads it (:func:`~bbgym.cli.evaluate.model_needs`)."""
-    return [*animation_needs(default_out(args)), *model_needs([args.policy], args.model)]
+    policy the extra that loads it (:func:`~bbgym.cli.evaluate.model_needs`); a race needs
+    PettingZoo (``race``)."""
+    race = [("pettingzoo", "race")] if is_race(args) else []
+    return [*race, *animation_needs(default_out(args)), *model_needs([args.policy], args.model)]
+
+
+RACE_POLICIES = ("scripted", "random", "ppo")
+"""What sails a recorded race's boats."""
+
+
+def race_or_env_id(text: str) -> str:
+    """An argparse ``type``: a bbgym env id, or a PettingZoo id of bbgym's (``bbgym/...``,
+    checked once the race extra is known to be there)."""
+    return text if text.startswith("bbgym/") else env_id(text)
+
+
+def is_race(args: argparse.Namespace) -> bool:
+    return args.env.startswith("bbgym/")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
-    parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
+    parser.add_argument("--env", required=True, type=race_or_env_id,
+                        help="a bbgym env id, or the race's PettingZoo id")  # fmt: skip
     parser.add_argument("--policy", required=True, choices=POLICIES, help="the policy to record")
     parser.add_argument("--model", type=Path, default=None,
                         help="saved PPO or SAC model (.zip), or a PPO policy .pt of --engine "
@@ -329,6 +353,8 @@ def run(args: argparse.Namespace) -> int:
         check_format(args.out)
     except ValueError as err:
         raise UsageError(str(err)) from None
+    if is_race(args):
+        return run_race(args)
     stats = record_to_file(
         args.env, args.policy, args.out, model=args.model, seed=args.seed, fps=args.fps,
         frame_skip=args.frame_skip, max_steps=args.max_steps, hold=args.hold,
@@ -377,3 +403,111 @@ def record_to_file(
     finally:
         env.close()
     return stats
+
+
+def run_race(args: argparse.Namespace) -> int:
+    """``bbgym record`` of a race (:func:`record_race`)."""
+    from bbgym.envs.race import ENV_ID
+
+    if args.env != ENV_ID:
+        raise UsageError(f"argument --env: unknown env id {args.env!r}; the race is {ENV_ID}")
+    if args.policy not in RACE_POLICIES:
+        raise UsageError(f"--policy {args.policy}: a race records {', '.join(RACE_POLICIES)}")
+    stats = record_race(args.policy, args.out, model=args.model, seed=args.seed, fps=args.fps,
+                        frame_skip=args.frame_skip, max_steps=args.max_steps,
+                        hold=args.hold)  # fmt: skip
+    capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
+    print(
+        f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
+        f"{stats['frames']} frames at {args.fps:g} fps, {stats['outcome']} -> {args.out}"
+    )
+    return 0
+
+
+def race_model_settings(model: Path) -> dict[str, Any]:
+    """How a self-play model races (``learners``, ``residual``): the JSON file
+    ``scripts/race_selfplay.py`` writes beside it."""
+    import json
+
+    settings = model.with_suffix(".json")
+    try:
+        found = json.loads(settings.read_text())
+        return {"learners": int(found["learners"]), "residual": bool(found["residual"])}
+    except (OSError, KeyError, TypeError, ValueError) as err:
+        raise UsageError(f"--model {model}: {settings.name} beside it should say how it races "
+                         f"(learners, residual; scripts/race_selfplay.py writes it): {err}"
+                         ) from None  # fmt: skip
+
+
+def race_outcome(place: np.ndarray, learned: np.ndarray) -> str:
+    """The last caption of a race: each boat's place (``-``: not finished), learned ones
+    marked ``*`` where only some boats learn."""
+    marks = learned.any() and not learned.all()
+    cells = [f"{k}{'*' if marks and learned[k] else ''}:{p if p else '-'}"
+             for k, p in enumerate(place.tolist())]  # fmt: skip
+    return "places " + " ".join(cells)
+
+
+def record_race(
+    policy_name: str, out: Path, *, model: Path | None = None, seed: int = 0,
+    fps: float = DEFAULT_FPS, frame_skip: int = 1, max_steps: int | None = None,
+    hold: float = 1.0, title: bool = True,
+) -> dict[str, Any]:  # fmt: skip
+    """Record one race (``reset(seed=seed)``) into ``out``: every boat by the scripted
+    racer (``scripted``), at random (``random``), or the learning boats by the self-play
+    model ``model`` (``ppo``) against scripted racers; return its statistics."""
+    from bbgym.envs.race import ENV_ID
+    from bbgym.envs.race.match import BeachballRaceMatchEnv
+    from bbgym.envs.race.view import RaceRenderer, race_scene
+
+    check_format(out)
+    require_all(animation_needs(out))
+    boats = BeachballRaceMatchEnv(1).num_boats
+    if policy_name == "ppo":
+        if model is None:
+            raise UsageError("--policy ppo needs --model (a model of scripts/race_selfplay.py)")
+        settings = race_model_settings(model)
+        env = BeachballRaceMatchEnv(1, **settings)
+        learnt = make_policy("ppo", env, model, seed)
+    else:  # every boat: the racer (a zero correction of its own action) or random
+        env = BeachballRaceMatchEnv(1, learners=boats, residual=policy_name == "scripted")
+        env.action_space.seed(seed)
+        learnt = None
+    renderer = RaceRenderer("rgb_array", 640, 480, fps)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    writer = open_writer(out, fps)
+    frames = _CaptionedFrames(
+        writer, f"{ENV_ID} \N{MIDDLE DOT} {policy_name}", title=title, frame_skip=frame_skip,
+        hold_periods=max(1, round(hold * fps)),
+    )  # fmt: skip
+    try:
+        obs, _ = env.reset(seed=seed)
+
+        def frame() -> np.ndarray:
+            return renderer.render(race_scene(env.task, env.fleet.state))
+
+        def clock() -> str:
+            return f"race clock {float(env.fleet.state.clock_s[0]):+.0f} s"
+
+        frames.add(frame(), clock(), key=False)
+        steps = 0
+        while not env.fleet.races_ended[0] and (max_steps is None or steps < max_steps):
+            if learnt is not None:
+                action = learnt(obs)
+            elif policy_name == "scripted":
+                action = np.zeros(env.action_space.shape, np.float32)
+            else:
+                action = env.action_space.sample()
+            obs, *_ = env.step(action)
+            steps += 1
+            frames.add(frame(), clock(), key=False)
+        state = env.fleet.state
+        outcome = race_outcome(state.place[0], env.mask[0])
+        frames.finish(outcome, NEUTRAL_COLOR)
+        writer.close()
+    finally:
+        renderer.close()
+        env.close()
+    return {"steps": steps, "frames": frames.kept, "outcome": outcome,
+            "capped": not bool(env.fleet.races_ended[0]),
+            "place": state.place[0].tolist()}  # fmt: skip

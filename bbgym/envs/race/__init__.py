@@ -12,7 +12,8 @@
 ``pettingzoo.make("aec", "bbgym/BeachballRace-v0")`` is the AEC form (boats act in turn);
 :class:`BeachballRaceSoloEnv` a Gymnasium env of one boat against scripted racers;
 :class:`BeachballRaceFleetEnv` many races at once as a Gymnasium vector env of every boat
-(self-play with one shared policy).
+(self-play with one shared policy); :class:`BeachballRaceMatchEnv` the learning boats of
+many races against scripted racers, and :func:`play_matches` the pairings they win.
 ``parallel_env()`` and ``env()`` here make the same. The race's core
 (:mod:`bbgym.envs.race.task`) and its course (:mod:`bbgym.envs.race.course`) need NumPy
 alone.
@@ -22,6 +23,7 @@ import pettingzoo
 
 from bbgym.envs.race.env import ENV_ID, BeachballRaceEnv, env, parallel_env
 from bbgym.envs.race.fleet import BeachballRaceFleetEnv
+from bbgym.envs.race.match import BeachballRaceMatchEnv, play_matches
 from bbgym.envs.race.solo import BeachballRaceSoloEnv
 
 # Once per process (PettingZoo warns when an id is registered again).
@@ -31,6 +33,6 @@ if ENV_ID not in pettingzoo.aec_registry:
     pettingzoo.register("aec", ENV_ID, entry_point=env)
 
 __all__ = [
-    "ENV_ID", "BeachballRaceEnv", "BeachballRaceFleetEnv", "BeachballRaceSoloEnv", "env",
-    "parallel_env",
+    "ENV_ID", "BeachballRaceEnv", "BeachballRaceFleetEnv", "BeachballRaceMatchEnv",
+    "BeachballRaceSoloEnv", "env", "parallel_env", "play_matches",
 ]  # fmt: skip

@@ -147,6 +147,12 @@ class BeachballRaceFleetEnv(VectorEnv):
             self._sitting_out[ended] = False
         return self._observe(self._sitting_out)
 
+    @property
+    def races_ended(self) -> np.ndarray:
+        """The races that ended on the last step ``(num_races,)``: the next step (or
+        :meth:`reset_envs`) starts them anew. A copy."""
+        return self._ended.copy()
+
     def _observe(self, blank: np.ndarray | None = None) -> np.ndarray:
         obs = self.task.observation(self.state, np)
         if blank is not None:
