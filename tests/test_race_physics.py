@@ -235,9 +235,9 @@ def test_steering_for_the_targets_rounds_the_windward_mark_to_port() -> None:
     c = _course()
     for side in (-20.0, 20.0):
         x, y = np.array([[side]]), np.array([[100.0]])
-        kind, ocs = np.array([[rc.WINDWARD]]), np.array([[False]])
+        kind = np.array([[rc.WINDWARD]])
         for _ in range(60):
-            tx, ty = rc.steer_target(c, kind, ocs, x, y, np)
+            tx, ty = rc.steer_target(c, kind, x, y, np)
             d = math.hypot(tx[0, 0] - x[0, 0], ty[0, 0] - y[0, 0])
             nx, ny = x + (tx - x) / d, y + (ty - y) / d
             done, _ = rc.passed_waypoint(c, kind, x, y, nx, ny, np)
@@ -245,6 +245,42 @@ def test_steering_for_the_targets_rounds_the_windward_mark_to_port() -> None:
             if done[0, 0]:
                 break
         assert done[0, 0], side
+
+
+def _steer(kind: int, x: float, y: float, steps: int = 100) -> int | None:
+    """Steer straight for the point the observation names, 1 m a step, from ``(x, y)`` on
+    ``_course()``; the step the waypoint of ``kind`` is passed at, or None."""
+    c = _course()
+    x, y = np.array([[x]]), np.array([[y]])
+    kinds = np.array([[kind]])
+    for step in range(steps):
+        tx, ty = rc.steer_target(c, kinds, x, y, np)
+        d = max(math.hypot(tx[0, 0] - x[0, 0], ty[0, 0] - y[0, 0]), 1e-9)
+        nx, ny = x + (tx - x) / d, y + (ty - y) / d
+        done, _ = rc.passed_waypoint(c, kinds, x, y, nx, ny, np)
+        x, y = nx, ny
+        if done[0, 0]:
+            return step
+    return None
+
+
+@pytest.mark.parametrize(
+    "x, y, most",
+    [
+        (0.0, -20.0, 25),  # below the line, between its ends: straight up, 20 m
+        (-45.0, -3.0, 30),  # below and beyond the pin: inside the end, then up
+        (48.0, -1.0, 30),  # below and beyond the committee boat
+        (-40.0, 6.0, 60),  # came round the pin onto the course side: back, then up
+        (10.0, 4.0, 40),  # over early: back below the line, then up
+    ],
+)
+def test_steering_for_the_start_target_starts(x, y, most) -> None:
+    """From below the line, beyond its ends or over it, steering for the point the
+    observation names crosses the line upwind between its ends (a start) within ``most``
+    metres: the target never leads a boat across the line's extension, which does not
+    count, or to a point on the course side it cannot start from."""
+    step = _steer(rc.START, x, y)
+    assert step is not None and step < most, step
 
 
 # -- right of way ----------------------------------------------------------------------------

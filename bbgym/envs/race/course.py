@@ -139,27 +139,31 @@ def passed_waypoint(course: Course, kind: Array, x0: Array, y0: Array, x1: Array
 ROUNDING_OFFSET_M = 5.0
 """How far above and to the side of the windward mark a boat steers to round it."""
 BEHIND_LINE_M = 10.0
-"""How far behind the line's centre a boat over early steers to get back."""
+"""How far below the line a boat on the course side before its start steers to get back."""
 
 
-def steer_target(course: Course, kind: Array, ocs: Array, x: Array, y: Array,
-                 xp: Any) -> tuple[Array, Array]:  # fmt: skip
-    """The point a boat at ``(x, y)`` steers for on its way to a waypoint of ``kind``: for
-    the start a point :data:`ROUNDING_OFFSET_M` above the line, level with the boat (so a
-    fleet spreads along the line rather than heading for one point), at least as far
-    inside the line's ends; the finish line's centre, the gate's centre, and for the
-    windward mark a point
-    :data:`ROUNDING_OFFSET_M` above it, on its starboard side while the boat is on its
-    port side and on its port side once the boat is on its starboard side, so that
-    steering for it rounds the mark to port (:func:`rounded_windward`). A boat over the
-    line early (``ocs``) steers for a point :data:`BEHIND_LINE_M` behind the line."""
+def steer_target(course: Course, kind: Array, x: Array, y: Array, xp: Any) -> tuple[Array, Array]:
+    """The point a boat at ``(x, y)`` steers for on its way to a waypoint of ``kind``.
+
+    For the start, a point level with the boat (so a fleet spreads along the line rather
+    than heading for one point) but at least :data:`ROUNDING_OFFSET_M` inside the line's
+    ends: below the line and between its ends, that point :data:`ROUNDING_OFFSET_M` above
+    the line (steering for it starts); below the line and beyond an end, the point on the
+    line (it leads inside the end before crossing, where crossing the extension would
+    not start); on the course side (over early, or come round an end), the point
+    :data:`BEHIND_LINE_M` below the line (a start is a crossing from below). Then the
+    windward mark's point :data:`ROUNDING_OFFSET_M` above it, on its starboard side while
+    the boat is on its port side and on its port side once the boat is on its starboard
+    side, so that steering for it rounds the mark to port (:func:`rounded_windward`); the
+    gate's centre; the finish line's centre. A boat over early needs no rule of its own:
+    it is on the course side until it is back below the line."""
     ux, uy = course.upwind_x, course.upwind_y
     ax, ay = course.across_x, course.across_y
     side = (x - course.windward_x_m) * ax + (y - course.windward_y_m) * ay
-    turn = xp.where(side > 0.0, -ROUNDING_OFFSET_M, ROUNDING_OFFSET_M)
+    zero = 0.0 * x
+    turn = xp.where(side > 0.0, zero - ROUNDING_OFFSET_M, zero + ROUNDING_OFFSET_M)
     mark_x = course.windward_x_m + ROUNDING_OFFSET_M * ux + turn * ax
     mark_y = course.windward_y_m + ROUNDING_OFFSET_M * uy + turn * ay
-    zero = 0.0 * x
     target_x = xp.where(
         kind == WINDWARD, mark_x, xp.where(kind == GATE, course.gate_x_m + zero, zero)
     )
@@ -167,11 +171,12 @@ def steer_target(course: Course, kind: Array, ocs: Array, x: Array, y: Array,
         kind == WINDWARD, mark_y, xp.where(kind == GATE, course.gate_y_m + zero, zero)
     )
     inside = max(course.line_half_m - ROUNDING_OFFSET_M, 0.0)
-    level = xp.clip(x * ax + y * ay, -inside, inside)
-    target_x = xp.where(kind == START, level * ax + ROUNDING_OFFSET_M * ux, target_x)
-    target_y = xp.where(kind == START, level * ay + ROUNDING_OFFSET_M * uy, target_y)
-    target_x = xp.where(ocs & (kind == START), -BEHIND_LINE_M * ux + zero, target_x)
-    target_y = xp.where(ocs & (kind == START), -BEHIND_LINE_M * uy + zero, target_y)
+    across = x * ax + y * ay
+    level = xp.clip(across, -inside, inside)
+    height = xp.where(xp.abs(across) > inside, zero, zero + ROUNDING_OFFSET_M)
+    height = xp.where(above_line(course, x, y) > 0.0, zero - BEHIND_LINE_M, height)
+    target_x = xp.where(kind == START, level * ax + height * ux, target_x)
+    target_y = xp.where(kind == START, level * ay + height * uy, target_y)
     return target_x, target_y
 
 

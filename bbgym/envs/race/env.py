@@ -80,12 +80,14 @@ class BeachballRaceEnv(ParallelEnv):
     | 40-41 + 8 i | cos and sin of its heading relative to this boat's | - |
     | 42 + 8 i | right of way: -1 this boat keeps clear of it, 1 it of this boat | - |
 
-    The point steered for: a point 5 m above the start line level with the boat (at least
-    5 m inside the line's ends), then a point 5 m above the windward mark and 5 m to its
-    starboard side while the boat is on its port side, to its port side once the boat is
-    on its starboard side (steering for it rounds the mark to port), the gate's centre,
-    the finish line's centre; a boat over the line early steers for a point 10 m behind
-    the line's centre. An absent neighbour's columns are zeros.
+    The point steered for: to start, a point level with the boat but at least 5 m inside
+    the line's ends, 5 m above the line from below it between its ends, on the line from
+    below it beyond an end (crossing the extension does not start), 10 m below the line
+    from the course side (over early, or round an end); then a point 5 m above the
+    windward mark and 5 m to its starboard side while the boat is on its port side, to its
+    port side once the boat is on its starboard side (steering for it rounds the mark to
+    port), the gate's centre, the finish line's centre. An absent neighbour's columns are
+    zeros.
 
     ## Rewards
 

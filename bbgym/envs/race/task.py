@@ -312,7 +312,7 @@ class RaceTask:
         y = lateral * course.across_y - depth * course.upwind_y
         no = x > math.inf
         start = xp.zeros_like(x, dtype=xp.int64)
-        target_x, target_y = rc.steer_target(course, start, no, x, y, xp)
+        target_x, target_y = rc.steer_target(course, start, x, y, xp)
         boat = replaced(boats.boat, x_m=xp.reshape(x, (-1,)), y_m=xp.reshape(y, (-1,)))
         scenario = replaced(boats.scenario, mark_x_m=xp.reshape(target_x, (-1,)),
                             mark_y_m=xp.reshape(target_y, (-1,)))  # fmt: skip
@@ -453,7 +453,7 @@ class RaceTask:
         finish_start = racing & after_gun & xp.logical_not(finishing)
         finished = state.finished | finishing
         # What each boat steers for now: the next waypoint's point, from where it is.
-        next_x, next_y = rc.steer_target(course, self.kind(leg, xp), ocs, x1, y1, xp)
+        next_x, next_y = rc.steer_target(course, self.kind(leg, xp), x1, y1, xp)
         scenario = replaced(moved.scenario, mark_x_m=flat(next_x, xp), mark_y_m=flat(next_y, xp))
         return RaceState(
             boats=replaced(moved, scenario=scenario), wind_speed_mps=state.wind_speed_mps,
