@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import subprocess
 import sys
+
+import pytest
 
 
 def test_bench_quick_writes_the_table(tmp_path):
@@ -148,3 +151,18 @@ def test_bench_quick_race_rows(tmp_path):
                                          "fleet N=8 (2 races)"]  # fmt: skip
     assert all(r["rate"] > 0 and r["ratio"] > 0 for r in rows)
     assert "boat-steps/s" in (tmp_path / "bench.md").read_text()
+
+
+def test_race_backend_rows_time_the_fleet_on_torch():
+    """``--race --backends``: the race fleet on torch for each dtype beside CartPole's vector
+    env at the same N, with the first step's time."""
+    pytest.importorskip("pettingzoo")
+    pytest.importorskip("torch")
+    from bbgym.cli.bench import race_backend_rows
+
+    args = argparse.Namespace(device="cpu", backend_envs=(8,), steps=6, seconds=0.2, seed=0,
+                              dtypes=["float64", "float32"], compile=False, repeats=1)  # fmt: skip
+    rows = race_backend_rows(args)
+    assert [r["kind"] for r in rows] == ["fleet N=8 (2 races) torch float64",
+                                         "fleet N=8 (2 races) torch float32"]  # fmt: skip
+    assert all(r["rate"] > 0 and r["ratio"] > 0 and r["warmup_s"] > 0 for r in rows)

@@ -112,10 +112,11 @@ def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
     return done / elapsed
 
 
-def time_race(num_races: int, steps: int, seconds: float, seed: int) -> float:
-    """Boat-steps per second of BeachballRace (:data:`RACE_BOATS` boats a race, seeded
-    random actions): the PettingZoo env (``num_races`` 0) or ``num_races`` races as one
-    fleet vector env (:class:`bbgym.envs.race.BeachballRaceFleetEnv`)."""
+def time_race(num_races: int, steps: int, seconds: float, seed: int, **backend: Any) -> dict:
+    """Boat-steps per second (``rate``) of BeachballRace (:data:`RACE_BOATS` boats a race,
+    seeded random actions): the PettingZoo env (``num_races`` 0) or ``num_races`` races as
+    one fleet vector env (:class:`bbgym.envs.race.BeachballRaceFleetEnv`, on ``backend``'s
+    keywords; its first step, which compiles on torch, is ``warmup_s`` and not timed)."""
     import numpy as np
 
     from bbgym.envs.race import BeachballRaceFleetEnv, parallel_env
@@ -123,9 +124,17 @@ def time_race(num_races: int, steps: int, seconds: float, seed: int) -> float:
     rng = np.random.default_rng(seed)
     n = max(num_races, 1) * RACE_BOATS
     actions = rng.uniform(-1.0, 1.0, (min(steps, 256), n, 3)).astype(np.float32)
-    fleet = BeachballRaceFleetEnv(num_races, num_boats=RACE_BOATS) if num_races else None
+    fleet = None
+    if num_races:
+        fleet = BeachballRaceFleetEnv(num_races, num_boats=RACE_BOATS, **backend)
+        if backend.get("output") == "torch":  # actions made on the device, untimed
+            actions = fleet.xp.asarray(actions, device=fleet.backend.device)
     race = None if fleet else parallel_env(num_boats=RACE_BOATS)
     (fleet or race).reset(seed=seed)
+    warmup = time.perf_counter()
+    if fleet is not None:
+        fleet.step(actions[0])
+    warmup = time.perf_counter() - warmup
     done, start = 0, time.perf_counter()
     while done < steps and (done % 16 or time.perf_counter() - start < seconds):
         action = actions[done % len(actions)]
@@ -137,7 +146,11 @@ def time_race(num_races: int, steps: int, seconds: float, seed: int) -> float:
             race.step({a: action[i] for i, a in enumerate(race.possible_agents)
                        if a in race.agents})  # fmt: skip
         done += 1
-    return done * n / (time.perf_counter() - start)
+    if fleet is not None and fleet.backend.device != "cpu":
+        import torch
+
+        torch.cuda.synchronize()
+    return {"rate": done * n / (time.perf_counter() - start), "warmup_s": warmup}
 
 
 def time_vector(
@@ -335,6 +348,8 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
             rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": reference,
                          "ratio": 1.0})  # fmt: skip
         rows += torchrl_training_rows(args, reference)
+        if args.race:
+            rows += race_backend_rows(args)
         return {"rows": rows, "backend_rows": backend, "memory_mb": {},
                 "machine": machine_info()}  # fmt: skip
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
@@ -385,7 +400,8 @@ def race_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
 
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     reference = best(time_single, REFERENCE, args.steps, args.seconds, args.seed)
-    rate = best(time_race, 0, args.steps, args.seconds, args.seed)
+    rate = max(time_race(0, args.steps, args.seconds, args.seed)["rate"]
+               for _ in range(args.repeats))  # fmt: skip
     rows = [{"env": ENV_ID, "kind": f"PettingZoo, {RACE_BOATS} boats", "rate": rate,
              "ratio": rate / reference}]  # fmt: skip
     for n in args.num_envs:
@@ -393,10 +409,34 @@ def race_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         size = races * RACE_BOATS
         reference = time_vector(REFERENCE, size, max(2, args.steps // size), args.seconds,
                                 args.seed)  # fmt: skip
-        rate = time_race(races, max(2, args.steps // size), args.seconds, args.seed)
+        rate = time_race(races, max(2, args.steps // size), args.seconds, args.seed)["rate"]
         plural = "s" if races > 1 else ""
         rows.append({"env": ENV_ID, "kind": f"fleet N={size} ({races} race{plural})", "rate": rate,
                      "ratio": rate / reference})  # fmt: skip
+    return rows + (race_backend_rows(args) if args.backends else [])
+
+
+def race_backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """The fleet of BeachballRace on the torch backend (each of ``--dtypes``, compiled
+    unless ``--quick``, on ``--device``) at the backend rows' N boats, beside CartPole's
+    NumPy vector env at the same N, with the first step's time (the compile)."""
+    from bbgym.envs.race import ENV_ID
+
+    on_device = {} if args.device == "cpu" else {"device": args.device, "output": "torch"}
+    where = "" if args.device == "cpu" else f" {args.device}"
+    rows: list[dict[str, Any]] = []
+    for n in args.backend_envs:
+        races = max(n // RACE_BOATS, 1)
+        size, steps = races * RACE_BOATS, max(3, args.steps // n)
+        reference = time_vector(REFERENCE, size, steps, args.seconds, args.seed)
+        for dtype in args.dtypes:
+            backend = {"backend": "torch", "dtype": dtype, "compile": args.compile, **on_device}
+            r = max((time_race(races, steps, args.seconds, args.seed, **backend)
+                     for _ in range(args.repeats)), key=lambda r: r["rate"])  # fmt: skip
+            kind = f"fleet N={size} ({races} races) torch {dtype}{where}"
+            rows.append({"env": ENV_ID, "kind": kind, **r, "ratio": r["rate"] / reference})
+            print(f"{ENV_ID} {kind}: {r['rate']:,.0f} boat-steps/s, "
+                  f"warm-up {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
     return rows
 
 

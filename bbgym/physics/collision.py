@@ -131,11 +131,13 @@ def collide(
     others = xp.logical_not(xp.eye(k, dtype=xp.bool, device=getattr(x, "device", None)))
     pairs = others[None, :, :] & active[:, :, None] & active[:, None, :]
     # Broad phase: hulls whose centres are further apart than a hull's length cannot touch;
-    # where no pair is that close (most steps of a race), nothing is computed.
+    # on NumPy, where no pair is that close (most steps of a race), nothing is computed. On
+    # torch every branch here is computed and masked instead: a branch on the data would
+    # break the compiled step's graph (and the masked result is the same).
     reach = 2.0 * (h.half_segment_m + h.radius_m)
     near = xp.hypot(x[:, :, None] - x[:, None, :], y[:, :, None] - y[:, None, :]) < reach
     close = xp.any(pairs & near, axis=(1, 2))
-    if not bool(xp.any(close)):
+    if xp is np and not close.any():
         return x, y, vx, vy, yaw_rate, pairs & near
     if xp is np and not close.all():  # NumPy: the races with boats close, alone
         busy = np.flatnonzero(close)
@@ -153,7 +155,7 @@ def _resolve(
     """:func:`collide`'s narrow phase, impulses and push for the races given."""
     contacts = hull_contacts(h, x, y, heading, xp)
     touching = pairs & (contacts.gap_m < 0.0)
-    if not bool(xp.any(touching)):  # close, but none touching: nothing to resolve
+    if xp is np and not touching.any():  # close, but none touching: nothing to resolve
         return x, y, vx, vy, yaw_rate, touching
     nx, ny = contacts.normal_x, contacts.normal_y
     # lever arms from each centre to the contact point
@@ -178,6 +180,6 @@ def _resolve(
         y = y + 0.5 * xp.sum(overlap * contacts.normal_y, axis=2)
         if push < PUSH_PASSES - 1:
             contacts = hull_contacts(h, x, y, heading, xp)
-            if not bool(xp.any(pairs & (contacts.gap_m < 0.0))):
+            if xp is np and not (pairs & (contacts.gap_m < 0.0)).any():
                 break
     return x, y, vx, vy, yaw_rate, touching

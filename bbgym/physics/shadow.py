@@ -106,13 +106,16 @@ def shadow_velocity(
     casts: Array,
     x_m: Array, y_m: Array,
     xp: Any = np,
+    area_m2: float | None = None,
 ) -> tuple[Array, Array]:  # fmt: skip
     """The change of wind velocity at each boat ``(x_m, y_m)`` from every other boat's sails,
     summed (``(races, K)`` each): source ``j`` at ``(source_x_m, source_y_m)`` with the
     aerodynamic force ``(force_x_n, force_y_n)`` on its sails and its apparent wind
     ``(flow_x_mps, flow_y_mps)`` (where the air moves past it: the cone's axis) gives the
     air of its cone ``-F t_act`` of momentum, ``dv = -F t_act profile / (rho h A)``.
-    Boats where ``casts`` is false (capsized, finished) cast none; no boat shadows itself."""
+    Boats where ``casts`` is false (capsized, finished) cast none; no boat shadows itself.
+    ``area_m2`` is :func:`profile_area_m2` of ``p``, from a caller that computed it once (a
+    compiled step cannot call the cached NumPy integral without breaking its graph)."""
     flow_speed = xp.maximum(xp.hypot(flow_x_mps, flow_y_mps), 1e-9)
     axis_x, axis_y = flow_x_mps / flow_speed, flow_y_mps / flow_speed
     # (receiver i, source j): the receiver's place in source j's cone
@@ -124,7 +127,8 @@ def shadow_velocity(
     k = x_m.shape[1]
     others = xp.logical_not(xp.eye(k, dtype=xp.bool, device=_device(x_m)))
     profile = xp.where(others[None, :, :] & casts[:, None, :], profile, 0.0)
-    scale = -p.acting_time_s / (AIR_DENSITY_KGM3 * p.air_height_m * profile_area_m2(p))
+    area_m2 = profile_area_m2(p) if area_m2 is None else area_m2
+    scale = -p.acting_time_s / (AIR_DENSITY_KGM3 * p.air_height_m * area_m2)
     dvx = scale * xp.sum(profile * force_x_n[:, None, :], axis=2)
     dvy = scale * xp.sum(profile * force_y_n[:, None, :], axis=2)
     return dvx, dvy

@@ -1,5 +1,6 @@
 """Many races at once, every boat a sub-env: a Gymnasium ``VectorEnv`` of ``num_races x
-num_boats`` boats for one shared policy (self-play), stepped as one NumPy batch."""
+num_boats`` boats for one shared policy (self-play), stepped as one batch on the NumPy or
+the torch backend (:mod:`bbgym.backends`)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
+from bbgym import backends
 from bbgym.envs.common import check_box_action, vector_info, vector_seeds
 from bbgym.envs.functional import tree_map, tree_select
 from bbgym.envs.race.env import newest_boat
@@ -33,6 +35,12 @@ class BeachballRaceFleetEnv(VectorEnv):
     boats at once, on the step after it ended (``AutoresetMode.NEXT_STEP``: that step
     returns the new race's first observations, with reward 0). Infos are arrays (per
     boat), with Gymnasium's ``_key`` masks; keyword arguments are the race env's.
+
+    ``backend="torch"`` steps the races on torch (``device``, ``dtype`` float64 or float32,
+    ``compile``: one ``torch.compile``d graph a step, else eager; ``output="torch"`` returns
+    observations, rewards and ends as tensors on ``device``, infos stay NumPy): the same core
+    and the same random draws (each race's own NumPy generator, a few numbers a step), so in
+    float64 a race sails as on NumPy to rounding.
     ``reset`` takes an int (race ``r`` seeded ``seed + r``), a seed per race, or a seed per
     boat (each race takes its first boat's). :meth:`reset_envs` restarts at once what a
     step ended, for stable-baselines3 through :class:`bbgym.sb3.NativeVecEnvAdapter`.
@@ -40,7 +48,9 @@ class BeachballRaceFleetEnv(VectorEnv):
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_races: int = 16, **kwargs: Any) -> None:
+    def __init__(self, num_races: int = 16, *, backend: str = "numpy", device: str | None = None,
+                 dtype: str = "float64", output: str = "numpy", compile: bool = True,
+                 **kwargs: Any) -> None:  # fmt: skip
         if isinstance(num_races, bool) or not isinstance(num_races, (int, np.integer)):
             raise TypeError(f"num_races must be an int, got {num_races!r}")
         if num_races < 1:
@@ -48,6 +58,8 @@ class BeachballRaceFleetEnv(VectorEnv):
         boat = newest_boat()
         boat.update(kwargs.pop("boat", None) or {})
         self.task = RaceTask(boat=boat, **kwargs)
+        self.backend = backends.resolve_backend(backend, device, dtype, output, compile)
+        self.xp = self.backend.xp
         self.num_races, self.num_boats = int(num_races), self.task.num_boats
         self.num_envs = self.num_races * self.num_boats
         self.single_observation_space = self.task.observation_space
@@ -60,6 +72,8 @@ class BeachballRaceFleetEnv(VectorEnv):
         self._generators = [seeding.np_random(None)[0] for _ in range(self.num_races)]
         self._ended = np.zeros(self.num_races, dtype=bool)
         self._sitting_out = np.zeros((self.num_races, self.num_boats), dtype=bool)
+        self._advance = backends.compiled(self._advance_races, self.backend)
+        self._observation = backends.compiled(self._observation_of, self.backend)
 
     def _fresh(self, races: np.ndarray, options: dict[str, Any]) -> RaceState:
         """New races for every race (draws only for those in ``races``, so each race's
@@ -70,15 +84,41 @@ class BeachballRaceFleetEnv(VectorEnv):
         for r in np.flatnonzero(races):
             uniform[r] = self._generators[r].uniform(size=2 + 4 * k)
             normal[r] = self._generators[r].standard_normal(size=2)
-        return self.task.initial(uniform, normal, options, np)
+        state = self.task.initial(self._array(uniform), self._array(normal), options, self.xp)
+        if self.xp is np:
+            return state
+        # Leaves of a new state share arrays (one zeros for many fields); a compiled step
+        # guards on which inputs are the same tensor and would compile again for the
+        # states after it, which share none.
+        return tree_map(lambda a: a.clone(), state)
+
+    def _array(self, values: np.ndarray) -> Any:
+        """NumPy values on the backend (floats in its dtype, on its device)."""
+        if self.xp is np:
+            return values
+        dtype = self.backend.float_dtype if values.dtype.kind == "f" else None
+        return self.xp.asarray(values, dtype=dtype, device=self.backend.device)
 
     def _select(self, races: np.ndarray, fresh: RaceState, old: RaceState) -> RaceState:
         """``fresh`` for the races in ``races``, ``old`` for the others (the boats, flat,
         by each boat's race)."""
-        boats = tree_select(np.repeat(races, self.num_boats), fresh.boats, old.boats, np)
+        xp = self.xp
+        each = self._array(np.repeat(races, self.num_boats))
+        boats = tree_select(each, fresh.boats, old.boats, xp)
         # the rest by race (the boats the same object on both sides: left as they are)
-        rest = tree_select(races, replaced(fresh, boats=old.boats), old, np)
+        rest = tree_select(self._array(races), replaced(fresh, boats=old.boats), old, xp)
         return replaced(rest, boats=boats)
+
+    def _advance_races(self, state: RaceState, action: Any, gust_noise: Any) -> tuple:
+        """One step of every race, pure (compiled as one graph on torch): the new state,
+        each boat's reward and whether it is out, each race's time being up."""
+        xp = self.xp
+        moved = self.task.transition(state, action, gust_noise, xp)
+        return (moved, self.task.reward(moved, xp), self.task.terminal(moved, xp),
+                self.task.timed_out(moved, xp))  # fmt: skip
+
+    def _observation_of(self, state: RaceState) -> Any:
+        return self.task.observation(state, self.xp)
 
     def reset(self, *, seed: int | list[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple:  # fmt: skip
@@ -98,20 +138,28 @@ class BeachballRaceFleetEnv(VectorEnv):
     def step(self, actions: Any) -> tuple:
         if self.state is None:
             raise RuntimeError("step() called before reset()")
-        try:
-            action = check_box_action(actions, self.single_action_space.shape[0], self.num_envs)
-        except ValueError as error:
-            raise ValueError(f"actions: {error}") from None
+        if hasattr(actions, "detach") and self.xp is not np:  # a learner's tensor, kept there
+            action = actions.to(device=self.backend.device, dtype=self.backend.float_dtype)
+            if tuple(action.shape) != self.action_space.shape:
+                raise ValueError(f"actions must have shape {self.action_space.shape}, "
+                                 f"got {tuple(action.shape)}")  # fmt: skip
+            action = action.clamp(-1.0, 1.0)  # a NaN check would cost a sync on a GPU
+        else:
+            try:
+                size = self.single_action_space.shape[0]
+                action = self._array(check_box_action(actions, size, self.num_envs))
+            except ValueError as error:
+                raise ValueError(f"actions: {error}") from None
         restarting = self._ended.copy()
         gust_noise = np.stack([g.standard_normal(size=2) if not restarting[r] else np.zeros(2)
                                for r, g in enumerate(self._generators)])  # fmt: skip
         before = self.state
-        moved = self.task.transition(before, action, gust_noise, np)
-        reward = self.task.reward(moved, np)
-        out_now = self.task.terminal(moved, np) & ~before.out
-        timed_out = self.task.timed_out(moved, np)
+        moved, reward, out, timed_out = self._advance(before, action, self._array(gust_noise))
+        to_numpy = backends.to_numpy
+        reward, out, timed_out = to_numpy(reward), to_numpy(out), to_numpy(timed_out)
+        out_now = out & ~to_numpy(before.out)
         sitting_out = self._sitting_out.copy()
-        ended = np.all(moved.out, axis=1) | timed_out
+        ended = np.all(out, axis=1) | timed_out
         terminated = out_now & ~sitting_out
         # boats still racing at the time limit, and those sitting out, stop at the race's end
         truncated = ended[:, None] & ~terminated
@@ -128,8 +176,8 @@ class BeachballRaceFleetEnv(VectorEnv):
             ended[restarting] = False
         self._ended = ended
         obs = self._observe(sitting_out & ~restarting[:, None])
-        return (obs, reward.reshape(-1), terminated.reshape(-1), truncated.reshape(-1),
-                self._info())  # fmt: skip
+        return (obs, self._output(reward.reshape(-1)), self._output(terminated.reshape(-1)),
+                self._output(truncated.reshape(-1)), self._info())  # fmt: skip
 
     def reset_envs(self, mask: Any) -> np.ndarray:
         """Restart at once what a step just ended, for a learner that restarts an env on
@@ -153,13 +201,24 @@ class BeachballRaceFleetEnv(VectorEnv):
         :meth:`reset_envs`) starts them anew. A copy."""
         return self._ended.copy()
 
-    def _observe(self, blank: np.ndarray | None = None) -> np.ndarray:
-        obs = self.task.observation(self.state, np)
+    def _observe(self, blank: np.ndarray | None = None) -> Any:
+        """Every boat's observation, as :attr:`backend` outputs it; ``blank`` boats' zero."""
+        xp = self.xp
+        obs = self._observation(self.state)
         if blank is not None:
-            obs = np.where(blank[:, :, None], np.float32(0.0), obs)
-        return obs.reshape(self.num_envs, -1)
+            obs = xp.where(self._array(blank)[:, :, None], xp.zeros_like(obs), obs)
+        obs = xp.reshape(obs, (self.num_envs, -1))
+        return obs if self.backend.output == "torch" else backends.to_numpy(obs)
+
+    def _output(self, values: np.ndarray) -> Any:
+        """A NumPy result as :attr:`backend` outputs it."""
+        if self.backend.output != "torch":
+            return values
+        return self.xp.asarray(values, device=self.backend.device)
 
     def _info(self) -> dict[str, Any]:
-        info = tree_map(lambda a: np.asarray(a).reshape(self.num_envs, *np.shape(a)[2:]),
-                        self.task.info(self.state, np))  # fmt: skip
-        return vector_info(info, self.num_envs)
+        def flat(a: Any) -> np.ndarray:
+            a = np.asarray(backends.to_numpy(a))
+            return a.reshape(self.num_envs, *a.shape[2:])
+
+        return vector_info(tree_map(flat, self.task.info(self.state, self.xp)), self.num_envs)

@@ -42,7 +42,8 @@ class BeachballRaceMatchEnv(VectorEnv):
     action sails as the racer does, and it sees the racer's action: its observation is the
     boat's with the racer's three action columns after it. Infos are the learning boats';
     :attr:`fleet` holds every boat's state. :meth:`reset_envs` serves stable-baselines3 through
-    :class:`bbgym.sb3.NativeVecEnvAdapter`. Keyword arguments are the race env's.
+    :class:`bbgym.sb3.NativeVecEnvAdapter`. Keyword arguments are the fleet's (the race
+    env's and the backend's; ``output`` NumPy).
     """
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
@@ -52,6 +53,9 @@ class BeachballRaceMatchEnv(VectorEnv):
         from bbgym.agents import RaceRacer
 
         self.fleet = BeachballRaceFleetEnv(num_races, **kwargs)
+        if self.fleet.backend.output != "numpy":
+            raise ValueError("output must be 'numpy' for a match (the scripted racer reads "
+                             f"NumPy observations), got {self.fleet.backend.output!r}")  # fmt: skip
         boats = self.fleet.num_boats
         if isinstance(learners, bool) or not isinstance(learners, (int, np.integer)):
             raise TypeError(f"learners must be an int, got {learners!r}")

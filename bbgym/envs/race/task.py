@@ -34,7 +34,7 @@ from bbgym.physics.collision import collide, hull_contacts, hulls
 from bbgym.physics.common import split_along, wrap_angle
 from bbgym.physics.namespace import Array, replaced
 from bbgym.physics.sailing import apparent_wind_body, rig_force
-from bbgym.physics.shadow import ShadowParams, shadow_velocity, shadowed_wind
+from bbgym.physics.shadow import ShadowParams, profile_area_m2, shadow_velocity, shadowed_wind
 from bbgym.physics.validation import (
     ANGLE_RAD,
     build_params,
@@ -233,6 +233,7 @@ class RaceTask:
         self.max_race_time_s = check_number("max_race_time_s", max_race_time_s, RACE_TIME_S)
         self.shadow = check_bool("shadow", shadow)
         self.shadow_params = build_params(ShadowParams, "shadow_params", shadow_params)
+        self.shadow_area_m2 = profile_area_m2(self.shadow_params)
         for name in ("progress_weight", "waypoint_bonus", "finish_bonus", "ocs_penalty",
                      "capsize_penalty", "time_penalty", "foul_penalty"):  # fmt: skip
             setattr(self, name, check_number(name, locals()[name], REWARD_WEIGHT))
@@ -360,7 +361,7 @@ class RaceTask:
         dvx, dvy = shadow_velocity(
             self.shadow_params, pb(boat.x_m, xp), pb(boat.y_m, xp), pb(force_x, xp),
             pb(force_y, xp), pb(flow_x, xp), pb(flow_y, xp), xp.logical_not(state.stopped),
-            pb(boat.x_m, xp), pb(boat.y_m, xp), xp,
+            pb(boat.x_m, xp), pb(boat.y_m, xp), xp, self.shadow_area_m2,
         )  # fmt: skip
         wx, wy = pb(wind_x, xp), pb(wind_y, xp)
         new_x, new_y = shadowed_wind(wx, wy, dvx, dvy, xp)
