@@ -21,7 +21,8 @@ to ``--out``:
 * ``--race`` (the ``race`` extra): BeachballRace's boat-steps per second, the PettingZoo
   env of 4 boats beside CartPole's single env, and the fleet vector env of N / 4 races
   (:class:`bbgym.envs.race.BeachballRaceFleetEnv`) beside CartPole's native vector env at
-  the same N;
+  the same N; with ``--backends`` the fleet on torch too (each of ``--dtypes``, at the
+  backend rows' N, on ``--device``), with its first step's time (the compile);
 * peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
 * the backends of the native vector envs (``--backends``, needs torch): torch float64 and
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
@@ -431,8 +432,10 @@ def race_backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         reference = time_vector(REFERENCE, size, steps, args.seconds, args.seed)
         for dtype in args.dtypes:
             backend = {"backend": "torch", "dtype": dtype, "compile": args.compile, **on_device}
-            r = max((time_race(races, steps, args.seconds, args.seed, **backend)
-                     for _ in range(args.repeats)), key=lambda r: r["rate"])  # fmt: skip
+            runs = [time_race(races, steps, args.seconds, args.seed, **backend)
+                    for _ in range(args.repeats)]  # fmt: skip
+            # the best rate; the first run's warm-up, the one that compiled
+            r = {"rate": max(run["rate"] for run in runs), "warmup_s": runs[0]["warmup_s"]}
             kind = f"fleet N={size} ({races} races) torch {dtype}{where}"
             rows.append({"env": ENV_ID, "kind": kind, **r, "ratio": r["rate"] / reference})
             print(f"{ENV_ID} {kind}: {r['rate']:,.0f} boat-steps/s, "

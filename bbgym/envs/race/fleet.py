@@ -71,6 +71,8 @@ class BeachballRaceFleetEnv(VectorEnv):
         self.state: RaceState | None = None
         self._generators = [seeding.np_random(None)[0] for _ in range(self.num_races)]
         self._ended = np.zeros(self.num_races, dtype=bool)
+        self._cold = True
+        """No step yet: on torch with ``compile`` the first compiles (logged, it is slow)."""
         self._sitting_out = np.zeros((self.num_races, self.num_boats), dtype=bool)
         self._advance = backends.compiled(self._advance_races, self.backend)
         self._observation = backends.compiled(self._observation_of, self.backend)
@@ -154,7 +156,13 @@ class BeachballRaceFleetEnv(VectorEnv):
         gust_noise = np.stack([g.standard_normal(size=2) if not restarting[r] else np.zeros(2)
                                for r, g in enumerate(self._generators)])  # fmt: skip
         before = self.state
-        moved, reward, out, timed_out = self._advance(before, action, self._array(gust_noise))
+        noise = self._array(gust_noise)
+        if self._cold and self.backend.name == "torch" and self.backend.compile:
+            with backends.compile_logged("the race step", self.backend, self.num_envs):
+                moved, reward, out, timed_out = self._advance(before, action, noise)
+        else:
+            moved, reward, out, timed_out = self._advance(before, action, noise)
+        self._cold = False
         to_numpy = backends.to_numpy
         reward, out, timed_out = to_numpy(reward), to_numpy(out), to_numpy(timed_out)
         out_now = out & ~to_numpy(before.out)
