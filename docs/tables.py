@@ -445,14 +445,15 @@ def race_selfplay_table(results: Path = RESULTS) -> str:
         data = read_json(path)
         try:
             seeds, ref = data["seeds"], data["reference"]
-            low, high = data["ahead_share_interval"]
+            spread = data["ahead_share_interval"]  # null for one seed
+            span = f"{pct(spread[0])}-{pct(spread[1])}" if spread else "no interval: one seed"
             mean = {key: sum(s[key] for s in seeds) / len(seeds)
                     for key in ("learned_fouls", "scripted_fouls", "learned_finished",
                                 "scripted_finished", "learned_return")}  # fmt: skip
             training = (f"{len(seeds)} seeds x {budget(data['timesteps'], 'steps')}, "
                         f"{data['races_trained_at_once']} races at once")  # fmt: skip
             lines.append(f"| {data['policy']} | {training} | {pct(data['ahead_share_mean'])} "
-                         f"({pct(data['ahead_share_worst'])}, {pct(low)}-{pct(high)}) | "
+                         f"({pct(data['ahead_share_worst'])}, {span}) | "
                          f"{cells(mean)}")  # fmt: skip
             lines.append(f"| the scripted racer (reference) | - | {pct(ref['ahead_share'])} | "
                          f"{cells(ref)}")  # fmt: skip
