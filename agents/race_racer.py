@@ -26,8 +26,8 @@ from .sail_autopilot import VMGAutopilot
 
 APPROACH_SPEED_MPS = 4.0
 """The speed the racer counts on to reach the line: a dinghy's fast reach. Counting on it,
-the racer waits long enough to be over early rarely (6 boats of 40 in ten seeded 4-boat
-races, where the autopilot alone was over with 32: ``scripts/race_eval.py``)."""
+the racer waits long enough to be over early rarely (4 boats of 40 in ten seeded 4-boat
+races, where the autopilot alone was over with 18: ``scripts/race_eval.py``)."""
 WAYPOINT_DISTANCE_SCALE_M = 200.0
 """The sail env's mark-distance column is the distance over this (its mark range's 2x)."""
 SAIL_DISTANCE_COLUMN = 14
