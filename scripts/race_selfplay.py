@@ -9,11 +9,12 @@ Each training seed trains stable-baselines3 PPO on :class:`bbgym.envs.race.match
 BeachballRaceMatchEnv` (``RACES`` races of four boats, two of each learning: one policy,
 every learning boat a sub-env, through :class:`bbgym.sb3.NativeVecEnvAdapter`), with
 residual actions (the policy corrects :class:`bbgym.agents.RaceRacer`; ``--plain``: the
-policy sails alone). Then it sails the same ``--eval-races`` seeded races for every seed
-(race ``r`` seeded ``EVAL_SEED + r``, as the PettingZoo env reset with that seed), two
-learned boats against two scripted racers in each, and counts the pairings (a learned
-boat, a scripted boat) in which the learned boat finished ahead
-(:func:`bbgym.envs.race.match.play_matches`). The scripted racer in the learners' places
+policy sails alone) and relative rewards (a learning boat's reward less its race's scripted
+boats' mean, ``relative=True``; ``--absolute``: the race's own). Then it sails the same
+``--eval-races`` seeded races for every seed (race ``r`` seeded ``EVAL_SEED + r``, as the
+PettingZoo env reset with that seed), two learned boats against two scripted racers in
+each, and counts the pairings (a learned boat, a scripted boat) in which the learned boat
+finished ahead (:func:`bbgym.envs.race.match.play_matches`). The scripted racer in the learners' places
 is the reference row: about half by symmetry. The results go to ``OUT/selfplay.json``
 (``--results`` copies them where the docs' table reads them). ``--reward NAME=WEIGHT``
 trains with a reward weight of the race changed (``foul_penalty=10``; the scoring races
@@ -61,7 +62,7 @@ def interval(values: list[float]) -> list[float]:
     return list(mean_interval(values))
 
 
-def train(seed: int, timesteps: int, residual: bool, threads: int, out: Path,
+def train(seed: int, timesteps: int, residual: bool, relative: bool, threads: int, out: Path,
           reward: dict[str, float] | None = None) -> Path:  # fmt: skip
     import torch
     from stable_baselines3 import PPO
@@ -71,7 +72,8 @@ def train(seed: int, timesteps: int, residual: bool, threads: int, out: Path,
     from bbgym.sb3 import NativeVecEnvAdapter
 
     torch.set_num_threads(threads)
-    venv = NativeVecEnvAdapter(BeachballRaceMatchEnv(RACES, residual=residual, **(reward or {})))
+    match = BeachballRaceMatchEnv(RACES, residual=residual, relative=relative, **(reward or {}))
+    venv = NativeVecEnvAdapter(match)
     venv.seed(seed)
     venv = VecNormalize(venv, norm_obs=False, norm_reward=True, gamma=PPO_KWARGS["gamma"])
     model = PPO("MlpPolicy", venv, seed=seed, device="cpu", verbose=0, **PPO_KWARGS)
@@ -97,6 +99,9 @@ def main() -> None:
     parser.add_argument("--timesteps", type=int, default=5_000_000)
     parser.add_argument("--eval-races", type=int, default=100)
     parser.add_argument("--plain", action="store_true", help="no residual: the policy alone")
+    parser.add_argument(
+        "--absolute", action="store_true", help="train on the race's reward, not relative"
+    )
     parser.add_argument(
         "--reward",
         action="append",
@@ -130,7 +135,8 @@ def main() -> None:
     seeds = []
     for seed in range(args.seeds) if args.only_seed is None else [args.only_seed]:
         start = time.perf_counter()
-        path = train(seed, args.timesteps, residual, args.torch_threads, args.out, reward)
+        path = train(seed, args.timesteps, residual, not args.absolute, args.torch_threads,
+                     args.out, reward)  # fmt: skip
         trained = time.perf_counter() - start
         model = PPO.load(path, device="cpu")
         row = evaluate(lambda obs, m=model: m.predict(obs, deterministic=True)[0],
@@ -143,11 +149,13 @@ def main() -> None:
         )
     shares = [s["ahead_share"] for s in seeds]
     results = {
-        "command": "python scripts/race_selfplay.py --seeds {} --timesteps {}{}{}{}".format(
+        "command": "python scripts/race_selfplay.py --seeds {} --timesteps {}{}{}{}{}".format(
             args.seeds, args.timesteps, " --plain" if args.plain else "",
+            " --absolute" if args.absolute else "",
             "".join(f" --reward {item}" for item in args.reward),
             "" if args.only_seed is None else f" --only-seed {args.only_seed}"),
         "training_reward": reward,
+        "relative_reward": not args.absolute,
         "policy": "residual PPO on RaceRacer" if residual else "PPO",
         "timesteps": args.timesteps,
         "races_trained_at_once": RACES,

@@ -29,18 +29,20 @@ def test_learners_alternate_ends_of_the_line() -> None:
     assert env.num_envs == 3 and env.rows.tolist() == [0, 5, 6]
 
 
-def test_scripted_boats_sail_as_the_racer_and_learners_as_told() -> None:
+@pytest.mark.parametrize("relative", [False, True])
+def test_scripted_boats_sail_as_the_racer_and_learners_as_told(relative: bool) -> None:
     """A match is the fleet with the racer's actions in the scripted rows and the policy's
     in the learning rows: the same observations and rewards, step by step, through a race
-    restart (a 10 s race)."""
+    restart (a 10 s race); ``relative=True`` takes the scripted boat's reward off each
+    learning boat's of its race and changes nothing else."""
     kwargs = {"num_boats": 3, "countdown_s": 2.0, "max_race_time_s": 10.0}
-    match = BeachballRaceMatchEnv(2, learners=2, **kwargs)
+    match = BeachballRaceMatchEnv(2, learners=2, relative=relative, **kwargs)
     fleet = BeachballRaceFleetEnv(2, **kwargs)
     racer = RaceRacer.for_env(fleet)
     obs, _ = match.reset(seed=7)
     fleet_obs, _ = fleet.reset(seed=7)
     rng = np.random.default_rng(0)
-    restarted = False
+    restarted = moving = False
     for _ in range(60):
         np.testing.assert_array_equal(obs, fleet_obs[match.rows])
         actions = rng.uniform(-1, 1, (4, 3)).astype(np.float32)
@@ -51,9 +53,14 @@ def test_scripted_boats_sail_as_the_racer_and_learners_as_told() -> None:
         every[match.rows] = actions
         obs, rewards, terminated, truncated, _ = match.step(actions)
         fleet_obs, fleet_rewards, fleet_terminated, fleet_truncated, _ = fleet.step(every)
-        np.testing.assert_array_equal(rewards, fleet_rewards[match.rows])
+        expected = fleet_rewards[match.rows]
+        if relative:  # race 0's scripted boat is boat 2 (row 2), race 1's boat 0 (row 3)
+            expected = expected - np.repeat(fleet_rewards[[2, 3]], 2)
+            moving |= np.abs(fleet_rewards[[2, 3]]).max() > 0.0
+        np.testing.assert_allclose(rewards, expected, rtol=0.0, atol=1e-12)
         np.testing.assert_array_equal(truncated, fleet_truncated[match.rows])
     assert restarted
+    assert moving or not relative  # the scripted boats' rewards were not all zero
 
 
 def test_a_zero_residual_sails_as_the_racer() -> None:
@@ -96,6 +103,10 @@ def test_bad_arguments_name_themselves() -> None:
         BeachballRaceMatchEnv(2, learners=1.5)
     with pytest.raises(TypeError, match="residual"):
         BeachballRaceMatchEnv(2, residual="yes")
+    with pytest.raises(TypeError, match="relative"):
+        BeachballRaceMatchEnv(2, relative=1)
+    with pytest.raises(ValueError, match="relative.*learners"):
+        BeachballRaceMatchEnv(2, relative=True, learners=2, num_boats=2)
     env = BeachballRaceMatchEnv(2)
     env.reset(seed=0)
     with pytest.raises(ValueError, match="actions"):

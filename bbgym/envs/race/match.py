@@ -40,7 +40,11 @@ class BeachballRaceMatchEnv(VectorEnv):
     racer's for it (clipped to [-1, 1]): the policy learns a correction to the scripted
     racer (residual policy learning, Silver et al. 2018; Johannink et al. 2019), so a zero
     action sails as the racer does, and it sees the racer's action: its observation is the
-    boat's with the racer's three action columns after it. Infos are the learning boats';
+    boat's with the racer's three action columns after it. With ``relative=True`` a learning
+    boat's reward is the race's minus the mean of its race's scripted boats' rewards in the
+    same step: what the wind and the course give every boat cancels, and what is left says
+    how the boat sails against the scripted ones (the score it is judged by); it needs a
+    scripted boat in every race. Infos are the learning boats';
     :attr:`fleet` holds every boat's state. :meth:`reset_envs` serves stable-baselines3 through
     :class:`bbgym.sb3.NativeVecEnvAdapter`. Keyword arguments are the fleet's (the race
     env's and the backend's; ``output`` NumPy).
@@ -49,7 +53,7 @@ class BeachballRaceMatchEnv(VectorEnv):
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_races: int = 16, learners: int = 2, residual: bool = False,
-                 **kwargs: Any) -> None:  # fmt: skip
+                 relative: bool = False, **kwargs: Any) -> None:  # fmt: skip
         from bbgym.agents import RaceRacer
 
         self.fleet = BeachballRaceFleetEnv(num_races, **kwargs)
@@ -61,10 +65,15 @@ class BeachballRaceMatchEnv(VectorEnv):
             raise TypeError(f"learners must be an int, got {learners!r}")
         if not 1 <= learners <= boats:
             raise ValueError(f"learners must be in [1, num_boats={boats}], got {learners}")
-        if not isinstance(residual, (bool, np.bool_)):
-            raise TypeError(f"residual must be a bool, got {residual!r}")
+        for name, flag in (("residual", residual), ("relative", relative)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise TypeError(f"{name} must be a bool, got {flag!r}")
+        if relative and learners == boats:
+            raise ValueError(f"relative=True needs a scripted boat in each race: learners must "
+                             f"be below num_boats={boats}, got {learners}")  # fmt: skip
         self.num_races, self.num_boats = self.fleet.num_races, boats
         self.learners, self.residual = int(learners), bool(residual)
+        self.relative = bool(relative)
         self.mask = learner_mask(self.num_races, boats, self.learners)
         self.rows = np.flatnonzero(self.mask.reshape(-1))
         """Each learning boat's row in the fleet (``race * num_boats + boat``)."""
@@ -111,7 +120,12 @@ class BeachballRaceMatchEnv(VectorEnv):
         every[self.rows] = action
         self._obs, reward, terminated, truncated, info = self.fleet.step(every)
         self._forget(restarting)
-        return (self._observe(), reward[self.rows], terminated[self.rows], truncated[self.rows],
+        learned = reward[self.rows]
+        if self.relative:
+            races = reward.reshape(self.num_races, self.num_boats)
+            scripted = np.where(self.mask, 0.0, races).sum(axis=1) / (~self.mask).sum(axis=1)
+            learned = learned - scripted[self.rows // self.num_boats]
+        return (self._observe(), learned, terminated[self.rows], truncated[self.rows],
                 self._pick(info))  # fmt: skip
 
     def reset_envs(self, mask: Any) -> np.ndarray:
