@@ -14,11 +14,12 @@ boats' mean, ``relative=True``; ``--absolute``: the race's own). Then it sails t
 ``--eval-races`` seeded races for every seed (race ``r`` seeded ``EVAL_SEED + r``, as the
 PettingZoo env reset with that seed), two learned boats against two scripted racers in
 each, and counts the pairings (a learned boat, a scripted boat) in which the learned boat
-finished ahead (:func:`bbgym.envs.race.match.play_matches`). The scripted racer in the learners' places
-is the reference row: about half by symmetry. The results go to ``OUT/selfplay.json``
-(``--results`` copies them where the docs' table reads them). ``--reward NAME=WEIGHT``
-trains with a reward weight of the race changed (``foul_penalty=10``; the scoring races
-keep the race's own), ``--only-seed S`` trains one seed (for tries).
+finished ahead (:func:`bbgym.envs.race.match.play_matches`). The scripted racer in the
+learners' places is the reference row: about half by symmetry. The results go to
+``OUT/selfplay.json`` (``--results`` copies them where the docs' table reads them).
+``--reward NAME=WEIGHT`` trains with a reward weight of the race changed
+(``foul_penalty=10``; the scoring races keep the race's own), ``--only-seed S`` trains one
+seed (for tries).
 """
 
 from __future__ import annotations
