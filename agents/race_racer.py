@@ -3,7 +3,8 @@ the race names, with a start routine, the penalty turns it owes and right-of-way
 avoidance. It reads the race's observation by column name
 (:data:`bbgym.envs.race.task.RACE_COLUMNS`, :data:`~bbgym.envs.race.task.NEIGHBOUR_COLUMNS`).
 
-- **Start**: before the gun it sails for the line's centre like the autopilot, but while
+- **Start**: before the gun it sails for the point the race names (above the line within
+  its ends: :func:`bbgym.envs.race.course.steer_target`) like the autopilot, but while
   more time is left than it needs to get there (its distance at :data:`APPROACH_SPEED_MPS`,
   plus ``start_margin_s``) it eases both sheets and luffs: it waits near the line and goes
   for it in time, which keeps it from being over early.

@@ -4,6 +4,7 @@ the torch backend (:mod:`bbgym.backends`)."""
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from typing import Any
 
 import numpy as np
@@ -157,10 +158,9 @@ class BeachballRaceFleetEnv(VectorEnv):
                                for r, g in enumerate(self._generators)])  # fmt: skip
         before = self.state
         noise = self._array(gust_noise)
-        if self._cold and self.backend.name == "torch" and self.backend.compile:
-            with backends.compile_logged("the race step", self.backend, self.num_envs):
-                moved, reward, out, timed_out = self._advance(before, action, noise)
-        else:
+        compiling = self._cold and self.backend.name == "torch" and self.backend.compile
+        logged = backends.compile_logged("the race step", self.backend, self.num_envs)
+        with logged if compiling else nullcontext():
             moved, reward, out, timed_out = self._advance(before, action, noise)
         self._cold = False
         to_numpy = backends.to_numpy
