@@ -387,7 +387,7 @@ def test_render_draws_the_course_the_boats_and_their_shadows() -> None:
 
 def test_the_solo_view_is_a_gymnasium_env() -> None:
     """One boat against scripted racers: Gymnasium's env checker passes, a seed gives the
-    same episode, and Gymnasium's vector env runs it."""
+    same episode, its Gymnasium id makes it, and Gymnasium's vector env runs it."""
     from gymnasium.utils.env_checker import check_env
 
     from bbgym.envs.race import BeachballRaceSoloEnv
@@ -406,6 +406,14 @@ def test_the_solo_view_is_a_gymnasium_env() -> None:
         runs.append(np.stack(trace))
     np.testing.assert_array_equal(runs[0], runs[1])
     assert set(info) >= {"is_success", "won", "place", "fouls"}
+    # its Gymnasium id makes the same env, keyword arguments passed on, no time limit added
+    made = gym.make("bbgym/BeachballRaceSolo-v0", num_boats=3)
+    assert isinstance(made.unwrapped, BeachballRaceSoloEnv) and made.spec.max_episode_steps is None
+    obs, _ = made.reset(seed=4)
+    for _ in range(60):
+        obs, *_ = made.step([0.0, 0.3, 0.3])  # the list the runs above took
+    np.testing.assert_array_equal(obs, runs[0][-1])
+    made.close()
     vec = gym.vector.SyncVectorEnv([lambda: BeachballRaceSoloEnv(num_boats=2)] * 2)
     obs, _ = vec.reset(seed=0)
     obs, rewards, *_ = vec.step(np.zeros((2, 3), dtype=np.float32))
