@@ -55,7 +55,7 @@ BASELINE_FILES = (
 SPEED_FILE = "speed/bench.json"
 BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
 POLAR_FILE = "polar/polar.json"
-RACE_SELFPLAY_FILES = ("race/selfplay.json",)
+RACE_SELFPLAY_FILES = ("race/selfplay.json", "race/selfplay_absolute.json")
 """The race's self-play results (``scripts/race_selfplay.py --results``), one row each."""
 
 THROW_ENVS = ("BeachballThrow", "BeachballCurve", "BeachballTopple")
@@ -428,7 +428,7 @@ def params_table(group: str) -> str:
 def race_selfplay_table(results: Path = RESULTS) -> str:
     """Learned boats against scripted racers: per results file a row of the learned boats
     (mean, worst seed and interval over training seeds) and the reference row (the racer
-    in the learners' places, the same races)."""
+    in the learners' places, the same races; once where files share it)."""
     lines = ["| boats in the learners' places | training | pairings ahead of a scripted boat "
              "(mean, worst seed, 95% interval over seeds) | fouls a boat, learned / scripted "
              "| finished, learned / scripted | return of a learning boat |",
@@ -452,14 +452,19 @@ def race_selfplay_table(results: Path = RESULTS) -> str:
                                 "scripted_finished", "learned_return")}  # fmt: skip
             training = (f"{len(seeds)} seeds x {budget(data['timesteps'], 'steps')}, "
                         f"{data['races_trained_at_once']} races at once")  # fmt: skip
+            reward = "relative reward" if data["relative_reward"] else "the race's reward"
+            training = f"{training}, {reward}"
             lines.append(f"| {data['policy']} | {training} | {pct(data['ahead_share_mean'])} "
                          f"({pct(data['ahead_share_worst'])}, {span}) | "
                          f"{cells(mean)}")  # fmt: skip
-            lines.append(f"| the scripted racer (reference) | - | {pct(ref['ahead_share'])} | "
+            reference = (f"| the scripted racer (reference) | - | {pct(ref['ahead_share'])} | "
                          f"{cells(ref)}")  # fmt: skip
+            if reference not in lines:  # the same races scored: one row serves both
+                lines.append(reference)
+            source = f", {data['source']}" if "source" in data else ""
             notes.append(f"`{_name(path)}`, written by `{data['command']} --results` "
                          f"({data['eval_races']} races seeded from {data['eval_seed']}, "
-                         f"torch on {data['torch_threads']} threads)")  # fmt: skip
+                         f"torch on {data['torch_threads']} threads{source})")  # fmt: skip
         except (KeyError, TypeError, ValueError, ZeroDivisionError) as err:
             raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
     return "\n".join([*lines, "", "Generated from " + "; ".join(notes) + "."])

@@ -53,7 +53,9 @@ PPO_KWARGS: dict[str, Any] = {
     "policy_kwargs": {"log_std_init": -2.0, "net_arch": [64, 64]},
 }
 """PPO's keyword arguments; the rewards are normalized (``VecNormalize``)."""
-RESULTS = Path(__file__).resolve().parent.parent / "docs" / "results" / "race" / "selfplay.json"
+RESULTS = Path(__file__).resolve().parent.parent / "docs" / "results" / "race"
+"""Where ``--results`` copies the results: ``selfplay.json`` for the baseline's settings,
+``selfplay_absolute.json`` with ``--absolute``, ``selfplay_plain.json`` with ``--plain``."""
 
 
 def interval(values: list[float]) -> list[float]:
@@ -113,7 +115,7 @@ def main() -> None:
     parser.add_argument("--only-seed", type=int, default=None, help="train this seed alone")
     parser.add_argument("--torch-threads", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("runs/race_selfplay"))
-    parser.add_argument("--results", action="store_true", help=f"copy to {RESULTS}")
+    parser.add_argument("--results", action="store_true", help=f"copy to {RESULTS}/")
     args = parser.parse_args()
     from bbgym.agents import RaceRacer
     from stable_baselines3 import PPO
@@ -177,8 +179,10 @@ def main() -> None:
     (args.out / "selfplay.json").write_text(json.dumps(results, indent=2) + "\n")
     print(json.dumps({k: v for k, v in results.items() if k not in ("seeds", "ppo")}, indent=2))
     if args.results:
-        RESULTS.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy(args.out / "selfplay.json", RESULTS)
+        name = "selfplay{}{}.json".format("_plain" if args.plain else "",
+                                         "_absolute" if args.absolute else "")  # fmt: skip
+        RESULTS.mkdir(parents=True, exist_ok=True)
+        shutil.copy(args.out / "selfplay.json", RESULTS / name)
 
 
 if __name__ == "__main__":

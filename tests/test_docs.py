@@ -84,14 +84,19 @@ def test_the_race_selfplay_table_gives_seeds_reference_and_command(tmp_path):
     }  # fmt: skip
     path = tmp_path / "race" / "selfplay.json"
     path.parent.mkdir()
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(data | {"relative_reward": True}))
+    absolute = data | {"relative_reward": False, "source": "renamed"}
+    (tmp_path / "race" / "selfplay_absolute.json").write_text(json.dumps(absolute))
     table = tables.race_selfplay_table(tmp_path)
-    assert ("| residual PPO | 2 seeds x 5M steps, 64 races at once | 38% (25%, 10%-65%) | "
-            "1.00 / 2.00 | 100% / 50% | 105.0 |") in table  # fmt: skip
-    assert "| the scripted racer (reference) | - | 50% | 1.00 / 2.00 | 100% / 50% | 90.0 |" in table
+    assert ("| residual PPO | 2 seeds x 5M steps, 64 races at once, relative reward | 38% (25%, "
+            "10%-65%) | 1.00 / 2.00 | 100% / 50% | 105.0 |") in table  # fmt: skip
+    assert "| 2 seeds x 5M steps, 64 races at once, the race's reward | 38% (25%" in table
+    reference = "| the scripted racer (reference) | - | 50% | 1.00 / 2.00 | 100% / 50% | 90.0 |"
+    assert table.count(reference) == 1  # the same races: one reference row for both files
     assert "`python scripts/race_selfplay.py --seeds 2 --results` (100 races seeded from 7" in table
+    assert "torch on 2 threads, renamed)" in table and table.count("torch on 2 threads)") == 1
     del data["reference"]["learned_return"]
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(data | {"relative_reward": True}))
     with pytest.raises(tables.ResultsError, match="selfplay.json: malformed"):
         tables.race_selfplay_table(tmp_path)
 
