@@ -1,8 +1,8 @@
 """BeachballRace: a fleet of dinghies on one course (PettingZoo; the ``race`` extra).
 
-    import gymnasium as gym
-import pettingzoo
-    import bbgym.envs.race  # registers bbgym/BeachballRace-v0 with PettingZoo
+    import pettingzoo
+    import bbgym.envs.race  # registers bbgym/BeachballRace-v0 with PettingZoo (and
+                            # bbgym/BeachballRaceSolo-v0 with Gymnasium)
 
     env = pettingzoo.make("parallel", "bbgym/BeachballRace-v0", num_boats=4)
     observations, infos = env.reset(seed=0)
