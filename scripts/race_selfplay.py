@@ -19,7 +19,8 @@ learners' places is the reference row: about half by symmetry. The results go to
 ``OUT/selfplay.json`` (``--results`` copies them where the docs' table reads them).
 ``--reward NAME=WEIGHT`` trains with a reward weight of the race changed
 (``foul_penalty=10``; the scoring races keep the race's own), ``--only-seed S`` trains one
-seed (for tries).
+seed (for tries), ``--curve STEPS`` scores the model saved every ``STEPS`` steps too (each
+seed's ``curve`` in the JSON).
 """
 
 from __future__ import annotations
@@ -66,9 +67,12 @@ def interval(values: list[float]) -> list[float]:
 
 
 def train(seed: int, timesteps: int, residual: bool, relative: bool, threads: int, out: Path,
-          reward: dict[str, float] | None = None) -> Path:  # fmt: skip
+          reward: dict[str, float] | None = None, curve: int = 0) -> Path:  # fmt: skip
+    """Train one seed; with ``curve`` > 0 also save the model every ``curve`` steps (as
+    ``OUT/curve_seed{seed}/ck_{steps}_steps.zip``)."""
     import torch
     from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback
     from stable_baselines3.common.vec_env import VecNormalize
 
     from bbgym.envs.race.match import BeachballRaceMatchEnv
@@ -80,7 +84,9 @@ def train(seed: int, timesteps: int, residual: bool, relative: bool, threads: in
     venv.seed(seed)
     venv = VecNormalize(venv, norm_obs=False, norm_reward=True, gamma=PPO_KWARGS["gamma"])
     model = PPO("MlpPolicy", venv, seed=seed, device="cpu", verbose=0, **PPO_KWARGS)
-    model.learn(timesteps)
+    every = max(curve // venv.num_envs, 1)  # the callback counts vector steps
+    folder = str(out / f"curve_seed{seed}")
+    model.learn(timesteps, callback=CheckpointCallback(every, folder, "ck") if curve else None)
     path = out / f"seed_{seed}.zip"
     model.save(path)
     # how it races, for bbgym record --env bbgym/BeachballRace-v0 --policy ppo --model PATH
@@ -94,6 +100,14 @@ def evaluate(policy: Any, races: int, residual: bool) -> dict[str, Any]:
 
     result = play_matches(policy, num_races=races, seed=EVAL_SEED, residual=residual)
     return result._asdict() | {"ahead_share": result.ahead_share}
+
+
+def score(path: Path, races: int, residual: bool) -> dict[str, Any]:
+    """A saved model's learning boats sailed deterministically on the scoring races."""
+    from stable_baselines3 import PPO
+
+    model = PPO.load(path, device="cpu")
+    return evaluate(lambda obs: model.predict(obs, deterministic=True)[0], races, residual)
 
 
 def main() -> None:
@@ -113,12 +127,18 @@ def main() -> None:
         help="a reward weight of the race to train with (scored without)",
     )
     parser.add_argument("--only-seed", type=int, default=None, help="train this seed alone")
+    parser.add_argument(
+        "--curve",
+        type=int,
+        default=0,
+        metavar="STEPS",
+        help="also score the model saved every STEPS steps (a learning curve per seed)",
+    )
     parser.add_argument("--torch-threads", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("runs/race_selfplay"))
     parser.add_argument("--results", action="store_true", help=f"copy to {RESULTS}/")
     args = parser.parse_args()
     from bbgym.agents import RaceRacer
-    from stable_baselines3 import PPO
 
     from bbgym.envs.race.match import BeachballRaceMatchEnv
 
@@ -139,12 +159,17 @@ def main() -> None:
     for seed in range(args.seeds) if args.only_seed is None else [args.only_seed]:
         start = time.perf_counter()
         path = train(seed, args.timesteps, residual, not args.absolute, args.torch_threads,
-                     args.out, reward)  # fmt: skip
+                     args.out, reward, args.curve)  # fmt: skip
         trained = time.perf_counter() - start
-        model = PPO.load(path, device="cpu")
-        row = evaluate(lambda obs, m=model: m.predict(obs, deterministic=True)[0],
-                       args.eval_races, residual)  # fmt: skip
-        seeds.append(row | {"seed": seed, "train_s": round(trained, 1)})
+        row = score(path, args.eval_races, residual)
+        curve = []
+        saved = (args.out / f"curve_seed{seed}").glob("ck_*_steps.zip") if args.curve else ()
+        for checkpoint in sorted(saved, key=lambda p: int(p.stem.split("_")[1])):
+            point = score(checkpoint, args.eval_races, residual)
+            curve.append({"steps": int(checkpoint.stem.split("_")[1])} | point)
+            print(f"  at {curve[-1]['steps']} steps: {point['ahead_share']:.1%}", flush=True)
+        seeds.append(row | {"seed": seed, "train_s": round(trained, 1)}
+                     | ({"curve": curve} if args.curve else {}))  # fmt: skip
         print(
             f"seed {seed}: {row['ahead_share']:.1%} ahead, fouls {row['learned_fouls']:.2f} "
             f"vs {row['scripted_fouls']:.2f}, trained in {trained:.0f} s",
@@ -156,7 +181,8 @@ def main() -> None:
             args.seeds, args.timesteps, " --plain" if args.plain else "",
             " --absolute" if args.absolute else "",
             "".join(f" --reward {item}" for item in args.reward),
-            "" if args.only_seed is None else f" --only-seed {args.only_seed}"),
+            "" if args.only_seed is None else f" --only-seed {args.only_seed}")
+        + (f" --curve {args.curve}" if args.curve else ""),
         "training_reward": reward,
         "relative_reward": not args.absolute,
         "policy": "residual PPO on RaceRacer" if residual else "PPO",
