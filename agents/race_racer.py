@@ -58,11 +58,12 @@ class RaceRacer:
         }
 
     @classmethod
-    def for_env(cls, env: Any, **kwargs: Any) -> RaceRacer:
+    def for_env(cls, env: Any, tack_cone_deg: float | None = None, **kwargs: Any) -> RaceRacer:
         """A racer for the boats of a :class:`~bbgym.envs.race.env.BeachballRaceEnv` (or of
-        a fleet, whose rows are its boats in order)."""
+        a fleet, whose rows are its boats in order); ``tack_cone_deg`` is its autopilot's
+        (:class:`~bbgym.agents.VMGAutopilot`: play the shifts on a beat)."""
         task = env.unwrapped.task if hasattr(env, "unwrapped") else env.task
-        pilot = VMGAutopilot(task.sail.params)
+        pilot = VMGAutopilot(task.sail.params, tack_cone_deg=tack_cone_deg)
         kwargs.setdefault("penalty_turns", task.penalty == "turn")
         racer = cls(pilot, task.race_column, task.neighbours, task.countdown_s, **kwargs)
         racer.boats = list(getattr(env, "possible_agents", []))

@@ -14,6 +14,10 @@ than broad reaching), the fastest way is to sail one of the gap's two edge cours
 best-VMG courses, and switch to the other one on its layline. The autopilot keeps the
 current tack or gybe until the mark crosses the layline, so it tacks or jibes once per
 leg, not at every wind shift. The edges are interpolated in the observed true wind speed.
+With ``tack_cone_deg`` it plays the shifts on a beat: it tacks as soon as the mark lies
+more than that angle beyond the wind on the other tack's side (a header swings it there),
+so it sails the lifted tack within a cone about the line to the mark, as a racing sailor
+does; the layline rule is the widest cone.
 
 **Sheet.** The boom goes where the polar found the fastest trim for the observed apparent
 wind angle and wind speed ("trim to the apparent wind"), and is eased by ``ease_gain`` times
@@ -205,6 +209,8 @@ class VMGAutopilot:
         ease_heel_deg, ease_gain: beyond this heel, ease the boom by ``gain x excess``.
         irons_awa_deg, irons_speed_mps: a sloop this close to the wind and this slow is in
             irons, and backs its jib.
+        tack_cone_deg: on a beat, tack once the mark lies more than this beyond the true
+            wind on the other tack's side (module docstring); ``None``: at the layline.
     """
 
     def __init__(
@@ -218,6 +224,7 @@ class VMGAutopilot:
         ease_gain: float = 3.0,
         irons_awa_deg: float = 30.0,
         irons_speed_mps: float = 0.8,
+        tack_cone_deg: float | None = None,
     ) -> None:
         self.params = dinghy or DinghyParams()
         self.tables = sailing_tables(self.params, tuple(float(w) for w in wind_speeds_mps))
@@ -228,6 +235,9 @@ class VMGAutopilot:
         self.ease_gain = float(ease_gain)
         self.irons_awa = math.radians(irons_awa_deg)
         self.irons_speed = float(irons_speed_mps)
+        if tack_cone_deg is not None and not 0.0 <= tack_cone_deg <= 90.0:
+            raise ValueError(f"tack_cone_deg must be in [0, 90] deg, got {tack_cone_deg!r}")
+        self.tack_cone = None if tack_cone_deg is None else math.radians(tack_cone_deg)
         self.sloop = self.params.rig == "sloop"
         self._side = np.zeros(0)  # +1 / -1 per env: the remembered tack or gybe, 0 = none
         self._backing = np.zeros(0, dtype=bool)  # a sloop backing its jib, per env
@@ -300,6 +310,10 @@ class VMGAutopilot:
         mark_side = np.where(mark >= 0.0, 1.0, -1.0)
         bow_side = np.where(bow >= 0.0, 1.0, -1.0)
         first = np.where(self._side == 0.0, bow_side, self._side)
+        if self.tack_cone is not None:
+            # The mark beyond the cone on the other tack's side: that tack is lifted now.
+            beating = np.abs(mark) < up
+            first = np.where(beating & (first * mark < -self.tack_cone), -first, first)
         self._side = np.where(in_gap, first, mark_side)
         course = np.clip(np.abs(mark), up, down)
         return self._side * course

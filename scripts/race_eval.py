@@ -5,14 +5,16 @@ over the line and capsizes (developer tool; the figures of the docs' Race page).
     python scripts/race_eval.py --races 20 --boats 4 --policy autopilot
     python scripts/race_eval.py --starts --races 40 --seed 1000
     python scripts/race_eval.py --match --start-margin 40 --races 100 --seed 100000
+    python scripts/race_eval.py --match --tack-cone 30 --races 100 --seed 100000
 
 ``racer`` is :class:`bbgym.agents.RaceRacer`; ``autopilot`` the sail env's VMG autopilot
 alone on the sail env's columns (no start routine, no avoidance, no penalty turns).
 ``--starts``: how the racers start (racing four-boat races at once in the fleet): the share
 over the line 10 s after the gun, their speed at the gun, and how the time each crossed
-the line goes with the time it finished. ``--match``: racers of another ``--start-margin``
-in the learners' places against standard racers
-(:func:`bbgym.envs.race.match.play_matches`): the pairings they finish ahead in.
+the line goes with the time it finished. ``--match``: racers of another ``--start-margin``,
+``--avoid`` distance or ``--tack-cone`` (playing the shifts upwind) in the learners' places
+against standard racers (:func:`bbgym.envs.race.match.play_matches`): the pairings they
+finish ahead in.
 """
 
 from __future__ import annotations
@@ -115,13 +117,14 @@ def starts(races: int, seed: int) -> dict:
     }
 
 
-def match(races: int, seed: int, start_margin_s: float) -> dict:
-    """Racers with ``start_margin_s`` in the learners' places against standard racers."""
+def match(races: int, seed: int, **racer: float | None) -> dict:
+    """Racers with the settings ``racer`` (:meth:`RaceRacer.for_env`'s) in the learners'
+    places against standard racers."""
     from bbgym.envs.race.match import BeachballRaceMatchEnv, play_matches
 
-    racer = RaceRacer.for_env(BeachballRaceMatchEnv(1).fleet, start_margin_s=start_margin_s)
-    result = play_matches(racer, num_races=races, seed=seed)
-    return result._asdict() | {"ahead_share": result.ahead_share, "start_margin_s": start_margin_s}
+    result = play_matches(RaceRacer.for_env(BeachballRaceMatchEnv(1).fleet, **racer),
+                          num_races=races, seed=seed)  # fmt: skip
+    return result._asdict() | {"ahead_share": result.ahead_share} | racer
 
 
 def main() -> None:
@@ -132,13 +135,18 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--starts", action="store_true", help="how the racers start")
     parser.add_argument("--match", action="store_true",
-                        help="racers of --start-margin against standard racers")  # fmt: skip
+                        help="racers of other settings against standard racers")  # fmt: skip
     parser.add_argument("--start-margin", type=float, default=4.0)
+    parser.add_argument("--avoid", type=float, default=10.0, help="the racer's avoid_m")
+    parser.add_argument(
+        "--tack-cone", type=float, default=None, help="the racer's tack_cone_deg (default: none)"
+    )
     args = parser.parse_args()
     if args.starts:
         result = starts(args.races, args.seed)
     elif args.match:
-        result = match(args.races, args.seed, args.start_margin)
+        result = match(args.races, args.seed, start_margin_s=args.start_margin,
+                       avoid_m=args.avoid, tack_cone_deg=args.tack_cone)  # fmt: skip
     else:
         result = run(args.races, args.boats, args.policy, args.seed)
     print(json.dumps(result, indent=2))

@@ -118,21 +118,41 @@ def test_batch_equals_single_calls(autopilot):
         autopilot(np.zeros(15))
 
 
+BEAT_WIND_FROM_RAD = 0.3
+BEAT_OPTIONS = {
+    "wind_speed": 5.5, "wind_from": BEAT_WIND_FROM_RAD, "gusts": False, "speed": 1.5,
+    "mark": (80.0 * math.cos(BEAT_WIND_FROM_RAD), 80.0 * math.sin(BEAT_WIND_FROM_RAD)),
+    "heading": BEAT_WIND_FROM_RAD - math.radians(48.0),
+}  # fmt: skip
+"""A beat: the mark 80 m dead upwind in a steady wind, the boat close-hauled at the start."""
+
+
 def test_beats_to_an_upwind_mark_with_one_tack_in_the_vmg_time(autopilot):
     """Mark 80 m dead upwind, steady wind, starting close-hauled: one tack on the layline,
     and the time is the geometric best ((distance - radius) / best VMG) plus a tack."""
-    wind_from = 0.3
-    options = {
-        "wind_speed": 5.5, "wind_from": wind_from, "gusts": False, "speed": 1.5,
-        "mark": (80.0 * math.cos(wind_from), 80.0 * math.sin(wind_from)),
-        "heading": wind_from - math.radians(48.0),
-    }  # fmt: skip
+    options = BEAT_OPTIONS
     info = sail_one(autopilot, options)
     assert info["is_success"]
     assert info["tacks"] == 1
     row = int(np.flatnonzero(autopilot.tables.wind_speeds_mps == 5.5)[0])
     best = (80.0 - 5.0) / autopilot.tables.best_vmg_mps[row]
     assert best <= info["elapsed_time"] <= 1.2 * best
+
+
+def test_tack_cone_keeps_the_boat_near_the_line_to_the_mark():
+    """With ``tack_cone_deg`` the boat tacks whenever the mark lies that far beyond the
+    wind: on the same beat as above it tacks more often than once and still makes the mark
+    near the best VMG time (each tack costs a few seconds); a cone of 90 deg is wider than
+    the beat's gap, so it sails exactly as the layline rule does."""
+    options = BEAT_OPTIONS
+    layline = sail_one(VMGAutopilot(), options)
+    wide = sail_one(VMGAutopilot(tack_cone_deg=90.0), options)
+    assert (wide["tacks"], wide["elapsed_time"]) == (layline["tacks"], layline["elapsed_time"])
+    narrow = sail_one(VMGAutopilot(tack_cone_deg=10.0), options)
+    assert narrow["is_success"] and narrow["tacks"] >= 3
+    assert layline["elapsed_time"] < narrow["elapsed_time"] < 1.5 * layline["elapsed_time"]
+    with pytest.raises(ValueError, match="tack_cone_deg"):
+        VMGAutopilot(tack_cone_deg=-1.0)
 
 
 def test_runs_to_a_downwind_mark_without_needless_jibes(autopilot):

@@ -80,6 +80,19 @@ def test_a_zero_residual_sails_as_the_racer() -> None:
     assert circling.learned_finished == 0.0 and circling.ahead == 0
 
 
+def test_a_racer_playing_the_shifts_sails_otherwise() -> None:
+    """``tack_cone_deg`` reaches the racer's autopilot: in the gusty races' shifts it tacks
+    on its own schedule, so its boats sail other races than the standard racer's."""
+    fleet = BeachballRaceMatchEnv(1, num_boats=3).fleet
+    kwargs = {"num_races": 4, "seed": 3, "num_boats": 3, "learners": 1}
+    shifty = RaceRacer.for_env(fleet, tack_cone_deg=20.0)
+    assert shifty.pilot.tack_cone == pytest.approx(np.radians(20.0))
+    assert RaceRacer.for_env(fleet).pilot.tack_cone is None
+    played = play_matches(shifty, **kwargs)
+    assert played.learned_return != play_matches(RaceRacer.for_env(fleet), **kwargs).learned_return
+    assert played.pairings == 4 * 2
+
+
 def test_pairings_are_counted_by_place() -> None:
     """Each learned boat against each scripted one of its race: ahead when it finished
     earlier or the other never finished; two that never finish count for neither."""
