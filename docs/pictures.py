@@ -1,9 +1,12 @@
-"""Draw the env pictures of the README and the site (docs/pages/img/*.png).
+"""Draw the env and scene pictures of the README and the site (docs/pages/img/*.png).
 
-    python docs/pictures.py
+    python docs/pictures.py [NAME ...]
 
-Each picture is the env's own ``render_mode="rgb_array"`` frame, a few steps into a seeded
-episode played by its scripted agent, scaled down and saved as a palette PNG (tens of KB).
+Each env picture is the env's own ``render_mode="rgb_array"`` frame, a few steps into a
+seeded episode played by its scripted agent; each scene picture (``scene-*``) is a frame of
+the scene's view (:mod:`bbgym.scenes.view`) at a step, or for the bouncing balls their
+energy over the run (matplotlib). All are scaled down and saved as palette PNGs (tens of
+KB).
 """
 
 from __future__ import annotations
@@ -31,6 +34,53 @@ PICTURES = {
     "curve": ("BeachballCurve-v1", 0, 1),
     "topple": ("BeachballTopple-v1", 1, 3),
 }
+
+
+SCENE_FRAMES = {
+    # file stem: (scene, the step drawn)
+    "scene-push": ("push", 30),
+    "scene-arrow": ("arrow", 36),
+}
+SCENE_ENERGY = ("three-beachballs-1", "three-beachballs-1a", "three-beachballs-2")
+"""Scenes pictured by their balls' energy over the run (``scene-<name>.png``)."""
+
+
+def scene_frame(name: str, step: int):
+    from bbgym.scenes import get_scene, simulate
+    from bbgym.scenes.view import SceneView
+
+    scene = get_scene(name)
+    states = []
+    run = simulate(scene, steps=step, on_step=lambda p, state: states.append(state))
+    view = SceneView(scene, run.params)
+    picture = view.render((run.times_s[-1], scene.frame(run.params, states[-1])))
+    view.close()
+    return picture
+
+
+def scene_energy(name: str, path: Path) -> None:
+    """The energy per kilogram of each ball of a drop scene over its default run."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from bbgym.scenes import get_scene, simulate
+
+    scene = get_scene(name)
+    run = simulate(scene)
+    fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=100)
+    for k, body in enumerate(scene.bodies):
+        ax.plot(run.times_s, run.measures["energy_jpkg"][:, k], label=body, linewidth=1.2)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("energy per kg (J/kg)")
+    ax.set_title(f"{scene.section} {scene.title}", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    Image.open(path).convert("RGB").quantize(colors=64).save(path, optimize=True)
 
 
 def scripted(env: gym.Env):
@@ -63,11 +113,21 @@ def save(picture, path: Path) -> None:
 
 def main(names: list[str]) -> int:
     OUT.mkdir(parents=True, exist_ok=True)
-    for name in names or list(PICTURES):
-        env_id, seed, steps = PICTURES[name]
+    energy = {f"scene-{name}": name for name in SCENE_ENERGY}
+    for name in names or [*PICTURES, *SCENE_FRAMES, *energy]:
         path = OUT / f"{name}.png"
-        save(frame(env_id, seed, steps), path)
-        print(f"{path}: {env_id}, seed {seed}, {steps} steps, {path.stat().st_size // 1024} KB")
+        if name in SCENE_FRAMES:
+            scene, step = SCENE_FRAMES[name]
+            save(scene_frame(scene, step), path)
+            what = f"scene {scene}, step {step}"
+        elif name in energy:
+            scene_energy(energy[name], path)
+            what = f"scene {energy[name]}, energy over its run"
+        else:
+            env_id, seed, steps = PICTURES[name]
+            save(frame(env_id, seed, steps), path)
+            what = f"{env_id}, seed {seed}, {steps} steps"
+        print(f"{path}: {what}, {path.stat().st_size // 1024} KB")
     return 0
 
 

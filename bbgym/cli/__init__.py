@@ -10,6 +10,7 @@ subcommand for each job.
     bbgym bench                                 steps per second against CartPole
     bbgym demo                                  one scripted sailing episode, as a GIF
     bbgym fuzz                                  fuzz every env through its public API
+    bbgym scene NAME                            a demo of the course text, measured and drawn
 
 ``ENV_ID`` is any id an env family registers (``bbgym --help`` lists them; the families'
 specs, :mod:`bbgym.spec`, declare them). ``bbgym <command> --help`` lists each command's
@@ -42,6 +43,7 @@ COMMANDS: dict[str, str] = {
     "bench": "steps per second and memory of every env, as ratios to CartPole",
     "demo": "one scripted episode of an env (default: the first sailing one), as a GIF",
     "fuzz": "fuzz every env through its public API (random valid arguments and actions)",
+    "scene": "run a demo of the course text (a scene): its measures, and an animation",
 }
 """Subcommand -> one-line help; the module ``bbgym.cli.<name>`` implements it."""
 

@@ -1,0 +1,30 @@
+"""The course as runnable scenes: each demo of the course text as a small pure, batched
+physics setup on the envs' array namespace, with a view and a tested claim.
+
+    bbgym scene --list
+    bbgym scene three-beachballs-1 --steps 600 --out balls.gif --param dt_s=0.05
+
+A scene (:class:`~bbgym.scenes.scene.Scene`) is declared the way an env family is: its
+parameters, its initial state and step, what it measures and what a frame shows.
+:func:`~bbgym.scenes.scene.simulate` runs one on NumPy or torch;
+:class:`~bbgym.scenes.view.SceneView` draws it (the ``render`` extra). The registry below
+lists them in the text's order; each module holds one family of demos.
+"""
+
+from __future__ import annotations
+
+from bbgym.scenes.projectiles import SCENES as PROJECTILES
+from bbgym.scenes.scene import Scene, Trajectory, simulate
+
+__all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
+
+SCENES: dict[str, Scene] = {scene.name: scene for scene in PROJECTILES}
+"""Every scene by name, in the course text's order."""
+
+
+def get_scene(name: str) -> Scene:
+    """The scene called ``name``, or a ``KeyError`` listing the names."""
+    try:
+        return SCENES[name]
+    except KeyError:
+        raise KeyError(f"unknown scene {name!r}; the scenes: {', '.join(SCENES)}") from None
