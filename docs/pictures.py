@@ -40,6 +40,8 @@ SCENE_FRAMES = {
     # file stem: (scene, the step drawn)
     "scene-push": ("push", 30),
     "scene-arrow": ("arrow", 36),
+    "scene-arrow-2": ("arrow-2", 40),
+    "scene-double-bounce": ("double-bounce", 560),
 }
 SCENE_ENERGY = ("three-beachballs-1", "three-beachballs-1a", "three-beachballs-2")
 """Scenes pictured by their balls' energy over the run (``scene-<name>.png``)."""

@@ -79,6 +79,43 @@ def test_three_beachballs_1a_reflected_ball_is_fairly_stable_not_perfect() -> No
     assert energy("three-beachballs-1a")[:, 2].min() > 0.0
 
 
+def test_arrow_2_sticks_and_keeps_momentum() -> None:
+    """§4: the arrow and the apple end at the common velocity v1 m1 / (m1 + m2), the total
+    momentum never changes, and the kinetic energy keeps the share m1 / (m1 + m2)."""
+    scene = get_scene("arrow-2")
+    params = scene.make_params({"arrow_mass_kg": 0.025, "apple_mass_kg": 0.2})
+    run = simulate(scene, params)
+    m1, m2 = params.arrow_mass_kg, params.apple_mass_kg
+    common = params.speed_mps * m1 / (m1 + m2)
+    np.testing.assert_allclose(run.measures["velocity_mps"][-1], [common, common], rtol=1e-12)
+    assert run.measures["velocity_mps"][0, 0] == params.speed_mps
+    momentum = run.measures["momentum_ns"].sum(axis=1)
+    np.testing.assert_allclose(momentum, momentum[0], rtol=1e-12)
+    kinetic = run.measures["kinetic_energy_j"].sum(axis=1)
+    assert kinetic[-1] / kinetic[0] == pytest.approx(m1 / (m1 + m2), rel=1e-12)
+
+
+@pytest.mark.parametrize("restitution", [1.0, 0.8, 0.5])
+def test_double_bounce_follows_the_restitution_formula(restitution: float) -> None:
+    """§4: the top ball leaves the bounce at (e (2 + e) m1 - m2) / (m1 + m2) times its
+    impact speed (within 1%: the floor and the ball meet within one step of each other),
+    with masses ~ r^2 (a quarter for half the radius); elastic, the pair's energy is kept
+    over the run to 1%."""
+    scene = get_scene("double-bounce")
+    run = simulate(scene, {"restitution": restitution})
+    params = run.params
+    m1, m2 = params.masses()
+    assert m2 / m1 == pytest.approx(0.25)
+    velocity = run.measures["velocity_mps"][:, 1]
+    bounce = int(np.argmax(velocity > 0.0))
+    ratio = velocity[bounce] / -velocity[bounce - 1]
+    assert ratio == pytest.approx(params.rebound_ratio(), rel=0.01)
+    if restitution == 1.0:
+        assert params.rebound_ratio() == pytest.approx(2.2)
+        total = run.measures["energy_j"].sum(axis=1)
+        assert np.all(np.abs(total - total[0]) < 0.01 * total[0])
+
+
 def test_three_beachballs_2_drag_is_divided_by_the_mass() -> None:
     """§8: the same drag on a ball of four times the mass slows it a quarter as much, so
     after 15 s the light ball's bounces have died, the heavy one still bounces, and the

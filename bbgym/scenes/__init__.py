@@ -13,13 +13,17 @@ lists them in the text's order; each module holds one family of demos.
 
 from __future__ import annotations
 
+from bbgym.scenes.collisions import SCENES as COLLISIONS
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
 from bbgym.scenes.scene import Scene, Trajectory, simulate
 
 __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 
-SCENES: dict[str, Scene] = {scene.name: scene for scene in PROJECTILES}
-"""Every scene by name, in the course text's order."""
+SCENES: dict[str, Scene] = {
+    scene.name: scene
+    for scene in sorted((*PROJECTILES, *COLLISIONS), key=lambda scene: int(scene.section[1:]))
+}
+"""Every scene by name, in the course text's order (by section; within one, as declared)."""
 
 
 def get_scene(name: str) -> Scene:
