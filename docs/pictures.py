@@ -42,9 +42,16 @@ SCENE_FRAMES = {
     "scene-arrow": ("arrow", 36),
     "scene-arrow-2": ("arrow-2", 40),
     "scene-double-bounce": ("double-bounce", 560),
+    "scene-sproing-cloth": ("sproing-cloth", 480),
 }
-SCENE_ENERGY = ("three-beachballs-1", "three-beachballs-1a", "three-beachballs-2")
-"""Scenes pictured by their balls' energy over the run (``scene-<name>.png``)."""
+SCENE_ENERGY = {
+    # file stem: (scene, its parameters, a log scale)
+    "scene-three-beachballs-1": ("three-beachballs-1", {}, False),
+    "scene-three-beachballs-1a": ("three-beachballs-1a", {}, False),
+    "scene-three-beachballs-2": ("three-beachballs-2", {}, False),
+    "scene-sproing": ("sproing", {"damping_nspm": 0.0}, True),
+}
+"""Scenes pictured by their bodies' energy over the run."""
 
 
 def scene_frame(name: str, step: int):
@@ -60,8 +67,8 @@ def scene_frame(name: str, step: int):
     return picture
 
 
-def scene_energy(name: str, path: Path) -> None:
-    """The energy per kilogram of each ball of a drop scene over its default run."""
+def scene_energy(name: str, params: dict, log: bool, path: Path) -> None:
+    """The energy of each body (ball, or integrator's copy) of a scene over its run."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -70,13 +77,18 @@ def scene_energy(name: str, path: Path) -> None:
     from bbgym.scenes import get_scene, simulate
 
     scene = get_scene(name)
-    run = simulate(scene)
+    run = simulate(scene, params)
+    key = next(k for k in run.measures if k.startswith("energy"))
     fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=100)
     for k, body in enumerate(scene.bodies):
-        ax.plot(run.times_s, run.measures["energy_jpkg"][:, k], label=body, linewidth=1.2)
+        ax.plot(run.times_s, run.measures[key][:, k], label=body, linewidth=1.2)
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("energy per kg (J/kg)")
-    ax.set_title(f"{scene.section} {scene.title}", fontsize=10)
+    ax.set_ylabel("energy per kg (J/kg)" if key == "energy_jpkg" else "energy (J)")
+    if log:
+        ax.set_yscale("log")
+    settings = ", ".join(f"{k} {v:g}" for k, v in params.items())
+    ax.set_title(f"{scene.section} {scene.title}" + (f" ({settings})" if settings else ""),
+                 fontsize=10)  # fmt: skip
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -115,16 +127,16 @@ def save(picture, path: Path) -> None:
 
 def main(names: list[str]) -> int:
     OUT.mkdir(parents=True, exist_ok=True)
-    energy = {f"scene-{name}": name for name in SCENE_ENERGY}
-    for name in names or [*PICTURES, *SCENE_FRAMES, *energy]:
+    for name in names or [*PICTURES, *SCENE_FRAMES, *SCENE_ENERGY]:
         path = OUT / f"{name}.png"
         if name in SCENE_FRAMES:
             scene, step = SCENE_FRAMES[name]
             save(scene_frame(scene, step), path)
             what = f"scene {scene}, step {step}"
-        elif name in energy:
-            scene_energy(energy[name], path)
-            what = f"scene {energy[name]}, energy over its run"
+        elif name in SCENE_ENERGY:
+            scene, params, log = SCENE_ENERGY[name]
+            scene_energy(scene, params, log, path)
+            what = f"scene {scene} {params or ''}, energy over its run"
         else:
             env_id, seed, steps = PICTURES[name]
             save(frame(env_id, seed, steps), path)

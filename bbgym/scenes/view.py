@@ -44,8 +44,9 @@ class SceneView(PygameRenderer[tuple[float, Frame]]):
         time_s, frame = scene
         pg, surface = self._pg, self._surface
         surface.fill(SKY)
-        floor_y = self.to_px(0.0, 0.0)[1]
-        pg.draw.rect(surface, FLOOR, (0, floor_y, self.width, max(self.height - floor_y, 0)))
+        if self.scene.floor:
+            floor_y = self.to_px(0.0, 0.0)[1]
+            pg.draw.rect(surface, FLOOR, (0, floor_y, self.width, max(self.height - floor_y, 0)))
         for seg in frame.segments:
             pg.draw.line(surface, seg.color, self.to_px(seg.x0_m, seg.y0_m),
                          self.to_px(seg.x1_m, seg.y1_m), seg.width_px)  # fmt: skip
