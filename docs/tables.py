@@ -54,6 +54,7 @@ BASELINE_FILES = (
 """The baselines' results files, in the order of the table's rows."""
 SPEED_FILE = "speed/bench.json"
 BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
+SCENES_SPEED_FILE = "speed/bench-scenes.json"
 POLAR_FILE = "polar/polar.json"
 RACE_SELFPLAY_FILES = ("race/selfplay.json", "race/selfplay_absolute.json")
 """The race's self-play results (``scripts/race_selfplay.py --results``), one row each."""
@@ -222,6 +223,8 @@ def _machine(data: dict) -> str:
 
 
 def _unit(row: dict, ppo_is_steps: bool = True) -> str:
+    if row["env"].startswith("scene "):
+        return " particle-steps/s"
     if row["env"].startswith(THROW_ENVS) and not (ppo_is_steps and row["kind"].startswith("PPO")):
         return " throws/s"
     return ""
@@ -524,6 +527,8 @@ def table(spec: str) -> str:
         return versions_table(arg)
     if kind == "scenes" and not arg:
         return scenes_table()
+    if kind == "scenes-speed" and not arg:
+        return backends_table(RESULTS / SCENES_SPEED_FILE)
     if kind == "scene":
         return scene_table(arg)
     raise LookupError(f"unknown table marker {spec!r}")

@@ -166,3 +166,34 @@ def test_race_backend_rows_time_the_fleet_on_torch():
     assert [r["kind"] for r in rows] == ["fleet N=8 (2 races) torch float64",
                                          "fleet N=8 (2 races) torch float32"]  # fmt: skip
     assert all(r["rate"] > 0 and r["ratio"] > 0 and r["warmup_s"] > 0 for r in rows)
+
+
+def test_bench_scenes_times_the_spring_scene_alone(tmp_path):
+    """--scenes: the spring scene on NumPy and torch at each grid size, beside CartPole's
+    native vector env stepping as many envs as the scene steps particles; nothing else."""
+    pytest.importorskip("torch")
+    from bbgym.cli import main
+
+    assert main(["bench", "--quick", "--scenes", "--out", str(tmp_path)]) == 0
+    result = json.loads((tmp_path / "bench.json").read_text())
+    assert result["rows"] == [] and result["memory_mb"] == {}
+    rows = result["backend_rows"]
+    kinds = [(row["env"], row["kind"]) for row in rows]
+    assert kinds == [
+        ("CartPole-v1", "N=48"),
+        ("scene sproing", "16 particles x 3, numpy"),
+        ("scene sproing", "16 particles x 3, torch float64"),
+        ("CartPole-v1", "N=192"),
+        ("scene sproing", "64 particles x 3, numpy"),
+        ("scene sproing", "64 particles x 3, torch float64"),
+    ]
+    reference = None
+    for row in rows:
+        assert row["rate"] > 0
+        if row["env"] == "CartPole-v1":
+            reference = row["rate"]
+            continue
+        # each scene row against the CartPole row timed just before it, at its N
+        assert row["ratio"] == pytest.approx(row["rate"] / reference)
+        assert row["state_mb"] > 0
+    assert "particle-steps/s" in (tmp_path / "bench.md").read_text()

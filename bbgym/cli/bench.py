@@ -2,6 +2,7 @@
 
     bbgym bench [--quick] [--backends] [--training] [--race] [--device DEVICE]
         [--out runs/bench] [--seconds S] [--repeats R]
+    bbgym bench --scenes [--no-compile]
 
 Prints a markdown table and writes it (``bench.md``) and the raw numbers (``bench.json``)
 to ``--out``:
@@ -23,6 +24,12 @@ to ``--out``:
   (:class:`bbgym.envs.race.BeachballRaceFleetEnv`) beside CartPole's native vector env at
   the same N; with ``--backends`` the fleet on torch too (each of ``--dtypes``, at the
   backend rows' N, on ``--device``), with its first step's time (the compile);
+* ``--scenes``: the course's spring system alone (:mod:`bbgym.scenes`, ``sproing``, its
+  three integrators' copies of the grid) at 1,024, 4,096 and 16,384 particles, on NumPy
+  and torch float64 (eager, and compiled unless ``--no-compile``), in particle-steps a
+  second (the three copies' particles times the steps: flat across the sizes where the
+  cost is linear), beside CartPole's native vector env at N = the particles stepped, with
+  the first step's time (the compile);
 * peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
 * the backends of the native vector envs (``--backends``, needs torch): torch float64 and
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
@@ -79,10 +86,17 @@ RACE_BOATS = 4
 """Boats in the ``--race`` rows' races (the race's default fleet)."""
 
 
+SCENE_SIZES = (32, 64, 128)
+"""The ``--scenes`` rows' grid sides: 1,024, 4,096 and 16,384 particles (times the
+three integrators' copies)."""
+
+
 def per_second(env_id: str) -> str:
     """The unit of a row's rate where an env step is not a plain step (``" throws/s"``)."""
     if env_id == REFERENCE:
         return ""
+    if env_id.startswith("scene "):
+        return " particle-steps/s"
     if env_id.startswith("bbgym/"):  # PettingZoo's ids: a race's steps, boat by boat
         return " boat-steps/s"
     unit = spec_of(env_id).step_unit
@@ -338,7 +352,63 @@ def torch_info() -> dict[str, Any]:
     return info
 
 
+def time_scene(name: str, params: dict[str, Any], backend: str, compile: bool,
+               seconds: float, repeats: int) -> dict[str, float]:  # fmt: skip
+    """Particle-steps per second of a particle scene (its particles, in every row of its
+    batch, times its steps a second; best of ``repeats`` loops of up to ``seconds``) and
+    its first step's time and the bytes of its state."""
+    from bbgym.backends import compiled, resolve_backend
+    from bbgym.scenes import get_scene
+    from bbgym.scenes.scene import namespace
+
+    scene = get_scene(name)
+    p = scene.make_params(params)
+    xp = namespace(backend)
+    state = scene.initial(p, xp)
+    step = lambda s: scene.step(p, s, xp)  # noqa: E731
+    if backend == "torch":
+        step = compiled(step, resolve_backend("torch", dtype="float64", compile=compile))
+    particles = state.x_m.shape[0] * state.x_m.shape[1]
+    start = time.perf_counter()
+    state = step(state)
+    first = time.perf_counter() - start
+    rate = 0.0
+    for _ in range(repeats):
+        done, start = 0, time.perf_counter()
+        while done < 2 or time.perf_counter() - start < seconds:
+            state = step(state)
+            done += 1
+        rate = max(rate, done * particles / (time.perf_counter() - start))
+    state_mb = sum(int(getattr(leaf, "nbytes", 0)) for leaf in state) / 2**20
+    return {"rate": rate, "warmup_s": first, "state_mb": state_mb}
+
+
+def scene_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """The spring scene at each of :data:`SCENE_SIZES` on NumPy and torch float64 (eager;
+    compiled too unless ``--no-compile``), beside CartPole's native vector env at N = the
+    particles it steps."""
+    rows: list[dict[str, Any]] = []
+    kinds = [("numpy", "numpy", False), ("torch float64", "torch", False)]
+    if args.compile:
+        kinds.append(("torch float64 compiled", "torch", True))
+    for size in (4, 8) if args.quick else SCENE_SIZES:
+        n = 3 * size * size  # the scene's three integrators' grids
+        reference = time_vector(REFERENCE, n, max(2, args.steps // n), args.seconds, args.seed)
+        rows.append({"env": REFERENCE, "kind": f"N={n:,}", "rate": reference, "ratio": 1.0})
+        for label, backend, compile in kinds:
+            r = time_scene("sproing", {"size": size}, backend, compile, args.seconds,
+                           args.repeats)  # fmt: skip
+            kind = f"{size * size:,} particles x 3, {label}"
+            rows.append({"env": "scene sproing", "kind": kind, **r, "ratio": r["rate"] / reference})
+            print(f"scene sproing {kind}: {r['rate']:,.0f} particle-steps/s, "
+                  f"first step {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
+    return rows
+
+
 def measure(args: argparse.Namespace) -> dict[str, Any]:
+    if args.scenes:  # the scenes' rows alone
+        return {"rows": [], "backend_rows": scene_rows(args), "memory_mb": {},
+                "machine": machine_info()}  # fmt: skip
     if args.device != "cpu":  # the GPU check: the torch rows alone, one short run
         # The step rows first: they are printed as they come, so a run cut short by a
         # lease's end still has the figures the targets name.
@@ -516,6 +586,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--race", action="store_true", help="add BeachballRace's rows (the race extra: PettingZoo)"
     )
+    parser.add_argument("--scenes", action="store_true",
+                        help="only the course's spring scene, on NumPy and torch (the torch "
+                             "extra)")  # fmt: skip
     parser.add_argument("--device", default="cpu",
                         help="the torch rows' device; off the CPU (cuda) only those rows run, "
                              f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "
@@ -554,6 +627,8 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     ``torchrl`` extra for ``--training`` or a ``--device`` (the stable-baselines3 PPO rows
     are timed only where it is installed)."""
     race = extra_needs("race") if args.race else []
+    if args.scenes:
+        return extra_needs("torch")
     if args.training or args.device != "cpu":
         return extra_needs("torchrl") + race
     return (extra_needs("torch") if args.backends else []) + race

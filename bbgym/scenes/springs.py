@@ -117,8 +117,9 @@ class SproingParams:
     """A square grid of beach balls joined by springs, jostled from rest; each row of the
     batch integrates it its own way."""
 
-    size: int = param(8, interval(2, 40), integer=True)
-    """Particles along each side (2D: size^2 of them; 3D: size^3)."""
+    size: int = param(8, interval(2, 128), integer=True)
+    """Particles along each side (2D: size^2 of them, up to 16,384: ``bbgym bench
+    --scenes``'s largest; 3D: size^3)."""
     neighbours: int = param(8, interval(4, 26), integer=True)
     """Springs per particle: 4, 6 or 8 in 2D, 26 in 3D."""
     spacing_m: float = param(0.5, interval(0.05, 10.0))
