@@ -43,6 +43,7 @@ SCENE_FRAMES = {
     "scene-arrow-2": ("arrow-2", 40),
     "scene-double-bounce": ("double-bounce", 560),
     "scene-sproing-cloth": ("sproing-cloth", 480),
+    "scene-gerstner": ("gerstner", 20),
 }
 SCENE_ENERGY = {
     # file stem: (scene, its parameters, a log scale)

@@ -197,6 +197,27 @@ def test_sproing_cloth_falls_and_hangs_below_its_anchored_row() -> None:
     assert run.measures["exploded"][-1, EXPLICIT] == 1.0
 
 
+def test_gerstner_points_circle_and_the_wave_self_intersects_past_ka_1() -> None:
+    """§10: every surface point stays on its circle of the amplitude's radius; the first
+    crest moves at -w / k (within one point's spacing over half a second); with k a = 0.63
+    the points stay in order along x all period long, with k a = 1.26 neighbours cross."""
+    scene = get_scene("gerstner")
+    calm = simulate(scene)
+    params = calm.params
+    np.testing.assert_allclose(calm.measures["circle_radius_m"], params.amplitude_m, rtol=1e-12)
+    assert params.steepness == pytest.approx(0.628, abs=1e-3)
+    assert np.all(calm.measures["smallest_gap_m"] > 0.0)
+    half_second = int(round(0.5 / params.dt_s))
+    moved = (
+        calm.measures["first_crest_x_m"][half_second, 0] - calm.measures["first_crest_x_m"][0, 0]
+    )
+    speed = params.angular_speed_radps / params.wavenumber_radpm
+    spacing = params.wavelengths * params.wavelength_m / params.points
+    assert abs(moved + speed * half_second * params.dt_s) <= spacing
+    steep = simulate(scene, {"amplitude_m": 2.0}).measures["smallest_gap_m"]
+    assert np.all(steep < 0.0)
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_torch_runs_the_same_scene(name: str) -> None:
     """Every scene on torch (float64) equals NumPy, step for step (to 1e-9)."""

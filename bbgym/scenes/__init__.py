@@ -17,13 +17,14 @@ from bbgym.scenes.collisions import SCENES as COLLISIONS
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
 from bbgym.scenes.scene import Scene, Trajectory, simulate
 from bbgym.scenes.springs import SCENES as SPRINGS
+from bbgym.scenes.waves import SCENES as WAVES
 
 __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 
 SCENES: dict[str, Scene] = {
     scene.name: scene
     for scene in sorted(
-        (*PROJECTILES, *COLLISIONS, *SPRINGS), key=lambda scene: int(scene.section[1:])
+        (*PROJECTILES, *COLLISIONS, *SPRINGS, *WAVES), key=lambda scene: int(scene.section[1:])
     )
 }
 """Every scene by name, in the course text's order (by section; within one, as declared)."""
