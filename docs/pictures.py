@@ -44,15 +44,19 @@ SCENE_FRAMES = {
     "scene-double-bounce": ("double-bounce", 560),
     "scene-sproing-cloth": ("sproing-cloth", 480),
     "scene-gerstner": ("gerstner", 20),
+    "scene-sliding-block-2": ("sliding-block-2", 60),
 }
 SCENE_ENERGY = {
-    # file stem: (scene, its parameters, a log scale)
-    "scene-three-beachballs-1": ("three-beachballs-1", {}, False),
-    "scene-three-beachballs-1a": ("three-beachballs-1a", {}, False),
-    "scene-three-beachballs-2": ("three-beachballs-2", {}, False),
-    "scene-sproing": ("sproing", {"damping_nspm": 0.0}, True),
+    # file stem: (scene, its parameters, a log scale, the measure drawn)
+    "scene-three-beachballs-1": ("three-beachballs-1", {}, False, "energy_jpkg"),
+    "scene-three-beachballs-1a": ("three-beachballs-1a", {}, False, "energy_jpkg"),
+    "scene-three-beachballs-2": ("three-beachballs-2", {}, False, "energy_jpkg"),
+    "scene-sproing": ("sproing", {"damping_nspm": 0.0}, True, "energy_j"),
+    "scene-sliding-block": ("sliding-block", {"blocks": 3}, False, "velocity_mps"),
 }
-"""Scenes pictured by their bodies' energy over the run."""
+"""Scenes pictured by a measure of each body over the run."""
+LABELS = {"energy_jpkg": "energy per kg (J/kg)", "energy_j": "energy (J)",
+          "velocity_mps": "velocity (m/s)"}  # fmt: skip
 
 
 def scene_frame(name: str, step: int):
@@ -68,8 +72,8 @@ def scene_frame(name: str, step: int):
     return picture
 
 
-def scene_energy(name: str, params: dict, log: bool, path: Path) -> None:
-    """The energy of each body (ball, or integrator's copy) of a scene over its run."""
+def scene_energy(name: str, params: dict, log: bool, key: str, path: Path) -> None:
+    """A measure (an energy, a velocity) of each body of a scene over its run."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -79,12 +83,11 @@ def scene_energy(name: str, params: dict, log: bool, path: Path) -> None:
 
     scene = get_scene(name)
     run = simulate(scene, params)
-    key = next(k for k in run.measures if k.startswith("energy"))
     fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=100)
-    for k, body in enumerate(scene.bodies):
+    for k, body in enumerate(scene.names(run.params)):
         ax.plot(run.times_s, run.measures[key][:, k], label=body, linewidth=1.2)
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("energy per kg (J/kg)" if key == "energy_jpkg" else "energy (J)")
+    ax.set_ylabel(LABELS[key])
     if log:
         ax.set_yscale("log")
     settings = ", ".join(f"{k} {v:g}" for k, v in params.items())
@@ -135,9 +138,9 @@ def main(names: list[str]) -> int:
             save(scene_frame(scene, step), path)
             what = f"scene {scene}, step {step}"
         elif name in SCENE_ENERGY:
-            scene, params, log = SCENE_ENERGY[name]
-            scene_energy(scene, params, log, path)
-            what = f"scene {scene} {params or ''}, energy over its run"
+            scene, params, log, key = SCENE_ENERGY[name]
+            scene_energy(scene, params, log, key, path)
+            what = f"scene {scene} {params or ''}, {key} over its run"
         else:
             env_id, seed, steps = PICTURES[name]
             save(frame(env_id, seed, steps), path)

@@ -218,6 +218,49 @@ def test_gerstner_points_circle_and_the_wave_self_intersects_past_ka_1() -> None
     assert np.all(steep < 0.0)
 
 
+def test_sliding_block_stops_with_the_zero_crossing_check_and_creeps_without() -> None:
+    """§6: with the check each block stops (its velocity exactly 0) within a step of
+    v0 / (mu_k g), at v0^2 / (2 mu_k g) to within v0 dt, and stays; without it none ever
+    stops: each rocks between two velocities of opposite signs and creeps, some forward and
+    some back, by its starting speed."""
+    scene = get_scene("sliding-block")
+    run = simulate(scene)
+    p = run.params
+    speeds, dt, mu_g = p.speeds(), p.dt_s, p.mu_kinetic * GRAVITY_MPS2
+    distance, velocity = run.measures["distance_m"], run.measures["velocity_mps"]
+    creep = []
+    for k, v0 in enumerate(speeds):
+        checked = p.blocks + k
+        stop = int(np.argmax(velocity[:, checked] == 0.0))
+        assert abs(stop * dt - v0 / mu_g) <= dt
+        assert np.all(velocity[stop:, checked] == 0.0)
+        assert np.all(distance[stop:, checked] == distance[stop, checked])
+        assert distance[stop, checked] == pytest.approx(v0**2 / (2 * mu_g), abs=v0 * dt)
+        after = velocity[stop + 1 :, k]
+        assert np.all(after != 0.0) and after.min() < 0.0 < after.max()
+        creep.append(distance[-1, k] - distance[stop + 1, k])
+    assert min(creep) < 0.0 < max(creep)
+
+
+def test_blocks_on_slopes_hold_below_the_friction_angle_and_slide_above() -> None:
+    """§6: released at rest, the blocks on slopes under atan(mu_s) = 31 deg never move;
+    those above accelerate at g (sin theta - mu_k cos theta) (their speed after 2 s exact,
+    their distance to within v dt)."""
+    scene = get_scene("sliding-block-2")
+    run = simulate(scene)
+    p = run.params
+    friction_angle = math.atan(p.mu_static)
+    t = run.times_s[-1]
+    for k, angle in enumerate(p.angles_rad()):
+        distance, velocity = run.measures["distance_m"][:, k], run.measures["velocity_mps"][:, k]
+        if angle <= friction_angle:
+            assert np.all(distance == 0.0) and np.all(velocity == 0.0), k
+            continue
+        accel = GRAVITY_MPS2 * (math.sin(angle) - p.mu_kinetic * math.cos(angle))
+        assert velocity[-1] == pytest.approx(accel * t, rel=1e-9)
+        assert distance[-1] == pytest.approx(0.5 * accel * t * t, abs=velocity[-1] * p.dt_s)
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_torch_runs_the_same_scene(name: str) -> None:
     """Every scene on torch (float64) equals NumPy, step for step (to 1e-9)."""

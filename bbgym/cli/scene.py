@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
     steps = len(trajectory.times_s) - 1
     print(f"{scene.section} {scene.title}: {steps} steps of {params.dt_s:g} s on {args.backend}")
     print(f"claim: {scene.claim}")
-    print(measures_table(trajectory, scene.bodies))
+    print(measures_table(trajectory, scene.names(params)))
     if args.out is not None:
         from bbgym.cli.record import open_writer
         from bbgym.scenes.view import frames

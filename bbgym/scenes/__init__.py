@@ -14,6 +14,7 @@ lists them in the text's order; each module holds one family of demos.
 from __future__ import annotations
 
 from bbgym.scenes.collisions import SCENES as COLLISIONS
+from bbgym.scenes.friction import SCENES as FRICTION
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
 from bbgym.scenes.scene import Scene, Trajectory, simulate
 from bbgym.scenes.springs import SCENES as SPRINGS
@@ -24,7 +25,8 @@ __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 SCENES: dict[str, Scene] = {
     scene.name: scene
     for scene in sorted(
-        (*PROJECTILES, *COLLISIONS, *SPRINGS, *WAVES), key=lambda scene: int(scene.section[1:])
+        (*PROJECTILES, *COLLISIONS, *FRICTION, *SPRINGS, *WAVES),
+        key=lambda scene: int(scene.section[1:]),
     )
 }
 """Every scene by name, in the course text's order (by section; within one, as declared)."""

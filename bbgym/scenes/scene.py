@@ -86,6 +86,12 @@ class Scene:
     """The test that checks the claim (``tests/test_scenes.py``'s function)."""
     floor: bool = True
     """The view draws a floor at y = 0."""
+    body_names: Callable[[Any], tuple[str, ...]] | None = None
+    """``body_names(params)``, where the rows depend on the parameters (else ``bodies``)."""
+
+    def names(self, params: Any) -> tuple[str, ...]:
+        """Each row's name for these parameters."""
+        return self.body_names(params) if self.body_names is not None else self.bodies
 
     def make_params(self, values: Mapping[str, Any] | Any = None) -> Any:
         """The scene's parameters from ``None`` (defaults), a mapping or an instance; an
