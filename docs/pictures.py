@@ -45,6 +45,7 @@ SCENE_FRAMES = {
     "scene-sproing-cloth": ("sproing-cloth", 480),
     "scene-gerstner": ("gerstner", 20),
     "scene-sliding-block-2": ("sliding-block-2", 60),
+    "scene-points-of-sail": ("points-of-sail", 1200),
 }
 SCENE_ENERGY = {
     # file stem: (scene, its parameters, a log scale, the measure drawn)

@@ -261,6 +261,23 @@ def test_blocks_on_slopes_hold_below_the_friction_angle_and_slide_above() -> Non
         assert distance[-1] == pytest.approx(0.5 * accel * t * t, abs=velocity[-1] * p.dt_s)
 
 
+def test_points_of_sail_reach_fastest_run_slower_than_the_wind_beat_to_windward() -> None:
+    """§9: after a minute with the bow and sheets set, every boat sails ahead at a steady
+    speed; the beam reach is the fastest; running, the boat is slower than the wind that
+    pushes it; beating, it makes ground to windward (VMG > 0) and drifts the most, running
+    hardly at all; the sail is about 45 deg out on the reach."""
+    run = simulate(get_scene("points-of-sail"))
+    speed, drift = run.measures["speed_mps"][-1], run.measures["drift_deg"][-1]
+    RUN, REACH, BEAT = 0, 1, 2
+    late = run.measures["speed_mps"][-40:]  # the last 2 s: steady
+    assert np.all(np.abs(late - late[-1]) < 0.01 * late[-1])
+    assert speed[REACH] > max(speed[RUN], speed[BEAT]) > 0.0
+    assert speed[RUN] < run.params.wind_speed_mps
+    assert run.measures["vmg_mps"][-1, BEAT] > 1.0
+    assert drift[BEAT] > drift[REACH] > drift[RUN] >= 0.0 and drift[RUN] < 0.5
+    assert run.measures["boom_deg"][-1, REACH] == pytest.approx(45.0, abs=2.0)
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_torch_runs_the_same_scene(name: str) -> None:
     """Every scene on torch (float64) equals NumPy, step for step (to 1e-9)."""

@@ -13,6 +13,7 @@ lists them in the text's order; each module holds one family of demos.
 
 from __future__ import annotations
 
+from bbgym.scenes.boat import SCENES as BOAT
 from bbgym.scenes.collisions import SCENES as COLLISIONS
 from bbgym.scenes.friction import SCENES as FRICTION
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
@@ -25,7 +26,7 @@ __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 SCENES: dict[str, Scene] = {
     scene.name: scene
     for scene in sorted(
-        (*PROJECTILES, *COLLISIONS, *FRICTION, *SPRINGS, *WAVES),
+        (*PROJECTILES, *COLLISIONS, *FRICTION, *SPRINGS, *BOAT, *WAVES),
         key=lambda scene: int(scene.section[1:]),
     )
 }
