@@ -2,7 +2,7 @@
 
     bbgym scene --list
     bbgym scene NAME [--steps N] [--param KEY=VALUE] [--backend numpy]
-        [--out runs/scenes/NAME.gif] [--fps 30]
+        [--out FILE.gif] [--fps 30]
 
 A scene (bbgym.scenes) is one of the course text's demos on the envs' physics: its claim
 (what the text says the demo shows, as the tests check it) and a table of its measures at

@@ -133,7 +133,7 @@ def simulate(
 ) -> Trajectory:  # fmt: skip
     """Run ``scene`` for ``steps`` steps (default its own) on ``backend`` in float64,
     recording its measures at every step; ``on_step(params, state)`` sees each state (the
-    initial one first), as NumPy arrays where the backend is torch."""
+    initial one first) as a copy in NumPy float64 arrays, whatever the backend."""
     p = scene.make_params(params)
     if steps is None:
         steps = math.ceil(scene.duration_s(p) / p.dt_s - 1e-9)
