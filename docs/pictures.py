@@ -46,6 +46,7 @@ SCENE_FRAMES = {
     "scene-gerstner": ("gerstner", 20),
     "scene-sliding-block-2": ("sliding-block-2", 60),
     "scene-points-of-sail": ("points-of-sail", 1200),
+    "scene-bowling-balls": ("bowling-balls", 150),
 }
 SCENE_ENERGY = {
     # file stem: (scene, its parameters, a log scale, the measure drawn)
@@ -54,10 +55,11 @@ SCENE_ENERGY = {
     "scene-three-beachballs-2": ("three-beachballs-2", {}, False, "energy_jpkg"),
     "scene-sproing": ("sproing", {"damping_nspm": 0.0}, True, "energy_j"),
     "scene-sliding-block": ("sliding-block", {"blocks": 3}, False, "velocity_mps"),
+    "scene-magnus": ("magnus", {}, False, "height_m"),
 }
 """Scenes pictured by a measure of each body over the run."""
 LABELS = {"energy_jpkg": "energy per kg (J/kg)", "energy_j": "energy (J)",
-          "velocity_mps": "velocity (m/s)"}  # fmt: skip
+          "velocity_mps": "velocity (m/s)", "height_m": "height (m)"}  # fmt: skip
 
 
 def scene_frame(name: str, step: int):

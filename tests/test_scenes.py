@@ -278,6 +278,43 @@ def test_points_of_sail_reach_fastest_run_slower_than_the_wind_beat_to_windward(
     assert run.measures["boom_deg"][-1, REACH] == pytest.approx(45.0, abs=2.0)
 
 
+def test_bowling_balls_the_elephant_falls_faster_beach_balls_alike() -> None:
+    """§8: dropped together, both solid balls first fall alike (no drag at rest), then
+    the large one is faster all the way down and lands first; the small solid ball and
+    both beach balls reach their terminal speeds sqrt(2 m g / (rho C_d A)) (within 1%);
+    the two beach balls, their radii 10x apart, fall at one speed (to 1e-9) and land
+    together."""
+    scene = get_scene("bowling-balls")
+    run = simulate(scene)
+    speed, height = run.measures["speed_mps"], run.measures["height_m"]
+    SMALL, LARGE, SHELL, BIG_SHELL = 0, 1, 2, 3
+    landed = [int(np.argmax(height[:, k] <= 0.0)) for k in range(4)]
+    assert landed[LARGE] < landed[SMALL] and landed[SHELL] == landed[BIG_SHELL]
+    # "both will momentarily start falling with the same velocity", then drag parts them
+    assert speed[1, LARGE] == speed[1, SMALL] == pytest.approx(GRAVITY_MPS2 * run.params.dt_s)
+    falling = slice(2, landed[LARGE])
+    assert np.all(speed[falling, LARGE] > speed[falling, SMALL])
+    np.testing.assert_allclose(speed[:, SHELL], speed[:, BIG_SHELL], rtol=1e-9, atol=1e-12)
+    balls = run.params.balls()
+    for k in (SMALL, SHELL):
+        top = speed[: landed[k], k].max()
+        assert top == pytest.approx(balls[k].terminal_speed_mps(), rel=0.01), k
+    assert balls[LARGE].terminal_speed_mps() > 3.0 * balls[SMALL].terminal_speed_mps()
+
+
+def test_magnus_backspin_carries_farther_topspin_lands_sooner() -> None:
+    """§8: thrown level at 8 m/s with 20 rad/s of backspin, none, or topspin, the ball
+    with backspin stays up longest and lands farthest, the topspin one soonest and
+    nearest; without spin it lands between (the envs' Magnus law)."""
+    run = simulate(get_scene("magnus"))
+    height, distance = run.measures["height_m"], run.measures["distance_m"]
+    BACK, NONE, TOP = 0, 1, 2
+    landed = [int(np.argmax(height[:, k] <= 0.0)) for k in range(3)]
+    assert landed[TOP] < landed[NONE] < landed[BACK]
+    assert distance[-1, TOP] < distance[-1, NONE] < distance[-1, BACK]
+    assert distance[-1, BACK] > 1.2 * distance[-1, NONE]
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_torch_runs_the_same_scene(name: str) -> None:
     """Every scene on torch (float64) equals NumPy, step for step (to 1e-9)."""

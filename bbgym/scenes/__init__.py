@@ -20,13 +20,14 @@ from bbgym.scenes.projectiles import SCENES as PROJECTILES
 from bbgym.scenes.scene import Scene, Trajectory, simulate
 from bbgym.scenes.springs import SCENES as SPRINGS
 from bbgym.scenes.waves import SCENES as WAVES
+from bbgym.scenes.wind import SCENES as WIND
 
 __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 
 SCENES: dict[str, Scene] = {
     scene.name: scene
     for scene in sorted(
-        (*PROJECTILES, *COLLISIONS, *FRICTION, *SPRINGS, *BOAT, *WAVES),
+        (*PROJECTILES, *COLLISIONS, *FRICTION, *SPRINGS, *WIND, *BOAT, *WAVES),
         key=lambda scene: int(scene.section[1:]),
     )
 }
