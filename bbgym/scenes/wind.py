@@ -136,8 +136,9 @@ def magnus_initial(p: MagnusParams, xp: Any) -> Bodies:
 
 def magnus_step(p: MagnusParams, s: Bodies, xp: Any) -> Bodies:
     """Gravity, drag (implicit, the envs' rate) and the Magnus force (the envs' law: spin
-    about the horizontal axis across the flight; backspin's vector points to the thrower's
-    left, lifting the ball), the spin held (a short flight); a ball on the ground stays."""
+    about the horizontal axis across the flight; backspin, the ball's top turning back
+    toward the thrower, has its vector to the thrower's right, and lifts the ball), the
+    spin held (a short flight); a ball on the ground stays."""
     # x ahead, y up here; the ball laws' frame has z up: map (x, y) -> (x, z), spin about y.
     spin = column((p.spin_radps, 0.0, -p.spin_radps), xp)
     zero = 0.0 * s.vx_mps
