@@ -1,9 +1,10 @@
 """Wind effects (§8): dropping large things ("bowling balls": the elephant and the mouse),
 and the Magnus effect of a spinning beach ball.
 
-Both run the envs' own ball laws (:mod:`bbgym.physics.ball`): the drag ``1/2 rho C_d A v^2``
-as the damping rate :func:`~bbgym.physics.ball.drag_rate_per_s` (taken implicitly, so any
-step is stable), and the Magnus force :func:`~bbgym.physics.ball.magnus_force`.
+Both fly the envs' own balls by the envs' own step in the air,
+:func:`bbgym.physics.ball.substep`: gravity, the drag ``1/2 rho C_d A v^2`` and the Magnus
+force (both taken implicitly, so any step is stable), the spin decaying. The side view's
+x is the ball laws' x, its y their z (up).
 """
 
 from __future__ import annotations
@@ -12,11 +13,11 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from bbgym.physics.ball import BallParams, drag_rate_per_s, magnus_force
+from bbgym.physics.ball import BallParams, BallState, ball_at, substep
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_fields, interval, param
-from bbgym.scenes.projectiles import BALL_COLORS, Bodies, column
+from bbgym.scenes.projectiles import BALL_COLORS, column
 from bbgym.scenes.scene import Circle, Frame, Scene, Segment
 
 # -- bowling balls: the elephant falls faster -------------------------------------------------
@@ -49,37 +50,42 @@ class FallParams:
 FALL_NAMES = ("small solid", "large solid", "small beach ball", "large beach ball")
 
 
-def fall_initial(p: FallParams, xp: Any) -> Bodies:
-    radii = [b.radius_m for b in p.balls()]
-    return Bodies(
-        x_m=column((-15.0, -5.0, 5.0, 15.0), xp),
-        y_m=column(tuple(p.drop_height_m + r for r in radii), xp),
-        vx_mps=column((0.0,) * 4, xp),
-        vy_mps=column((0.0,) * 4, xp),
-    )
-
-
-def fall_step(p: FallParams, s: Bodies, xp: Any) -> Bodies:
-    """Gravity, and the drag taken implicitly (``v' = (v - g dt) / (1 + c |v| dt)``, ``c``
-    the envs' rate per speed); a ball that reaches the ground stops there."""
-    balls = p.balls()
-    per_mps = column(tuple(float(drag_rate_per_s(b, 1.0)) for b in balls), xp)
+def in_the_air(balls: tuple[BallParams, ...], s: BallState, dt_s: float, xp: Any) -> BallState:
+    """One step of the envs' ball physics (:func:`~bbgym.physics.ball.substep`, no wind)
+    for each row with its own ball, and a ball that reaches the ground stops there."""
+    rows = []
+    for k, ball in enumerate(balls):
+        row = BallState(*(field[k : k + 1] for field in s))
+        calm = 0.0 * row.x
+        rows.append(substep(ball, row, calm, calm, dt_s, xp))
+    moved = BallState(*(xp.concat(fields) for fields in zip(*rows, strict=True)))
     radius = column(tuple(b.radius_m for b in balls), xp)
-    vy = (s.vy_mps - GRAVITY_MPS2 * p.dt_s) / (1.0 + per_mps * xp.abs(s.vy_mps) * p.dt_s)
-    y = s.y_m + p.dt_s * vy
-    landed = y <= radius
-    return Bodies(s.x_m, xp.where(landed, radius, y), s.vx_mps, xp.where(landed, 0.0, vy))
+    down = moved.z <= radius
+    flying = [xp.where(down, 0.0, v) for v in (moved.vx, moved.vy, moved.vz)]
+    still = [xp.where(down, old, new) for old, new in ((s.x, moved.x), (s.y, moved.y))]
+    return BallState(still[0], still[1], xp.where(down, radius, moved.z), *flying,
+                     *moved[6:])  # fmt: skip
 
 
-def fall_measures(p: FallParams, s: Bodies, xp: Any) -> dict[str, Array]:
+def fall_initial(p: FallParams, xp: Any) -> BallState:
+    heights = tuple(p.drop_height_m + b.radius_m for b in p.balls())
+    return ball_at(column((-15.0, -5.0, 5.0, 15.0), xp), 0.0, column(heights, xp), 0.0, 0.0,
+                   0.0, 0.0, 0.0, 0.0, xp=xp)  # fmt: skip
+
+
+def fall_step(p: FallParams, s: BallState, xp: Any) -> BallState:
+    return in_the_air(p.balls(), s, p.dt_s, xp)
+
+
+def fall_measures(p: FallParams, s: BallState, xp: Any) -> dict[str, Array]:
     radius = column(tuple(b.radius_m for b in p.balls()), xp)
-    return {"speed_mps": 0.0 - s.vy_mps, "height_m": s.y_m - radius}
+    return {"speed_mps": 0.0 - s.vz, "height_m": s.z - radius}
 
 
-def fall_frame(p: FallParams, s: Bodies) -> Frame:
+def fall_frame(p: FallParams, s: BallState) -> Frame:
     balls = p.balls()
-    circles = [Circle(float(s.x_m[k]), float(s.y_m[k]), b.radius_m, BALL_COLORS[k % 3],
-                      f"{FALL_NAMES[k]}: {-float(s.vy_mps[k]):.1f} m/s")
+    circles = [Circle(float(s.x[k]), float(s.z[k]), b.radius_m, BALL_COLORS[k % 3],
+                      f"{FALL_NAMES[k]}: {-float(s.vz[k]):.1f} m/s")
                for k, b in enumerate(balls)]  # fmt: skip
     terminal = ", ".join(f"{b.terminal_speed_mps():.1f}" for b in balls)
     return Frame(circles, lines=[f"terminal speeds {terminal} m/s"])
@@ -125,41 +131,25 @@ MAGNUS_NAMES = ("backspin", "no spin", "topspin")
 BALL = BallParams()
 
 
-def magnus_initial(p: MagnusParams, xp: Any) -> Bodies:
-    return Bodies(
-        x_m=column((0.0, 0.0, 0.0), xp),
-        y_m=column((p.launch_height_m,) * 3, xp),
-        vx_mps=column((p.speed_mps,) * 3, xp),
-        vy_mps=column((0.0,) * 3, xp),
-    )
+def magnus_initial(p: MagnusParams, xp: Any) -> BallState:
+    """Thrown along x; backspin (the ball's top turning back toward the thrower) spins
+    about -y, the thrower's right, topspin about +y."""
+    spin = column((-p.spin_radps, 0.0, p.spin_radps), xp)
+    return ball_at(column((0.0,) * 3, xp), 0.0, p.launch_height_m, p.speed_mps, 0.0, 0.0, 0.0,
+                   spin, 0.0, xp=xp)  # fmt: skip
 
 
-def magnus_step(p: MagnusParams, s: Bodies, xp: Any) -> Bodies:
-    """Gravity, drag (implicit, the envs' rate) and the Magnus force (the envs' law: spin
-    about the horizontal axis across the flight; backspin, the ball's top turning back
-    toward the thrower, has its vector to the thrower's right, and lifts the ball), the
-    spin held (a short flight); a ball on the ground stays."""
-    # x ahead, y up here; the ball laws' frame has z up: map (x, y) -> (x, z), spin about y.
-    spin = column((p.spin_radps, 0.0, -p.spin_radps), xp)
-    zero = 0.0 * s.vx_mps
-    fx, _, fz, _ = magnus_force(BALL, s.vx_mps, zero, s.vy_mps, zero, -spin, zero, xp)
-    speed = xp.sqrt(s.vx_mps * s.vx_mps + s.vy_mps * s.vy_mps)
-    damping = 1.0 + drag_rate_per_s(BALL, speed) * p.dt_s
-    vx = (s.vx_mps + p.dt_s * fx / BALL.mass_kg) / damping
-    vy = (s.vy_mps + p.dt_s * (fz / BALL.mass_kg - GRAVITY_MPS2)) / damping
-    flying = s.y_m > BALL.radius_m
-    x = xp.where(flying, s.x_m + p.dt_s * vx, s.x_m)
-    y = xp.where(flying, xp.maximum(s.y_m + p.dt_s * vy, BALL.radius_m), s.y_m)
-    return Bodies(x, y, xp.where(flying, vx, 0.0), xp.where(flying, vy, 0.0))
+def magnus_step(p: MagnusParams, s: BallState, xp: Any) -> BallState:
+    return in_the_air((BALL,) * 3, s, p.dt_s, xp)
 
 
-def magnus_measures(p: MagnusParams, s: Bodies, xp: Any) -> dict[str, Array]:
-    return {"distance_m": s.x_m, "height_m": s.y_m - BALL.radius_m}
+def magnus_measures(p: MagnusParams, s: BallState, xp: Any) -> dict[str, Array]:
+    return {"distance_m": s.x, "height_m": s.z - BALL.radius_m}
 
 
-def magnus_frame(p: MagnusParams, s: Bodies) -> Frame:
-    circles = [Circle(float(s.x_m[k]), float(s.y_m[k]), BALL.radius_m, BALL_COLORS[k],
-                      f"{MAGNUS_NAMES[k]}: {float(s.x_m[k]):.1f} m")
+def magnus_frame(p: MagnusParams, s: BallState) -> Frame:
+    circles = [Circle(float(s.x[k]), float(s.z[k]), BALL.radius_m, BALL_COLORS[k],
+                      f"{MAGNUS_NAMES[k]}: {float(s.x[k]):.1f} m")
                for k in range(3)]  # fmt: skip
     return Frame(circles, [Segment(0.0, 0.0, 0.0, p.launch_height_m, (120, 120, 120), 2)],
                  [f"thrown level at {p.speed_mps:g} m/s, spin {p.spin_radps:g} rad/s"])  # fmt: skip
@@ -178,7 +168,7 @@ MAGNUS = Scene(
     frame=magnus_frame,
     view_box_m=lambda p: (
         -1.0,
-        2.0 * p.speed_mps * math.sqrt(2.0 * p.launch_height_m / 9.81) + 2.0,
+        2.0 * p.speed_mps * math.sqrt(2.0 * p.launch_height_m / GRAVITY_MPS2) + 2.0,
         -0.5,
         3.0 * p.launch_height_m + 1.0,
     ),  # fmt: skip
