@@ -381,9 +381,9 @@ def test_every_field_has_its_documented_interval():
             docs[node.target.id] = " ".join(after.value.value.split())
     for f in fields(BallParams):
         accepted = accepted_interval(BallParams, f.name)
-        if f.name == "solid":
-            with pytest.raises(TypeError, match=r"^BallParams\.solid"):
-                BallParams(solid=1)
+        if isinstance(f.default, bool):  # solid, rolling_stop: flags, no interval
+            with pytest.raises(TypeError, match=rf"^BallParams\.{f.name}"):
+                BallParams(**{f.name: 1})
             continue
         assert f"Accepted {accepted}" in docs[f.name]
         BallParams(**{f.name: accepted.low})  # both ends accepted

@@ -15,7 +15,7 @@ Magnus force                :func:`magnus_force` (``1/2 rho A C_L |v|^2``, §8)
 spin decay                  :func:`spin_decay` (exponential, time constant ``spin_decay_s``)
 drag and Magnus, implicit   :func:`drag_rate_per_s`, :func:`magnus_coefficient`
 bounce, friction, rolling   :func:`ground_contact` (restitution §3, friction §6, §5):
-                            :func:`friction_impulse`, :func:`rolling_resistance_spin_change`
+                            :func:`friction_impulse`, :func:`rolling_resistance`
 panel (screen, wall) hits   :func:`panel_contact`, the bounce :func:`panel_bounce`
 ball-ball collision         :func:`collide_balls` (restitution formula of §4)
 at rest                     :func:`ball_at_rest`
@@ -91,6 +91,13 @@ class BallParams:
     rest_speed_mps: float = param(0.3, interval(0.0, 5.0))
     """Impacts slower than this do not bounce: the ball stays on the ground and rolls.
     Accepted [0, 5] m/s (0: every impact bounces, as an elastic ball must)."""
+    rolling_stop: bool = param(False)
+    """The zero-crossing rule for rolling (seed §6, the sliding block's check): a ball in
+    resting contact whose rolling velocity the step's rolling resistance would carry
+    through zero stops, speed and horizontal spin exactly 0 (where friction can hold it).
+    Off (the default, every env version to date): the resistance only zeroes the spin and
+    friction spins the ball up again at 3/5 (shell) or 5/7 (solid) of its speed, a
+    geometric decay that never reaches 0. A bool."""
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -275,9 +282,10 @@ def ground_contact(
       ``omega r > (m r^2 / I) v`` (3/2 v for a shell, 5/2 v for a solid ball) comes back
       (a little more with rolling resistance, whose couple also brakes the backspin);
       topspin kicks it forward.
-    * Rolling resistance (:func:`rolling_resistance_spin_change`), a couple against the
+    * Rolling resistance (:func:`rolling_resistance`), a couple against the
       spin, slows a rolling ball by ``c J_n / m`` (``c g dt`` on flat ground), never
-      reversing it; friction keeps it rolling.
+      reversing it; friction keeps it rolling. With ``rolling_stop`` a ball whose rolling
+      velocity would cross zero in the step stops there (the zero crossing, §6).
 
     No step adds kinetic energy (translational plus rotational). ``dt_s`` is not needed:
     the normal impulse carries the substep's length. Returns the new state and whether the
@@ -290,13 +298,12 @@ def ground_contact(
     # A bounce is over in an instant: rolling resistance acts in resting contact only. It
     # goes first, so that friction (if it can) leaves the ball rolling at the end.
     resting = touching & xp.logical_not(bounce)
-    dwx, dwy = rolling_resistance_spin_change(
-        p, s.wx, s.wy, xp.where(resting, normal_impulse, 0.0), xp
+    vx, vy, wx, wy = rolling_resistance(
+        p, s.vx, s.vy, s.wx, s.wy, xp.where(resting, normal_impulse, 0.0), xp
     )
-    wx, wy = s.wx + dwx, s.wy + dwy
-    slip_x, slip_y = contact_slip(p, s.vx, s.vy, wx, wy)
+    slip_x, slip_y = contact_slip(p, vx, vy, wx, wy)
     jx, jy = friction_impulse(p, slip_x, slip_y, normal_impulse, xp)
-    vx, vy, wx, wy = _apply_contact_impulse(p, s.vx, s.vy, wx, wy, jx, jy)
+    vx, vy, wx, wy = _apply_contact_impulse(p, vx, vy, wx, wy, jx, jy)
     # A ball in the air keeps its values exactly (zero impulses could flip a zero's sign).
     vx, vy = xp.where(near, vx, s.vx), xp.where(near, vy, s.vy)
     wx, wy = xp.where(near, wx, s.wx), xp.where(near, wy, s.wy)
@@ -362,23 +369,48 @@ def _apply_contact_impulse(
     return vx + jx / m, vy + jy / m, wx + r * jy / inertia, wy - r * jx / inertia
 
 
-def rolling_resistance_spin_change(
-    p: BallParams, wx: Array, wy: Array, normal_impulse: Array, xp: Any = np
-) -> tuple[Array, Array]:
+def rolling_resistance(
+    p: BallParams, vx: Array, vy: Array, wx: Array, wy: Array, normal_impulse: Array,
+    xp: Any = np,
+) -> tuple[Array, Array, Array, Array]:  # fmt: skip
     """Rolling resistance (seed §6) as the ground's couple on the flattened contact patch: a
     pure torque (no horizontal force, so the ground's horizontal impulse stays within
     Coulomb's ``friction * J_n``) against the horizontal spin. Its angular impulse
     ``c J_n (r + I / (m r))`` takes ``c J_n / m`` off the rolling velocity of
     :func:`rolling_velocity` (deceleration ``c g`` of a rolling ball on flat ground, kept
-    rolling by friction while ``c <= friction``); it never reverses the spin. Returns the
-    change of ``(omega_x, omega_y)`` (rad/s)."""
+    rolling by friction while ``c <= friction``); it never reverses the spin.
+
+    With ``rolling_stop`` (the zero-crossing rule of the sliding block, §6): where the
+    rolling velocity is within ``c J_n / m`` of zero, so that the couple would carry it
+    through zero in this step, and the ground's friction can take the ball's momentum
+    (``m |v| <= friction * J_n``), the ball stops: velocity and horizontal spin exactly 0.
+    Without it the couple only zeroes the spin there, and friction spins the ball up again
+    at the rolling share of its speed: the speed shrinks geometrically, never to 0.
+
+    Returns the new ``(v_x, v_y, omega_x, omega_y)`` (m/s, rad/s)."""
     m, inertia, r = p.mass_kg, p.inertia_kgm2, p.radius_m
     spin = xp.sqrt(wx * wx + wy * wy)
     slowing = xp.minimum(
         p.rolling_resistance * normal_impulse * (r + inertia / (m * r)) / inertia, spin
     )
     per_spin = slowing / xp.maximum(spin, TINY)
-    return -per_spin * wx, -per_spin * wy
+    # the spin's change, then its sum: the arithmetic of every version before rolling_stop
+    dwx, dwy = -per_spin * wx, -per_spin * wy
+    new_wx, new_wy = wx + dwx, wy + dwy
+    if not p.rolling_stop:  # a parameter, not an array value: every version before it
+        return vx, vy, new_wx, new_wy
+    ux, uy = rolling_velocity(p, vx, vy, wx, wy)
+    rolling_speed = xp.sqrt(ux * ux + uy * uy)
+    speed = xp.sqrt(vx * vx + vy * vy)
+    stops = (
+        (normal_impulse > 0.0)
+        & (m * rolling_speed <= p.rolling_resistance * normal_impulse)
+        & (m * speed <= p.friction * normal_impulse)
+    )
+    return (
+        xp.where(stops, 0.0, vx), xp.where(stops, 0.0, vy),
+        xp.where(stops, 0.0, new_wx), xp.where(stops, 0.0, new_wy),
+    )  # fmt: skip
 
 
 def panel_contact(
