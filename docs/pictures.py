@@ -42,11 +42,20 @@ SCENE_FRAMES = {
     "scene-arrow": ("arrow", 36),
     "scene-arrow-2": ("arrow-2", 40),
     "scene-double-bounce": ("double-bounce", 560),
+    "scene-rotation-box": ("rotation-box", 150),
+    "scene-double-bounce-2": ("double-bounce-2", 520),
+    "scene-plank-free": ("plank-free", 120),
+    "scene-plank-anchored": ("plank-anchored", 120),
+    "scene-many-beachballs": ("many-beachballs", 300),
+    "scene-many-beachballs-bad": ("many-beachballs-bad", 300),
     "scene-sproing-cloth": ("sproing-cloth", 480),
     "scene-gerstner": ("gerstner", 20),
     "scene-sliding-block-2": ("sliding-block-2", 60),
     "scene-points-of-sail": ("points-of-sail", 1200),
     "scene-bowling-balls": ("bowling-balls", 150),
+    "scene-falling-wall": ("falling-wall", 70),
+    "scene-confetti": ("confetti", 360),
+    "scene-aeroplane": ("aeroplane", 750),
 }
 SCENE_ENERGY = {
     # file stem: (scene, its parameters, a log scale, the measure drawn)
@@ -55,11 +64,20 @@ SCENE_ENERGY = {
     "scene-three-beachballs-2": ("three-beachballs-2", {}, False, "energy_jpkg"),
     "scene-sproing": ("sproing", {"damping_nspm": 0.0}, True, "energy_j"),
     "scene-sliding-block": ("sliding-block", {"blocks": 3}, False, "velocity_mps"),
+    "scene-golf-ball": ("golf-ball", {}, False, "velocity_mps"),
+    "scene-rolling-ball": ("rolling-ball", {}, True, "speed_mps"),
     "scene-magnus": ("magnus", {}, False, "height_m"),
+    "scene-turbulence": ("turbulence", {}, False, "fall_speed_mps"),
+    "scene-turbulence-drift": ("turbulence", {}, False, "drift_speed_mps"),
+    "scene-confetti-tilt": ("confetti", {"wind_speed_mps": 0.0}, False, "tilt_deg"),
+    "scene-aeroplane-altitude": ("aeroplane", {}, False, "altitude_m"),
 }
 """Scenes pictured by a measure of each body over the run."""
-LABELS = {"energy_jpkg": "energy per kg (J/kg)", "energy_j": "energy (J)",
-          "velocity_mps": "velocity (m/s)", "height_m": "height (m)"}  # fmt: skip
+LABELS = {"tilt_deg": "tilt of the normal (deg)", "altitude_m": "altitude (m)",
+          "energy_jpkg": "energy per kg (J/kg)", "energy_j": "energy (J)",
+          "velocity_mps": "velocity (m/s)", "height_m": "height (m)",
+          "fall_speed_mps": "fall speed (m/s)", "drift_speed_mps": "drift along the wind (m/s)",
+          "speed_mps": "speed (m/s)"}  # fmt: skip
 
 
 def scene_frame(name: str, step: int):

@@ -15,8 +15,10 @@ from __future__ import annotations
 
 from bbgym.scenes.boat import SCENES as BOAT
 from bbgym.scenes.collisions import SCENES as COLLISIONS
+from bbgym.scenes.flight import SCENES as FLIGHT
 from bbgym.scenes.friction import SCENES as FRICTION
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
+from bbgym.scenes.rotations import SCENES as ROTATIONS
 from bbgym.scenes.scene import Scene, Trajectory, simulate
 from bbgym.scenes.springs import SCENES as SPRINGS
 from bbgym.scenes.waves import SCENES as WAVES
@@ -27,7 +29,7 @@ __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 SCENES: dict[str, Scene] = {
     scene.name: scene
     for scene in sorted(
-        (*PROJECTILES, *COLLISIONS, *FRICTION, *SPRINGS, *WIND, *BOAT, *WAVES),
+        (*PROJECTILES, *COLLISIONS, *ROTATIONS, *FRICTION, *SPRINGS, *WIND, *FLIGHT, *BOAT, *WAVES),
         key=lambda scene: int(scene.section[1:]),
     )
 }
