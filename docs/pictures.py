@@ -50,6 +50,8 @@ SCENE_FRAMES = {
     "scene-many-beachballs-bad": ("many-beachballs-bad", 300),
     "scene-sproing-cloth": ("sproing-cloth", 480),
     "scene-gerstner": ("gerstner", 20),
+    "scene-dam-break": ("dam-break", 300),
+    "scene-dam-break-settled": ("dam-break", 2652),
     "scene-sliding-block-2": ("sliding-block-2", 60),
     "scene-points-of-sail": ("points-of-sail", 1200),
     "scene-bowling-balls": ("bowling-balls", 150),

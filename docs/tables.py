@@ -268,6 +268,29 @@ def backends_table(path: Path | None = None) -> str:
     return "\n".join([*lines, "", note, _machine(data)])
 
 
+def sph_speed_table(path: Path | None = None) -> str:
+    """The SPH dam break's rows of ``bbgym bench --scenes``: steps/s by the uniform grid and
+    by every pair, and each step's cost over its kind's at the smallest size beside the
+    particles' ratio (the grid's cost grows like it, every pair's like its square)."""
+    path = path or RESULTS / SCENES_SPEED_FILE
+    data, note = _bench(path)
+    rows = field(data, "sph_rows", path, list)
+    lines = [
+        "| particles | neighbours, backend | steps/s | particle-steps/s | cost of a step "
+        "(x the smallest size's) | particles (x the smallest size's) | first step (compile) |",
+        "|---:|---|---:|---:|---:|---:|---:|",
+    ]
+    try:
+        smallest = min(r["particles"] for r in rows)
+        for r in rows:
+            lines.append(f"| {r['particles']:,} | {r['neighbours']} | {r['steps_per_s']:,.2f} | "
+                         f"{r['rate']:,.0f} | {r['cost']:.1f} | "
+                         f"{r['particles'] / smallest:g} | {r['warmup_s']:.1f} s |")  # fmt: skip
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    return "\n".join([*lines, "", note, _machine(data)])
+
+
 def polar_table(path: Path | None = None) -> str:
     """The polar's figures (best upwind VMG, straight upwind, fastest, leeway) from the
     CSV of ``bbgym polar``, beside a Laser's and the bands ``tests/test_polar.py`` asserts."""
@@ -478,11 +501,14 @@ def scenes_table() -> str:
     claims and the test that checks it, from the registry."""
     from bbgym.scenes import SCENES
 
+    tests = Path(__file__).resolve().parents[1] / "tests"
     lines = ["| scene | section | what the text shows, as the test checks it | test |",
              "|---|---|---|---|"]  # fmt: skip
     for scene in SCENES.values():
+        file = next(path.name for path in sorted(tests.glob("test_scenes*.py"))
+                    if f"\ndef {scene.test}(" in path.read_text())  # fmt: skip
         lines.append(f"| `{scene.name}`: {scene.title} | {scene.section} | {scene.claim} | "
-                     f"`tests/test_scenes.py::{scene.test}` |")  # fmt: skip
+                     f"`tests/{file}::{scene.test}` |")  # fmt: skip
     return "\n".join(lines)
 
 
@@ -529,6 +555,8 @@ def table(spec: str) -> str:
         return scenes_table()
     if kind == "scenes-speed" and not arg:
         return backends_table(RESULTS / SCENES_SPEED_FILE)
+    if kind == "sph-speed" and not arg:
+        return sph_speed_table()
     if kind == "scene":
         return scene_table(arg)
     raise LookupError(f"unknown table marker {spec!r}")

@@ -168,9 +168,10 @@ def test_race_backend_rows_time_the_fleet_on_torch():
     assert all(r["rate"] > 0 and r["ratio"] > 0 and r["warmup_s"] > 0 for r in rows)
 
 
-def test_bench_scenes_times_the_spring_scene_alone(tmp_path):
+def test_bench_scenes_times_the_spring_and_sph_scenes_alone(tmp_path):
     """--scenes: the spring scene on NumPy and torch at each grid size, beside CartPole's
-    native vector env stepping as many envs as the scene steps particles; nothing else."""
+    native vector env stepping as many envs as the scene steps particles, and the SPH dam
+    break's steps/s by the grid and by every pair; nothing else."""
     pytest.importorskip("torch")
     from bbgym.cli import main
 
@@ -197,3 +198,14 @@ def test_bench_scenes_times_the_spring_scene_alone(tmp_path):
         assert row["ratio"] == pytest.approx(row["rate"] / reference)
         assert row["state_mb"] > 0
     assert "particle-steps/s" in (tmp_path / "bench.md").read_text()
+    # the SPH dam break: the grid on NumPy and torch, every pair on NumPy, at each size;
+    # each row's cost of a step against its kind's at the smallest size
+    sph = result["sph_rows"]
+    assert [row["kind"] for row in sph] == [
+        f"{n} particles, {kind}" for n in (64, 256)
+        for kind in ("grid, numpy", "grid, torch float64", "all, numpy")
+    ]  # fmt: skip
+    for row in sph:
+        assert row["steps_per_s"] > 0 and row["rate"] == row["steps_per_s"] * row["particles"]
+    assert [row["cost"] for row in sph[:3]] == [1.0, 1.0, 1.0]
+    assert "cost of a step" in (tmp_path / "bench.md").read_text()

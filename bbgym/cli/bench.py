@@ -24,12 +24,15 @@ to ``--out``:
   (:class:`bbgym.envs.race.BeachballRaceFleetEnv`) beside CartPole's native vector env at
   the same N; with ``--backends`` the fleet on torch too (each of ``--dtypes``, at the
   backend rows' N, on ``--device``), with its first step's time (the compile);
-* ``--scenes``: the course's spring system alone (:mod:`bbgym.scenes`, ``sproing``, its
+* ``--scenes``: the course's spring system (:mod:`bbgym.scenes`, ``sproing``, its
   three integrators' copies of the grid) at 1,024, 4,096 and 16,384 particles, on NumPy
   and torch float64 (eager, and compiled unless ``--no-compile``), in particle-steps a
   second (the three copies' particles times the steps: flat across the sizes where the
   cost is linear), beside CartPole's native vector env at N = the particles stepped, with
-  the first step's time (the compile);
+  the first step's time (the compile); and the SPH dam break (``dam-break``) at 1,024 to
+  65,536 particles, its neighbours by the uniform grid (NumPy, torch eager and compiled)
+  and, at 1,024 and 4,096, by every pair (NumPy), in steps/s with each step's cost over
+  the smallest size's: the grid's grows like the particles, every pair's like their square;
 * peak memory that a vector env of N = 4096 allocates while stepping (tracemalloc);
 * the backends of the native vector envs (``--backends``, needs torch): torch float64 and
   float32, compiled, at N = 1024, 4096, 65536 (and NumPy at 65536), with the compile time
@@ -84,6 +87,12 @@ GPU_ENVS = (4096, 65536, 2**20)
 
 RACE_BOATS = 4
 """Boats in the ``--race`` rows' races (the race's default fleet)."""
+
+
+SPH_SIZES = (1024, 4096, 16384, 65536)
+"""The ``--scenes`` SPH rows' particles (the dam break, neighbours by the grid)."""
+SPH_ALL_PAIRS = (1024, 4096)
+"""The sizes that also test every pair: at 16,384 one ``(N, N)`` float64 array is 2 GB."""
 
 
 SCENE_SIZES = (32, 64, 128)
@@ -405,10 +414,77 @@ def scene_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
     return rows
 
 
+def prepare_scene(name: str, params: dict[str, Any], backend: str,
+                  compile: bool) -> dict[str, Any]:  # fmt: skip
+    """A scene's step on ``backend`` (compiled or eager), its state after a first step, that
+    step's time (the compile) and the state's bytes."""
+    from bbgym.backends import compiled, resolve_backend
+    from bbgym.scenes import get_scene
+    from bbgym.scenes.scene import namespace
+
+    scene = get_scene(name)
+    p = scene.make_params(params)
+    xp = namespace(backend)
+    state = scene.initial(p, xp)
+    step = lambda s: scene.step(p, s, xp)  # noqa: E731
+    if backend == "torch":
+        step = compiled(step, resolve_backend("torch", dtype="float64", compile=compile))
+    start = time.perf_counter()
+    state = step(state)
+    first = time.perf_counter() - start
+    state_mb = sum(int(getattr(leaf, "nbytes", 0)) for leaf in state) / 2**20
+    return {"step": step, "state": state, "warmup_s": first, "state_mb": state_mb}
+
+
+def sph_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """The SPH dam break (``dam-break``) at each of :data:`SPH_SIZES` particles, its
+    neighbours by the uniform grid on NumPy and torch float64 (eager; compiled too unless
+    ``--no-compile``) and by every pair on NumPy at :data:`SPH_ALL_PAIRS`: steps/s, the
+    kinds of one size timed in turn, ``--repeats`` rounds, the best of each kept. Each row's
+    ``cost`` is its time per step over its kind's at the smallest size: the grid's grows
+    like the particles, all pairs' like their square."""
+    sizes = (64, 256) if args.quick else SPH_SIZES
+    pairs = sizes if args.quick else SPH_ALL_PAIRS
+    kinds = [("grid", "numpy", False), ("grid", "torch", False)]
+    if args.compile:
+        kinds.append(("grid", "torch", True))
+    kinds.append(("all", "numpy", False))
+    rows: list[dict[str, Any]] = []
+    first: dict[str, float] = {}
+    for n in sizes:
+        runs = []
+        for search, backend, compile in kinds:
+            if search == "all" and n not in pairs:
+                continue
+            label = f"{search}, {backend}" + (" float64" if backend == "torch" else "")
+            label += " compiled" if compile else ""
+            run = prepare_scene("dam-break", {"particles": n, "neighbour_search": search},
+                                backend, compile)  # fmt: skip
+            runs.append((label, run, 0.0))
+        for _ in range(args.repeats):  # interleaved: a slow spell of the machine hits all
+            for k, (label, run, best) in enumerate(runs):
+                done, start = 0, time.perf_counter()
+                while done < 2 or time.perf_counter() - start < args.seconds:
+                    run["state"] = run["step"](run["state"])
+                    done += 1
+                runs[k] = (label, run, max(best, done / (time.perf_counter() - start)))
+        for label, run, steps_per_s in runs:
+            first.setdefault(label, steps_per_s)
+            row = {"env": "scene dam-break", "kind": f"{n:,} particles, {label}",
+                   "particles": n, "neighbours": label, "steps_per_s": steps_per_s,
+                   "rate": steps_per_s * n, "cost": first[label] / steps_per_s,
+                   "warmup_s": run["warmup_s"], "state_mb": run["state_mb"]}  # fmt: skip
+            rows.append(row)
+            print(f"scene dam-break {row['kind']}: {steps_per_s:,.2f} steps/s, "
+                  f"first step {run['warmup_s']:.1f} s", flush=True)  # fmt: skip
+            del run["state"]
+    return rows
+
+
 def measure(args: argparse.Namespace) -> dict[str, Any]:
     if args.scenes:  # the scenes' rows alone
-        return {"rows": [], "backend_rows": scene_rows(args), "memory_mb": {},
-                "machine": machine_info()}  # fmt: skip
+        return {"rows": [], "backend_rows": scene_rows(args), "sph_rows": sph_rows(args),
+                "memory_mb": {}, "machine": machine_info()}  # fmt: skip
     if args.device != "cpu":  # the GPU check: the torch rows alone, one short run
         # The step rows first: they are printed as they come, so a run cut short by a
         # lease's end still has the figures the targets name.
@@ -535,6 +611,13 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
                      else " | ")  # fmt: skip
             lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
                          f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
+    if result.get("sph_rows"):
+        lines += ["", "| scene | particles | neighbours, backend | steps/s | particle-steps/s | "
+                  "cost of a step (x the smallest size's) | first step (compile) |",
+                  "|---|---:|---|---:|---:|---:|---:|"]  # fmt: skip
+        lines += [f"| {r['env']} | {r['particles']:,} | {r['neighbours']} | "
+                  f"{r['steps_per_s']:,.2f} | {r['rate']:,.0f} | {r['cost']:.1f} | "
+                  f"{r['warmup_s']:.1f} s |" for r in result["sph_rows"]]  # fmt: skip
     if result["memory_mb"]:
         lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |",
                   "|---|---:|"]  # fmt: skip
@@ -587,8 +670,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--race", action="store_true", help="add BeachballRace's rows (the race extra: PettingZoo)"
     )
     parser.add_argument("--scenes", action="store_true",
-                        help="only the course's spring scene, on NumPy and torch (the torch "
-                             "extra)")  # fmt: skip
+                        help="only the course's spring and SPH scenes, on NumPy and torch (the "
+                             "torch extra)")  # fmt: skip
     parser.add_argument("--device", default="cpu",
                         help="the torch rows' device; off the CPU (cuda) only those rows run, "
                              f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "

@@ -16,6 +16,7 @@ from __future__ import annotations
 from bbgym.scenes.boat import SCENES as BOAT
 from bbgym.scenes.collisions import SCENES as COLLISIONS
 from bbgym.scenes.flight import SCENES as FLIGHT
+from bbgym.scenes.fluid import SCENES as FLUID
 from bbgym.scenes.friction import SCENES as FRICTION
 from bbgym.scenes.projectiles import SCENES as PROJECTILES
 from bbgym.scenes.rotations import SCENES as ROTATIONS
@@ -29,7 +30,18 @@ __all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
 SCENES: dict[str, Scene] = {
     scene.name: scene
     for scene in sorted(
-        (*PROJECTILES, *COLLISIONS, *ROTATIONS, *FRICTION, *SPRINGS, *WIND, *FLIGHT, *BOAT, *WAVES),
+        (
+            *PROJECTILES,
+            *COLLISIONS,
+            *ROTATIONS,
+            *FRICTION,
+            *SPRINGS,
+            *WIND,
+            *FLIGHT,
+            *BOAT,
+            *WAVES,
+            *FLUID,
+        ),
         key=lambda scene: int(scene.section[1:]),
     )
 }
