@@ -149,9 +149,9 @@ def test_rolling_stop_needs_friction_to_hold_the_ball_and_is_off_by_default() ->
 def test_the_envs_throws_end_before_the_rolling_ball_creeps() -> None:
     """A throw's flight ends once the ball rests (below 0.1 m/s, ``ball_at_rest``), before
     the creep that ``rolling_stop`` removes: over 500 random throws in wind, with and
-    without the rule (most rolling to rest), every landing, flight time, step count and final state is the same
-    bit for bit, so no env version changes by it (it waits for a version that changes its
-    dynamics anyway)."""
+    without the rule (most rolling to rest), every landing, flight time, step count and
+    final state is the same bit for bit, so no env version changes by it (it waits for a
+    version that changes its dynamics anyway)."""
     from dataclasses import replace
 
     from bbgym.physics.ball import ball_at
@@ -180,5 +180,7 @@ def test_the_envs_throws_end_before_the_rolling_ball_creeps() -> None:
     for field, value in results[0]._asdict().items():
         if field == "trajectory":
             continue
-        for got, want in zip(np.atleast_1d(results[1]._asdict()[field]), np.atleast_1d(value)):
+        for got, want in zip(
+            np.atleast_1d(results[1]._asdict()[field]), np.atleast_1d(value), strict=True
+        ):
             np.testing.assert_array_equal(got, want, err_msg=field)
