@@ -361,11 +361,10 @@ def torch_info() -> dict[str, Any]:
     return info
 
 
-def time_scene(name: str, params: dict[str, Any], backend: str, compile: bool,
-               seconds: float, repeats: int) -> dict[str, float]:  # fmt: skip
-    """Particle-steps per second of a particle scene (its particles, in every row of its
-    batch, times its steps a second; best of ``repeats`` loops of up to ``seconds``) and
-    its first step's time and the bytes of its state."""
+def prepare_scene(name: str, params: dict[str, Any], backend: str,
+                  compile: bool) -> dict[str, Any]:  # fmt: skip
+    """A scene's step on ``backend`` (compiled or eager), its state after a first step, that
+    step's time (the compile) and the state's bytes."""
     from bbgym.backends import compiled, resolve_backend
     from bbgym.scenes import get_scene
     from bbgym.scenes.scene import namespace
@@ -377,10 +376,21 @@ def time_scene(name: str, params: dict[str, Any], backend: str, compile: bool,
     step = lambda s: scene.step(p, s, xp)  # noqa: E731
     if backend == "torch":
         step = compiled(step, resolve_backend("torch", dtype="float64", compile=compile))
-    particles = state.x_m.shape[0] * state.x_m.shape[1]
     start = time.perf_counter()
     state = step(state)
     first = time.perf_counter() - start
+    state_mb = sum(int(getattr(leaf, "nbytes", 0)) for leaf in state) / 2**20
+    return {"step": step, "state": state, "warmup_s": first, "state_mb": state_mb}
+
+
+def time_scene(name: str, params: dict[str, Any], backend: str, compile: bool,
+               seconds: float, repeats: int) -> dict[str, float]:  # fmt: skip
+    """Particle-steps per second of a particle scene (its particles, in every row of its
+    batch, times its steps a second; best of ``repeats`` loops of up to ``seconds``) and
+    its first step's time and the bytes of its state."""
+    run = prepare_scene(name, params, backend, compile)
+    step, state = run["step"], run["state"]
+    particles = state.x_m.shape[0] * state.x_m.shape[1]
     rate = 0.0
     for _ in range(repeats):
         done, start = 0, time.perf_counter()
@@ -388,8 +398,7 @@ def time_scene(name: str, params: dict[str, Any], backend: str, compile: bool,
             state = step(state)
             done += 1
         rate = max(rate, done * particles / (time.perf_counter() - start))
-    state_mb = sum(int(getattr(leaf, "nbytes", 0)) for leaf in state) / 2**20
-    return {"rate": rate, "warmup_s": first, "state_mb": state_mb}
+    return {"rate": rate, "warmup_s": run["warmup_s"], "state_mb": run["state_mb"]}
 
 
 def scene_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
@@ -412,28 +421,6 @@ def scene_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
             print(f"scene sproing {kind}: {r['rate']:,.0f} particle-steps/s, "
                   f"first step {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
     return rows
-
-
-def prepare_scene(name: str, params: dict[str, Any], backend: str,
-                  compile: bool) -> dict[str, Any]:  # fmt: skip
-    """A scene's step on ``backend`` (compiled or eager), its state after a first step, that
-    step's time (the compile) and the state's bytes."""
-    from bbgym.backends import compiled, resolve_backend
-    from bbgym.scenes import get_scene
-    from bbgym.scenes.scene import namespace
-
-    scene = get_scene(name)
-    p = scene.make_params(params)
-    xp = namespace(backend)
-    state = scene.initial(p, xp)
-    step = lambda s: scene.step(p, s, xp)  # noqa: E731
-    if backend == "torch":
-        step = compiled(step, resolve_backend("torch", dtype="float64", compile=compile))
-    start = time.perf_counter()
-    state = step(state)
-    first = time.perf_counter() - start
-    state_mb = sum(int(getattr(leaf, "nbytes", 0)) for leaf in state) / 2**20
-    return {"step": step, "state": state, "warmup_s": first, "state_mb": state_mb}
 
 
 def sph_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
