@@ -132,6 +132,7 @@ TRAIN_DEFAULTS = {
     "checkpoint_every_timesteps": 100_000,
     "normalize_reward": False,
     "evaluate_model": "best",
+    "eval_envs": None,
 }
 
 EVALUATED_MODELS = {"best": "best_model.zip", "final": "model.zip"}
@@ -204,7 +205,29 @@ def load_training(preset: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
             f"{path}: train.evaluate_model must be one of {list(EVALUATED_MODELS)}, "
             f"got {train['evaluate_model']!r}"
         )
+    eval_envs = train["eval_envs"]
+    if eval_envs is not None and (
+        isinstance(eval_envs, bool)
+        or not isinstance(eval_envs, int)
+        or not 1 <= eval_envs <= train["eval_episodes"]
+    ):
+        raise ValueError(
+            f"{path}: train.eval_envs must be a whole number from 1 to eval_episodes "
+            f"({train['eval_episodes']}), got {eval_envs!r}"
+        )
     return kwargs, {**train, "algo": algo}
+
+
+def eval_env_count(train: dict[str, Any]) -> int:
+    """How many envs the evaluation during training steps at once: the preset's
+    ``train.eval_envs``, or by default ``min(n_envs, eval_episodes)``. More envs than
+    episodes' worth of steps cost little on a native vector env (one batched step serves
+    them all), so a preset whose evaluations are slow may give one env per episode; the
+    episodes drawn then differ (each env runs on from its own seed), so the choice is part
+    of the preset, and a preset that keeps its best model ranks its evaluations with it."""
+    if train["eval_envs"] is not None:
+        return int(train["eval_envs"])
+    return min(int(train["n_envs"]), int(train["eval_episodes"]))
 
 
 TORCHRL_DEFAULTS: dict[str, Any] = {

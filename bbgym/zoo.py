@@ -38,6 +38,7 @@ import yaml
 from bbgym.config import (
     ALGORITHMS,
     CONFIG_DIR,
+    eval_env_count,
     load_preset,
     load_training,
     preset_files,
@@ -129,11 +130,11 @@ def zoo_hyperparams(algo: str | None = None) -> dict[str, dict[str, Any]]:
 
 def zoo_train_flags(env_id: str) -> list[str]:
     """RL Zoo's command-line flags for the preset's ``train`` settings that its file cannot
-    hold: evaluation period and episodes (on ``min(n_envs, eval_episodes)`` envs, as
-    ``bbgym train``) and the checkpoint period, all in total timesteps as RL Zoo
+    hold: evaluation period and episodes (on as many envs as ``bbgym train``,
+    :func:`bbgym.config.eval_env_count`) and the checkpoint period, all in total timesteps as RL Zoo
     counts them (it divides by ``n_envs`` itself)."""
     _, train = load_training(env_id)
-    n_eval_envs = min(train["n_envs"], train["eval_episodes"])
+    n_eval_envs = eval_env_count(train)
     return [
         "--eval-freq", str(train["eval_every_timesteps"]),
         "--eval-episodes", str(train["eval_episodes"]),

@@ -38,6 +38,7 @@ RESULTS = DOCS / "results"
 BASELINE_FILES = (
     "BeachballSail-v2-sac.json",
     "BeachballSail-v1-sac.json",
+    "BeachballSail-v1-sac-quick.json",
     "BeachballSail-v1-ppo.json",
     "BeachballSail-v1-torchrl-ppo.json",
     "BeachballSail-v0-ppo.json",
@@ -161,6 +162,7 @@ def baseline_row(path: Path) -> tuple[str, str]:
         cells = [
             f"{env}, {algo.upper()}"
             + (f" ({engine})" if engine != "sb3" else "")
+            + _named_preset(env, summary.get("config"))
             + (" (`make run`)" if path.stem == "main" else ""),
             rate_cell(by_policy["random"], unit),
             rate_cell(by_policy["scripted"], unit),
@@ -176,6 +178,17 @@ def baseline_row(path: Path) -> tuple[str, str]:
     except (KeyError, TypeError, ValueError) as err:
         raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
     return "| " + " | ".join(cells) + " |", f"`{_name(path)}`: {source}"
+
+
+def _named_preset(env: str, config: Any) -> str:
+    """`` (`beachball_sail_v1_quick`)`` for a row trained from a shipped preset other than
+    the env id's own, so that two rows of one env and algorithm say which is which (a file
+    of the user's, not shipped, is not named)."""
+    from bbgym.config import CONFIG_DIR, env_preset
+
+    if not config or config == env_preset(env)[0].stem:
+        return ""
+    return f" (`{config}`)" if (CONFIG_DIR / f"{config}.yaml").is_file() else ""
 
 
 def baselines_table(env_prefix: str = "", results: Path = RESULTS) -> str:
@@ -652,15 +665,16 @@ def baseline_results(run: Path, command: str | None = None, note: str = "") -> d
 
 
 def record_baseline(run: Path, command: str | None = None, note: str = "",
-                    results: Path = RESULTS) -> Path:  # fmt: skip
+                    results: Path = RESULTS, name: str | None = None) -> Path:  # fmt: skip
     """Write :func:`baseline_results` to ``results/baselines/<env>-<algo>.json`` (a run of
-    ``--engine torchrl``: ``<env>-torchrl-<algo>.json``), checked by building its table row;
-    return the path."""
+    ``--engine torchrl``: ``<env>-torchrl-<algo>.json``; ``name``, where given, is the
+    file's name without ``.json``: a second preset's row beside the env's own, or
+    ``main``), checked by building its table row; return the path."""
     data = baseline_results(run, command, note)
     env, algo = data["summary"]["env"], data["summary"]["algo"]
     engine = data["summary"].get("engine", "sb3")
     algo = algo if engine == "sb3" else f"{engine}-{algo}"  # beside SB3's, not over it
-    path = results / "baselines" / f"{env}-{algo}.json"
+    path = results / "baselines" / f"{name or f'{env}-{algo}'}.json"
     path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
     baseline_row(path)
     return path
@@ -676,8 +690,9 @@ def main(argv: list[str]) -> None:
     parser.add_argument("run", type=Path, help="a bbgym baseline run folder")
     parser.add_argument("--command", help="the command that remakes it (default: the run's)")
     parser.add_argument("--note", default="", help="how it was run, where that differs")
+    parser.add_argument("--name", help="the file's name without .json (default <env>-<algo>)")
     args = parser.parse_args(argv[1:])
-    print(record_baseline(args.run, args.command, args.note))
+    print(record_baseline(args.run, args.command, args.note, name=args.name))
 
 
 if __name__ == "__main__":

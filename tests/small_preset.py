@@ -39,13 +39,13 @@ def write_small_preset(
 
 def write_tiny_sail_preset(path: Path, name: str = "beachball_sail.yaml") -> Path:
     """A sailing preset (``name``, PPO or SAC) on a budget of seconds: 8 envs, the
-    algorithm's :data:`TINY` settings, an evaluation of 2 episodes every 1024 steps (the
-    main job's tests)."""
+    algorithm's :data:`TINY` settings, an evaluation of 2 episodes on 2 envs every 1024
+    steps (the main job's tests)."""
     algo = yaml.safe_load((CONFIG_DIR / name).read_text()).get("algo", "ppo")
     return write_small_preset(
         path,
         name,
         **{algo: TINY[algo]},
         train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
-               "checkpoint_every_timesteps": 100_000},
+               "eval_envs": 2, "checkpoint_every_timesteps": 100_000},
     )  # fmt: skip

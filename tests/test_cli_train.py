@@ -56,3 +56,25 @@ def test_an_off_policy_budget_rounds_to_the_envs_stepped_together(capsys):
     assert "10 timesteps round up to 16" in capsys.readouterr().out
     assert round_budget("sac", {"train_freq": 1}, 8, 16) == 16
     assert capsys.readouterr().out == ""
+
+
+def test_the_evaluation_env_steps_the_presets_eval_envs_at_once(tmp_path):
+    from small_preset import write_small_preset
+
+    from bbgym.cli.train import _training_envs, resolve_preset
+    from bbgym.config import load_training
+
+    for extra, expected in (({}, 4), ({"eval_envs": 10}, 10)):
+        config = write_small_preset(
+            tmp_path / "sail.yaml",
+            ppo={"n_steps": 16, "batch_size": 64, "n_epochs": 1},
+            train={"n_envs": 4, "eval_episodes": 10, **extra},
+        )
+        _, env_kwargs = resolve_preset("BeachballSail-v0", config)
+        settings = load_training(config)[1]
+        vec_env, eval_env = _training_envs("BeachballSail-v0", env_kwargs, settings, 0, 0.99)
+        try:
+            assert (vec_env.num_envs, eval_env.num_envs) == (4, expected)
+        finally:
+            vec_env.close()
+            eval_env.close()

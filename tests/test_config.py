@@ -163,7 +163,38 @@ def test_algo_names_the_section_of_its_arguments(tmp_path):
         ("ppo: {}\nsac: {}\n", "trains ppo .algo. but has a sac section"),
         ("algo: sac\nsac:\n  learning_rate: lin_x\n", "sac.learning_rate"),
         ("train:\n  evaluate_model: last\n", "train.evaluate_model must be one of"),
+        ("train:\n  eval_envs: 0\n", "train.eval_envs must be a whole number from 1"),
+        ("train:\n  eval_envs: 21\n", r"train.eval_envs .* to eval_episodes \(20\), got 21"),
+        ("train:\n  eval_envs: 2.5\n", "train.eval_envs"),
+        ("train:\n  eval_envs: true\n", "train.eval_envs"),
     ):
         config.write_text("env_id: X\nenv: {}\n" + text)
         with pytest.raises(ValueError, match=error):
             load_training(config)
+
+
+def test_the_evaluation_during_training_steps_its_envs_at_once(tmp_path):
+    from bbgym.config import eval_env_count, load_training
+
+    # By default min(n_envs, eval_episodes): Sail-v0's 32 envs evaluate 32 of 50 episodes at
+    # once, Curve-v1's 1024 its 100; a preset may give one env per episode (eval_envs).
+    assert eval_env_count(load_training("BeachballSail-v0")[1]) == 32
+    assert eval_env_count(load_training("BeachballCurve-v1")[1]) == 100
+    config = tmp_path / "p.yaml"
+    config.write_text("env_id: X\nenv: {}\ntrain:\n  n_envs: 8\n  eval_episodes: 50\n")
+    assert eval_env_count(load_training(config)[1]) == 8
+    config.write_text(config.read_text() + "  eval_envs: 50\n")
+    assert eval_env_count(load_training(config)[1]) == 50
+
+
+def test_the_quick_sail_v1_preset_is_the_shipped_one_with_a_quarter_of_its_update_work():
+    from bbgym.config import load_training
+
+    assert load_preset("beachball_sail_v1_quick") == load_preset("BeachballSail-v1")
+    sac, train = load_training("BeachballSail-v1")
+    quick_sac, quick_train = load_training("beachball_sail_v1_quick")
+    # Half the updates (one per step of the 8 envs) on networks of half the width: the
+    # main job's (make run) quarter of the shipped preset's update work, nothing else.
+    assert quick_sac == {**sac, "gradient_steps": 1, "policy_kwargs": {"net_arch": [128, 128]}}
+    assert sac["gradient_steps"] == 2 and sac["policy_kwargs"] == {"net_arch": [256, 256]}
+    assert quick_train == {**train, "eval_envs": 50} and train["eval_episodes"] == 50

@@ -47,6 +47,8 @@ def test_every_baselines_file_makes_a_row_naming_its_command_and_source():
         assert f"`{data['command']}`" in text, name
         assert data["source"] in text, name
     assert "| BeachballSail-v1, SAC | 2% (1-7%) | 100% (96-100%), 37.3 s to the mark |" in text
+    # Two rows of one env and algorithm: the second names its shipped preset.
+    assert "| BeachballSail-v1, SAC (`beachball_sail_v1_quick`) | 2% (1-7%)" in text
     assert "91.8% (88-96%), worst 87% (seed 1); seeds 95, 87, 95, 90, 92%" in text
     sail_only = tables.baselines_table("BeachballSail")
     assert "BeachballSail-v1, SAC" in sail_only and "Curve" not in sail_only

@@ -44,12 +44,15 @@ def test_the_readme_names_the_makefiles_main_job():
 def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     from small_preset import write_tiny_sail_preset
 
-    from bbgym.config import load_training, preset_files
+    from bbgym.config import load_training, preset_path
 
-    algo = load_training(MAIN_ENV)[1]["algo"]
-    assert algo == "sac"  # the README's Sail-v1 baseline
-    preset = write_tiny_sail_preset(tmp_path / "sail.yaml", preset_files()[MAIN_ENV].name)
     argv = make_run_command()
+    # The job's preset (the quick one: under 10 minutes on two cores), on a tiny budget.
+    name = argv[argv.index("--preset") + 1]
+    assert name == "beachball_sail_v1_quick"
+    _, settings = load_training(name)
+    assert settings["algo"] == "sac" and settings["evaluate_model"] == "final"
+    preset = write_tiny_sail_preset(tmp_path / "sail.yaml", preset_path(name).name)
     out_at = argv.index("--out")
     out = tmp_path / "main"
     argv[out_at + 1] = str(out)  # the job's own folder, under the test's

@@ -76,3 +76,27 @@ def test_sac_is_reproducible_too(tmp_path):
         tmp_path, "BeachballSail-v1", preset, seed=5, timesteps=1024, algo="sac"
     )
     assert any("critic_target" in k for k in networks)  # the target critic too
+
+
+def test_the_model_does_not_depend_on_how_many_envs_evaluate_it(tmp_path):
+    """``train.eval_envs`` changes the episodes the evaluations during training draw, not
+    the training: evaluating acts deterministically and draws nothing from the training's
+    generators, so the final model (which SAC's presets evaluate) is the same, bit for bit."""
+    import numpy as np
+
+    nets, logs = [], []
+    for eval_envs in (1, 2):
+        preset = write_small_preset(
+            tmp_path / f"quick{eval_envs}.yaml",
+            "beachball_sail_v1_quick.yaml",
+            sac={"learning_starts": 256, "buffer_size": 4096},
+            train={"n_envs": 8, "eval_every_timesteps": 512, "eval_episodes": 2,
+                   "eval_envs": eval_envs, "checkpoint_every_timesteps": 1_000_000},
+        )  # fmt: skip
+        out = tmp_path / f"run{eval_envs}"
+        train_sb3("BeachballSail-v1", preset=preset, timesteps=1536, seed=2, out=out,
+                  progress=False, torch_threads=1)  # fmt: skip
+        nets.append(parameters(out, "sac"))
+        logs.append(np.load(out / "eval" / "evaluations.npz")["ep_lengths"])
+    assert all(torch.equal(nets[0][k], nets[1][k]) for k in nets[0])
+    assert logs[0].shape == logs[1].shape == (3, 2)  # evaluated at 512, 1024 and 1536 steps

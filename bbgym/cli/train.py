@@ -340,12 +340,13 @@ def _training_envs(
     with the preset's ``normalize_reward``, also inside :func:`_normalize_reward`."""
     from stable_baselines3.common.vec_env import VecMonitor
 
+    from bbgym.config import eval_env_count
     from bbgym.sb3 import make_sb3_vec_env
 
     n_envs = settings["n_envs"]
     vec_env = VecMonitor(make_sb3_vec_env(env, n_envs=n_envs, seed=seed, **env_kwargs))
     # Several envs evaluate at once: a native vector env of one is NumPy on one element.
-    n_eval = min(n_envs, settings["eval_episodes"])
+    n_eval = eval_env_count(settings)
     eval_env = VecMonitor(
         make_sb3_vec_env(env, n_envs=n_eval, seed=seed + EVAL_SEED_OFFSET, **env_kwargs)
     )
