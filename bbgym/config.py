@@ -220,11 +220,11 @@ def load_training(preset: str | Path) -> tuple[dict[str, Any], dict[str, Any]]:
 
 def eval_env_count(train: dict[str, Any]) -> int:
     """How many envs the evaluation during training steps at once: the preset's
-    ``train.eval_envs``, or by default ``min(n_envs, eval_episodes)``. More envs than
-    episodes' worth of steps cost little on a native vector env (one batched step serves
-    them all), so a preset whose evaluations are slow may give one env per episode; the
-    episodes drawn then differ (each env runs on from its own seed), so the choice is part
-    of the preset, and a preset that keeps its best model ranks its evaluations with it."""
+    ``train.eval_envs``, or by default ``min(n_envs, eval_episodes)``. On a native vector
+    env many envs cost little more than a few (one batched step serves them all), so a
+    preset whose evaluations are slow may give each episode an env. The episodes drawn
+    differ with the number (each env runs on from its own seed): the choice is part of the
+    preset, and a preset that keeps its best model ranks its evaluations with it."""
     if train["eval_envs"] is not None:
         return int(train["eval_envs"])
     return min(int(train["n_envs"]), int(train["eval_episodes"]))

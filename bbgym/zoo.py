@@ -131,8 +131,8 @@ def zoo_hyperparams(algo: str | None = None) -> dict[str, dict[str, Any]]:
 def zoo_train_flags(env_id: str) -> list[str]:
     """RL Zoo's command-line flags for the preset's ``train`` settings that its file cannot
     hold: evaluation period and episodes (on as many envs as ``bbgym train``,
-    :func:`bbgym.config.eval_env_count`) and the checkpoint period, all in total timesteps as RL Zoo
-    counts them (it divides by ``n_envs`` itself)."""
+    :func:`bbgym.config.eval_env_count`) and the checkpoint period, all in total timesteps
+    as RL Zoo counts them (it divides by ``n_envs`` itself)."""
     _, train = load_training(env_id)
     n_eval_envs = eval_env_count(train)
     return [
