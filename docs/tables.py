@@ -19,8 +19,9 @@ was transcribed rather than written by that command (its ``source`` field). A mi
 malformed results file raises :class:`ResultsError` naming it, which fails the build.
 
     python docs/tables.py baselines        # print a table (any marker's words)
-    python docs/tables.py record-baseline RUN [--command C] [--note N]
+    python docs/tables.py record-baseline RUN [--command C] [--note N] [--name NAME]
                                            # a bbgym baseline run folder -> its results file
+                                           # (<env>-<algo>.json, or NAME.json)
 """
 
 from __future__ import annotations
