@@ -58,6 +58,10 @@ class FuzzSpec:
     """Relative share of a fuzz run's env steps (a cheap step gets more)."""
     episode_steps: int = 8
     """Steps per drawn configuration."""
+    fit: Callable[[dict[str, Any]], dict[str, Any]] | None = None
+    """``fit(kwargs)``: the drawn arguments, with the version's pinned ones in place, made
+    to meet the constraints between arguments that the family's validation refuses
+    otherwise (a ball heavy enough for an RK4 step); ``None``: there are none."""
 
 
 @dataclass(frozen=True)
@@ -93,6 +97,10 @@ class EnvSpec:
     param_groups: Mapping[str, type] = field(default_factory=dict)
     """Constructor arguments that take a parameter dataclass (``"dinghy": DinghyParams``):
     the fuzzer draws and checks every field of each."""
+    shorthands: Mapping[str, str] = field(default_factory=dict)
+    """Constructor arguments that set a parameter group's field (``"sail_model":
+    "dinghy.sail_model"``): a user's value for either spelling replaces a version's value
+    of both (:func:`merge_kwargs`)."""
     integer_arguments: tuple[str, ...] = ()
     """Constructor arguments that take an int (the rest of the numbers are floats)."""
     policies: Mapping[str, PolicyFactory] = field(default_factory=dict)
@@ -169,6 +177,67 @@ _SPECS: dict[str, EnvSpec] = {}
 _BY_ID: dict[str, EnvSpec] = {}
 
 
+def merge_kwargs(
+    spec: EnvSpec, registered: Mapping[str, Any], given: Mapping[str, Any]
+) -> dict[str, Any]:
+    """A version's ``registered`` kwargs with a user's ``given`` ones on top, as ``gym.make``
+    and ``gym.make_vec`` pass them to the env.
+
+    A parameter group (:attr:`EnvSpec.param_groups`) the version registers as a mapping
+    keeps it: a mapping given for it changes only the fields it names (``dinghy={"mass_kg":
+    150}`` is Sail-v2's sloop, 150 kg), ``None`` keeps it, a dataclass replaces it
+    whole. Any other argument given replaces the registered one. A shorthand
+    (:attr:`EnvSpec.shorthands`) given one way drops the version's value given the other
+    way, so that the user's value is the one used."""
+    merged = {**registered, **given}
+    for group in spec.param_groups:
+        base = registered.get(group)
+        if group not in given or not isinstance(base, Mapping):
+            continue
+        value = given[group]
+        if value is None:
+            merged[group] = base
+        elif isinstance(value, Mapping):
+            merged[group] = {**base, **value}
+    for name, path in spec.shorthands.items():
+        group, key = path.split(".", 1)
+        value = given.get(group)
+        sets_field = value is not None and (not isinstance(value, Mapping) or key in value)
+        if name in given and not sets_field and isinstance(merged.get(group), Mapping):
+            merged[group] = {k: v for k, v in merged[group].items() if k != key}
+        elif sets_field and name not in given:
+            merged.pop(name, None)
+    return merged
+
+
+class VersionKwargs(dict):
+    """The kwargs a version is registered with (``gym.spec(env_id).kwargs``).
+
+    ``gym.make`` and ``gym.make_vec`` copy them and ``update`` the copy with the user's
+    kwargs: a plain dict's update would replace a parameter group whole, so that
+    ``dinghy={"mass_kg": 150}`` dropped Sail-v2's sloop for the default cat rig.
+    This update is :func:`merge_kwargs`. (A copy that ``dataclasses.asdict`` makes has no
+    ``family`` and updates as a dict: it is only ever turned into JSON.)"""
+
+    family: str | None = None
+
+    @classmethod
+    def of(cls, family: str, kwargs: Mapping[str, Any]) -> VersionKwargs:
+        registered = cls(kwargs)
+        registered.family = family
+        return registered
+
+    def update(self, other: Any = (), /, **kwargs: Any) -> None:
+        given = dict(other, **kwargs)
+        spec = _SPECS.get(self.family) if self.family is not None else None
+        if spec is None:
+            super().update(given)
+            return
+        merged = merge_kwargs(spec, self, given)
+        self.clear()
+        super().update(merged)
+
+
 def register_spec(spec: EnvSpec) -> EnvSpec:
     """Add ``spec`` to the registry and register each of its ids with Gymnasium (single
     and native vector entry points). Registering the same family again replaces it."""
@@ -189,7 +258,7 @@ def register_spec(spec: EnvSpec) -> EnvSpec:
             entry_point=f"{spec.module}:{spec.env_class}",
             vector_entry_point=f"{spec.module}:{spec.vector_env_class}",
             max_episode_steps=spec.max_episode_steps,
-            kwargs=dict(version.kwargs),
+            kwargs=VersionKwargs.of(spec.family, version.kwargs),
         )
     return spec
 

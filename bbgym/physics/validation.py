@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from dataclasses import field as dataclass_field
@@ -48,11 +49,54 @@ class Interval:
 
 
 def _fmt(value: float) -> str:
+    return format_bound(value)
+
+
+PI_DENOMINATORS = range(1, 181)
+"""Denominators :func:`format_bound` tries for a multiple of pi: up to 180, a degree."""
+
+
+def format_bound(value: float) -> str:
+    """A bound as text that reads back as exactly ``value``: ``pi/3`` where ``value`` is
+    ``k*pi/n`` to the last bit (``n`` up to 180), else the shortest decimal that does
+    (``1e+05``, ``0.05235987755982989``). A bound rounded for show could fall outside its
+    own interval, so a value copied from a table or an error would be refused."""
     if value == math.inf:
         return "inf"
     if value == -math.inf:
         return "-inf"
-    return f"{value:g}"
+    multiple = pi_multiple(value)
+    if multiple is not None:
+        k, n = multiple
+        head = {1: "pi", -1: "-pi"}.get(k, f"{k}*pi")
+        return head if n == 1 else f"{head}/{n}"
+    short = f"{value:g}"
+    if float(short) == value:
+        return short
+    if float(value).is_integer() and abs(value) < 2**53:
+        return str(int(value))
+    return repr(float(value))
+
+
+def pi_multiple(value: float) -> tuple[int, int] | None:
+    """``(k, n)`` in lowest terms with ``k * math.pi / n == value`` exactly (``n`` in
+    :data:`PI_DENOMINATORS`, ``k`` nonzero), or ``None``."""
+    if value == 0.0 or not abs(value) < 1e3:  # beyond, no bound is meant as pi's multiple
+        return None
+    for n in PI_DENOMINATORS:
+        k = round(value * n / math.pi)
+        if k and math.gcd(k, n) == 1 and k * math.pi / n == value:
+            return k, n
+    return None
+
+
+def parse_bound(text: str) -> float:
+    """The number :func:`format_bound` wrote (``pi/3``, ``-2*pi``, ``0.5``, ``inf``)."""
+    match = re.fullmatch(r"(-?)(?:(\d+)\*)?pi(?:/(\d+))?", text.strip())
+    if match is None:
+        return float(text)
+    sign, k, n = match.groups()
+    return (-1 if sign else 1) * int(k or 1) * math.pi / int(n or 1)
 
 
 ANY = Interval()
@@ -130,6 +174,12 @@ def check_choice(path: str, value: Any, choices: tuple) -> Any:
     if not isinstance(value, str) or value not in choices:
         raise ValueError(f"{path} must be one of {choices}, got {value!r}")
     return value
+
+
+def choices_text(choices: tuple[str, ...]) -> str:
+    """``choices`` for a table: ```"a"`, `"b"` or `"c"```."""
+    quoted = [f'`"{c}"`' for c in choices]
+    return " or ".join([", ".join(quoted[:-1]), quoted[-1]] if len(quoted) > 1 else quoted)
 
 
 def check_range(

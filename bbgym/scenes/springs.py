@@ -58,6 +58,12 @@ class Lattice(NamedTuple):
     """``(particles, 1)``: 1.0 for a free particle, 0.0 for an anchored one."""
 
 
+def neighbour_counts(dims: int) -> tuple[int, ...]:
+    """The springs a particle of a ``dims``-dimensional grid can have (:func:`grid_offsets`):
+    4, 6 or 8 in 2D; 6 or 26 in 3D."""
+    return tuple(sorted({2 * dims, 3**dims - 1} | ({6} if dims == 2 else set())))
+
+
 def grid_offsets(dims: int, neighbours: int) -> list[tuple[int, ...]]:
     """The neighbour offsets of a particle of a ``dims``-dimensional grid: every cell of
     the surrounding layer (8 in 2D, 26 in 3D), the axes alone (4 in 2D), or the axes and
@@ -70,7 +76,8 @@ def grid_offsets(dims: int, neighbours: int) -> list[tuple[int, ...]]:
         return axes
     if dims == 2 and neighbours == 6:
         return [*axes, (1, 1), (-1, -1)]
-    raise ValueError(f"neighbours must be 4, 6 or 8 in 2D, 26 in 3D, got {neighbours}")
+    counts = ", ".join(map(str, neighbour_counts(dims)))
+    raise ValueError(f"neighbours must be one of {counts} in {dims}D, got {neighbours}")
 
 
 def neighbour_table(shape: tuple[int, ...], offsets: list[tuple[int, ...]],
@@ -120,8 +127,8 @@ class SproingParams:
     size: int = param(8, interval(2, 128), integer=True)
     """Particles along each side (2D: size^2 of them, up to 16,384: ``bbgym bench
     --scenes``'s largest; 3D: size^3)."""
-    neighbours: int = param(8, interval(4, 26), integer=True)
-    """Springs per particle: 4, 6 or 8 in 2D, 26 in 3D."""
+    neighbours: int = param(8, interval(4, 8), integer=True)
+    """Springs per particle: 4, 6 or 8 (5 and 7 are refused: no grid has them)."""
     spacing_m: float = param(0.5, interval(0.05, 10.0))
     mass_kg: float = param(0.25, interval(0.01, 100.0))
     stiffness_npm: float = param(50.0, interval(0.0, 1e6))
@@ -134,7 +141,11 @@ class SproingParams:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        grid_offsets(self.shape_dims, self.neighbours)  # the count must fit the grid
+        try:
+            grid_offsets(self.shape_dims, self.neighbours)
+        except ValueError as error:
+            # Named as the fields are, so the scene's error names the scene.
+            raise ValueError(f"{type(self).__name__}.{error}") from None
         if self.jitter_m >= 0.5 * self.spacing_m:
             raise ValueError(
                 f"{type(self).__name__}.jitter_m must be under half spacing_m "
@@ -153,6 +164,7 @@ class Sproing3DParams(SproingParams):
 
     size: int = param(5, interval(2, 16), integer=True)
     neighbours: int = param(26, interval(26, 26), integer=True)
+    """Springs per particle: every cell around (the scene is about that one layer)."""
 
     dims = 3
     shape_dims = 3

@@ -13,7 +13,8 @@ from bbgym import backends
 from bbgym.envs.core import CoreEnv, CoreVectorEnv
 from bbgym.envs.sail.scene import describe_scene, make_renderer
 from bbgym.envs.sail.task import SailTask
-from bbgym.physics.dinghy import DinghyParams
+from bbgym.physics.dinghy import SAIL_MODELS, DinghyParams
+from bbgym.physics.validation import choices_text
 
 _DOC_ARGS = """
     ## Arguments
@@ -26,12 +27,15 @@ _DOC_ARGS = """
     (``bbgym.physics.calibration.CALIBRATED_SLOOP``), small waves as ``water`` (0.1 m, 10
     m long, 3 components over 0.5 rad), ``current_speed_range=(0.0, 0.3)`` and
     ``initial_sheet=1.0`` (its preset, ``configs/beachball_sail_v2.yaml``). Any argument
-    overrides them.
+    overrides them; a mapping given as ``dinghy``, ``water`` or ``gust_params`` changes
+    only the fields it names (v2 with ``dinghy={"mass_kg": 150}`` is the calibrated sloop,
+    150 kg), a dataclass replaces the whole group. ``sail_model`` is a shorthand for
+    ``dinghy.sail_model``: given both, they must agree (``ValueError``).
 
     | argument | default | meaning |
     |---|---|---|
     | `render_mode` | `None` | `"rgb_array"`, `"rgb_array_list"` or `"human"` (see Rendering) |
-    | `sail_model` | `"lift"` | sail coefficient model, `"lift"` or `"seed"` (§9 drag formula) |
+    | `sail_model` | `None` (the dinghy's: `"lift"`) | sail coefficient model, {sail_models} |
     | `dinghy` | `None` | mapping of `DinghyParams` fields (mass, sail area, drags, ...) |
     | `wind_speed_range` | `(3.0, 7.0)` | true wind speed drawn per episode, m/s |
     | `gusts` | `True` | gusts and shifts on by default |
@@ -53,7 +57,7 @@ _DOC_ARGS = """
     ``ValueError``, each naming the argument (``dinghy.mass_kg``); an unknown argument or
     field raises ``TypeError``. The accepted intervals are on the documentation's
     "Validation and errors" page, from ``ARGUMENT_TABLE`` and the parameter dataclasses.
-"""
+""".replace("{sail_models}", choices_text(SAIL_MODELS))
 
 
 class BeachballSailEnv(CoreEnv):

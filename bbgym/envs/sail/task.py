@@ -19,7 +19,14 @@ from bbgym.envs.common import (
 )
 from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 from bbgym.physics.common import wrap_angle
-from bbgym.physics.dinghy import DinghyParams, DinghyState, StepEvents, dinghy_moving
+from bbgym.physics.dinghy import (
+    RIGS,
+    SAIL_MODELS,
+    DinghyParams,
+    DinghyState,
+    StepEvents,
+    dinghy_moving,
+)
 from bbgym.physics.namespace import Array, floats
 from bbgym.physics.sailing import apparent_wind_body, jib_angle, split_along
 from bbgym.physics.sailing_step import step_begin, step_end, step_substep
@@ -27,10 +34,12 @@ from bbgym.physics.validation import (
     ANGLE_RAD,
     build_params,
     check_bool,
+    check_choice,
     check_norm,
     check_number,
     check_pair,
     check_range,
+    choices_text,
     interval,
 )
 from bbgym.physics.water import (
@@ -72,7 +81,8 @@ CTRL_DT_S = interval(0.0, 5.0, low_open=True)
 SIM_DT_S = interval(1e-3, 0.25)
 REWARD_WEIGHT = interval(0.0, 1000.0)
 ARGUMENT_TABLE = (
-    ("`sail_model`", '`"lift"` or `"seed"`'),
+    ("`sail_model`, `dinghy.sail_model`", choices_text(SAIL_MODELS)),
+    ("`dinghy.rig`", choices_text(RIGS)),
     ("`dinghy`, `gust_params`", "mappings of their fields (tables below), or the dataclass"),
     ("`wind_speed_range`, `options['wind_speed']`", f"{WIND_SPEED_MPS} m/s"),
     ("`initial_speed_range`, `options['speed']`", f"{INITIAL_SPEED_MPS} m/s"),
@@ -98,6 +108,35 @@ ARGUMENT_TABLE = (
 carries it; docs/tables.py renders it and tests/test_validation.py checks the page)."""
 # Zoom of the top view: the 4.2 m hull is about 70 px long.
 RENDER_PIXELS_PER_M = 16.0
+
+
+def build_dinghy(
+    sail_model: str | None,
+    dinghy: Mapping[str, Any] | DinghyParams | None,
+    prefix: str = "",
+) -> DinghyParams:
+    """The boat from ``dinghy`` (``None``, a mapping of fields or the dataclass) with
+    ``sail_model``, a shorthand for its field ``dinghy.sail_model``: ``None`` leaves the
+    boat's own (``"lift"`` by default). Given both ways with different values, which was
+    meant is unclear, so that raises ``ValueError`` naming both; a ``DinghyParams`` always
+    gives its own. Errors name ``prefix + "sail_model"`` and ``prefix + "dinghy.<field>"``
+    (the race's boat passes ``prefix="boat."``)."""
+    model_path, dinghy_path = f"{prefix}sail_model", f"{prefix}dinghy"
+    if sail_model is not None:
+        check_choice(model_path, sail_model, SAIL_MODELS)
+    own = None
+    if isinstance(dinghy, DinghyParams):
+        own = dinghy.sail_model
+    elif isinstance(dinghy, Mapping) and "sail_model" in dinghy:
+        own = check_choice(f"{dinghy_path}.sail_model", dinghy["sail_model"], SAIL_MODELS)
+    if sail_model is None or own == sail_model:
+        return build_params(DinghyParams, dinghy_path, dinghy)
+    if own is not None:
+        raise ValueError(
+            f"{model_path}={sail_model!r} and {dinghy_path}.sail_model={own!r} disagree; give "
+            "one of them (or the same value in both)"
+        )
+    return build_params(DinghyParams, dinghy_path, dinghy, sail_model=sail_model)
 
 
 class Scenario(NamedTuple):
@@ -151,7 +190,7 @@ class SailTask(TaskCore):
 
     def __init__(
         self,
-        sail_model: str = "lift",
+        sail_model: str | None = None,
         dinghy: Mapping[str, Any] | DinghyParams | None = None,
         wind_speed_range: tuple[float, float] = (3.0, 7.0),
         gusts: bool = True,
@@ -169,7 +208,7 @@ class SailTask(TaskCore):
         current_speed_range: tuple[float, float] = (0.0, 0.0),
         initial_sheet: float = 0.0,
     ) -> None:
-        self.params = build_params(DinghyParams, "dinghy", dinghy, sail_model=sail_model)
+        self.params = build_dinghy(sail_model, dinghy)
         self.sloop = self.params.rig == "sloop"
         self.water = build_params(WaterParams, "water", water)
         self.current_speed_range = check_range(
