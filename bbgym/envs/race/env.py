@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -11,7 +12,8 @@ from gymnasium.utils import seeding
 
 try:
     from pettingzoo import ParallelEnv
-    from pettingzoo.utils import parallel_to_aec
+    from pettingzoo.utils import OrderEnforcingWrapper
+    from pettingzoo.utils.conversions import parallel_to_aec_wrapper
 except ImportError as error:  # the fix, not a bare ModuleNotFoundError
     from bbgym._extras import install_hint
 
@@ -20,7 +22,7 @@ except ImportError as error:  # the fix, not a bare ModuleNotFoundError
 
 from bbgym.envs.common import check_box_action
 from bbgym.envs.functional import tree_map
-from bbgym.envs.race.task import RaceState, RaceTask
+from bbgym.envs.race.task import RaceState, RaceTask, boat_mapping
 
 ENV_ID = "bbgym/BeachballRace-v0"
 """The race's id in PettingZoo's registries (``pettingzoo.make("parallel", ENV_ID)``)."""
@@ -34,6 +36,19 @@ def newest_boat() -> dict[str, Any]:
 
     kwargs = SPEC.versions[-1].kwargs
     return {key: kwargs[key] for key in BOAT_KEYS if key in kwargs}
+
+
+def race_boat(boat: Any) -> dict[str, Any]:
+    """The race's boat: :func:`newest_boat` with the user's ``boat`` over it, merged as
+    ``gym.make`` merges a sail version's kwargs (:func:`bbgym.spec.merge_kwargs`): a
+    ``dinghy`` mapping changes only the fields it names on the newest boat's (its sloop and
+    calibration kept), a ``DinghyParams`` replaces it whole. ``boat`` that is no mapping,
+    or has a key the race does not know, raises ``TypeError`` naming ``boat``; the values
+    are checked by :class:`~bbgym.envs.race.task.RaceTask`."""
+    from bbgym.envs.sail.spec import SPEC
+    from bbgym.spec import merge_kwargs
+
+    return merge_kwargs(SPEC, newest_boat(), boat_mapping(boat))
 
 
 class BeachballRaceEnv(ParallelEnv):
@@ -96,7 +111,9 @@ class BeachballRaceEnv(ParallelEnv):
     included), ``finish_bonus`` (20) times ``(K - place + 1) / K`` at the finish,
     ``-ocs_penalty`` (5) when over the line at the gun, ``-capsize_penalty`` (30) at a
     capsize, ``-foul_penalty`` (2) for each foul, ``-time_penalty`` (0.1) a step after the
-    gun until it finishes. The infos' ``reward_terms`` hold each.
+    gun until it finishes. The infos' ``reward_terms`` hold each. A boat's ``place`` is 0
+    and its ``finish_time`` ``inf`` (s, penalties included) until it finishes: the one
+    non-finite float a race returns, by design (the fuzz allows it there alone).
 
     ## The course and the rules sailed
 
@@ -137,9 +154,20 @@ class BeachballRaceEnv(ParallelEnv):
     ``gust_params``, ``shadow`` (on), ``shadow_params``
     (:class:`bbgym.physics.shadow.ShadowParams`), ``collisions`` (on), ``restitution``,
     ``keep_clear_m``, ``penalty``, ``penalty_time_s``, ``neighbours``, the reward weights
-    above, ``render_mode`` (None, ``"rgb_array"`` or ``"human"``). ``reset(options=...)``
-    pins ``wind_speed``, ``wind_from`` (rad) and ``gusts``; an unknown key raises
-    ``TypeError``.
+    above, ``render_mode`` (None, ``"rgb_array"`` or ``"human"``); an error names the path
+    passed (``boat.dinghy.mass_kg``).
+
+    ``reset(options=...)`` pins ``wind_speed``, ``wind_from`` (rad) and ``gusts``. Any
+    other key is ignored, as PettingZoo's and Gymnasium's envs ignore options they do not
+    take (PettingZoo's API test passes one), except a near miss of one of these three
+    (``wind_sped``, ``gust``: a typo) or one of the sail env's options (``heading``,
+    ``mark``, ...), which raise ``TypeError`` naming ``options[key]``: what was meant to be
+    pinned would otherwise be drawn at random, silently.
+
+    ``step(actions)`` takes a dict of every racing boat's action (``TypeError`` for
+    anything else; ``ValueError`` naming ``actions['boat_k']`` for a boat missing, not
+    racing, or a NaN, inf or wrongly shaped action). The AEC form checks each action at
+    its boat's turn: a bad one raises ``ValueError`` naming the boat, which keeps its turn.
 
     ## Version History
 
@@ -158,9 +186,7 @@ class BeachballRaceEnv(ParallelEnv):
             raise ValueError(f"render_mode must be None or one of "
                              f"{self.metadata['render_modes']}, got {render_mode!r}")  # fmt: skip
         self._renderer: Any = None
-        boat = newest_boat()
-        boat.update(kwargs.pop("boat", None) or {})
-        self.task = RaceTask(boat=boat, **kwargs)
+        self.task = RaceTask(boat=race_boat(kwargs.pop("boat", None)), **kwargs)
         self.render_mode = render_mode
         self.possible_agents = [f"boat_{k}" for k in range(self.task.num_boats)]
         self.agents: list[str] = []
@@ -186,23 +212,36 @@ class BeachballRaceEnv(ParallelEnv):
         self.agents = list(self.possible_agents)
         return self._observations(), self._infos()
 
+    def check_action(self, agent: str, action: Any, path: str | None = None) -> np.ndarray:
+        """``agent``'s action as float64 ``(size,)``, clipped to [-1, 1]: a wrong shape or a
+        NaN/inf raises ``ValueError`` naming ``path`` (``actions['boat_k']`` by default),
+        and so does an ``agent`` not racing; what ``check_box_action`` raises as a
+        ``TypeError`` is one here too, named alike."""
+        path = f"actions[{agent!r}]" if path is None else path
+        if agent not in self.agents:
+            raise ValueError(f"{path}: no such boat racing; racing: {self.agents}")
+        try:
+            return check_box_action(action, self.task.action_space.shape[0], 0)
+        except (TypeError, ValueError) as error:
+            raise type(error)(f"{path}: {error}") from None
+
     def step(self, actions: dict[str, Any]) -> tuple:
         if self.state_ is None or not self.agents:
             raise RuntimeError("step() called before reset() or after every boat's race ended")
+        # A list in the agents' order would be a guess at which boat is which (and a
+        # finished boat leaves it): only a mapping names its boats.
+        if not isinstance(actions, Mapping):
+            kind = type(actions).__name__
+            raise TypeError(f"actions must be a dict keyed by agent names, got a {kind}")
         for agent in actions:
             if agent not in self.agents:
                 raise ValueError(f"actions[{agent!r}]: no such boat racing; racing: "
                                  f"{self.agents}")  # fmt: skip
-        size = self.task.action_space.shape[0]
-        action = np.zeros((self.task.num_boats, size))
+        action = np.zeros((self.task.num_boats, self.task.action_space.shape[0]))
         for agent in self.agents:
             if agent not in actions:
-                raise ValueError(f"actions has no {agent!r}: every boat racing acts")
-            k = self.possible_agents.index(agent)
-            try:
-                action[k] = check_box_action(actions[agent], size, 0)
-            except ValueError as error:
-                raise ValueError(f"actions[{agent!r}]: {error}") from None
+                raise ValueError(f"actions[{agent!r}] is missing: every boat racing acts")
+            action[self.possible_agents.index(agent)] = self.check_action(agent, actions[agent])
         gust_noise = self._np_random.standard_normal(size=(1, 2))
         state = self.task.transition(self.state_, action, gust_noise, np)
         self.state_ = state
@@ -260,7 +299,22 @@ def parallel_env(**kwargs: Any) -> BeachballRaceEnv:
     return BeachballRaceEnv(**kwargs)
 
 
+class RaceAECWrapper(parallel_to_aec_wrapper):
+    """PettingZoo's ``parallel_to_aec_wrapper`` that checks each boat's action at its own
+    turn. The stock wrapper stores the action and hands the stored actions to the parallel
+    env at the last boat's turn: a bad action would raise there, at another boat's turn,
+    and again at every later turn until a reset (it stays stored). Here it raises
+    ``ValueError`` naming the boat before it is stored, and the boat keeps its turn."""
+
+    def step(self, action: Any) -> None:
+        agent = self.agent_selection
+        # A boat out of the race steps with None (PettingZoo's dead step): not checked.
+        if not (self.terminations[agent] or self.truncations[agent]):
+            self.env.check_action(agent, action, f"action of {agent!r} (its turn)")
+        super().step(action)
+
+
 def env(**kwargs: Any) -> Any:
-    """A race in PettingZoo's AEC form (boats act in turn), through PettingZoo's
-    ``parallel_to_aec``."""
-    return parallel_to_aec(BeachballRaceEnv(**kwargs))
+    """A race in PettingZoo's AEC form (boats act in turn): PettingZoo's ``parallel_to_aec``
+    with each action checked at its boat's turn (:class:`RaceAECWrapper`)."""
+    return OrderEnforcingWrapper(RaceAECWrapper(BeachballRaceEnv(**kwargs)))

@@ -15,7 +15,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from bbgym import backends
 from bbgym.envs.common import check_box_action, vector_info, vector_seeds
 from bbgym.envs.functional import tree_map, tree_select
-from bbgym.envs.race.env import newest_boat
+from bbgym.envs.race.env import race_boat
 from bbgym.envs.race.task import RaceState, RaceTask
 from bbgym.physics.namespace import replaced
 
@@ -56,9 +56,7 @@ class BeachballRaceFleetEnv(VectorEnv):
             raise TypeError(f"num_races must be an int, got {num_races!r}")
         if num_races < 1:
             raise ValueError(f"num_races must be at least 1, got {num_races}")
-        boat = newest_boat()
-        boat.update(kwargs.pop("boat", None) or {})
-        self.task = RaceTask(boat=boat, **kwargs)
+        self.task = RaceTask(boat=race_boat(kwargs.pop("boat", None)), **kwargs)
         self.backend = backends.resolve_backend(backend, device, dtype, output, compile)
         self.xp = self.backend.xp
         self.num_races, self.num_boats = int(num_races), self.task.num_boats

@@ -18,6 +18,7 @@ penalty turn (a full circle before the boat may pass its next waypoint) or, with
 
 from __future__ import annotations
 
+import difflib
 import math
 from collections.abc import Mapping
 from typing import Any, NamedTuple
@@ -25,11 +26,20 @@ from typing import Any, NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from bbgym.envs.common import check_option_keys, option_path
+from bbgym.envs.common import option_path
 from bbgym.envs.functional import InitialNoise, stack_pair, tree_select
 from bbgym.envs.race import course as rc
 from bbgym.envs.race import rules
-from bbgym.envs.sail.task import BOAT_SPEED_SCALE_MPS, WIND_SPEED_MPS, SailState, SailTask
+from bbgym.envs.sail import task as sail_task
+from bbgym.envs.sail.task import (
+    BOAT_SPEED_SCALE_MPS,
+    INITIAL_SPEED_MPS,
+    UNIT_INTERVAL,
+    WIND_SPEED_MPS,
+    SailState,
+    SailTask,
+    build_dinghy,
+)
 from bbgym.physics.collision import collide, hull_contacts, hulls
 from bbgym.physics.common import split_along, wrap_angle
 from bbgym.physics.namespace import Array, replaced
@@ -46,6 +56,17 @@ from bbgym.physics.validation import (
 from bbgym.physics.wind import wind_vector
 
 RESET_OPTIONS = ("wind_speed", "wind_from", "gusts")
+SAIL_ONLY_OPTIONS = tuple(
+    key for key in sail_task.RESET_OPTIONS + sail_task.SEA_OPTIONS if key not in RESET_OPTIONS
+)
+"""The sail env's reset options that the race does not take: refused by name (a user who
+pins a boat's ``heading`` there would expect it pinned here), not ignored."""
+NEAR_MISS = 0.8
+"""How alike (:class:`difflib.SequenceMatcher`'s ratio, case aside) an unknown option key
+must be to one of :data:`RESET_OPTIONS` to be refused as a typo of it: ``wind_sped``,
+``windspeed``, ``gust`` are; ``options``, ``tide``, ``speed`` are not."""
+BOAT_KEYS = ("sail_model", "dinghy", "initial_sheet", "initial_speed_range")
+"""The sail core's arguments that a race's ``boat`` takes."""
 BOATS = interval(1, 8)
 """Boats in a race: one (a time trial) to a fleet of eight."""
 NEIGHBOURS = interval(0, 7)
@@ -178,6 +199,59 @@ class RaceState(NamedTuple):
         return self.finished | self.capsized
 
 
+def boat_mapping(boat: Any) -> dict[str, Any]:
+    """``boat`` as a dict of :data:`BOAT_KEYS` (``None``: empty): anything but a mapping, or
+    a key it does not know, raises ``TypeError`` naming ``boat``."""
+    if boat is None:
+        return {}
+    if not isinstance(boat, Mapping):
+        kind = type(boat).__name__
+        raise TypeError(f"boat must be a mapping of {list(BOAT_KEYS)}, got {boat!r} ({kind})")
+    for key in boat:
+        if key not in BOAT_KEYS:
+            raise TypeError(f"boat got an unexpected key {key!r}; known keys: {list(BOAT_KEYS)}")
+    return dict(boat)
+
+
+def check_boat(boat: Any) -> dict[str, Any]:
+    """The sail core's boat arguments in ``boat`` (:func:`boat_mapping`), each checked as
+    :class:`~bbgym.envs.sail.task.SailTask` checks it (the same validators and intervals)
+    but named by the path the user wrote: ``boat.sail_model``, ``boat.dinghy.mass_kg``,
+    ``boat.initial_sheet``, ``boat.initial_speed_range[1]``. The dinghy comes back as
+    :class:`~bbgym.physics.dinghy.DinghyParams`, which the sail core takes as it is."""
+    boat = boat_mapping(boat)
+    dinghy = build_dinghy(boat.get("sail_model"), boat.get("dinghy"), prefix="boat.")
+    checked: dict[str, Any] = {"dinghy": dinghy}
+    if "initial_sheet" in boat:
+        sheet = boat["initial_sheet"]
+        checked["initial_sheet"] = check_number("boat.initial_sheet", sheet, UNIT_INTERVAL)
+    if "initial_speed_range" in boat:
+        checked["initial_speed_range"] = check_range(
+            "boat.initial_speed_range", boat["initial_speed_range"], INITIAL_SPEED_MPS
+        )
+    return checked
+
+
+def check_option_key(key: Any) -> None:
+    """Raise ``TypeError`` for a reset option key the race does not take but a user may
+    mean: one of the sail env's (:data:`SAIL_ONLY_OPTIONS`) or a near miss of one of the
+    race's (:data:`NEAR_MISS`). Any other unknown key is ignored, as PettingZoo's and
+    Gymnasium's envs ignore options they do not take."""
+    if not isinstance(key, str):
+        return
+    known = list(RESET_OPTIONS)
+    path = option_path(key)
+    if key.lower() in SAIL_ONLY_OPTIONS:
+        raise TypeError(
+            f"{path}: the race does not take the sail env's option; its options: {known}"
+        )
+    close = difflib.get_close_matches(key.lower(), RESET_OPTIONS, n=1, cutoff=NEAR_MISS)
+    if close:
+        raise TypeError(
+            f"{path}: no such race option; did you mean {close[0]!r}? Its options: {known}"
+        )
+
+
 class RaceTask:
     """The race's pure functions over a batch of :class:`RaceState` (NumPy arrays here; the
     same calls as the sail core's, through ``xp``). Holds the validated arguments of
@@ -246,14 +320,12 @@ class RaceTask:
         self.penalty_time_s = check_number("penalty_time_s", penalty_time_s, PENALTY_TIME_S)
         # The boat: the sail core's, with the race's wind. Its reward arguments are unused
         # (the race scores its own); its marks are the race's waypoints, set every step.
-        boat = dict(boat or {})
-        for key in boat:
-            if key not in ("sail_model", "dinghy", "initial_sheet", "initial_speed_range"):
-                raise TypeError(f"boat got an unexpected key {key!r}; known keys: "
-                                f"['sail_model', 'dinghy', 'initial_sheet', "
-                                f"'initial_speed_range']")  # fmt: skip
-        self.sail = SailTask(wind_speed_range=wind_speed_range, gusts=gusts,
-                             gust_params=gust_params, **boat)  # fmt: skip
+        self.sail = SailTask(
+            wind_speed_range=wind_speed_range,
+            gusts=gusts,
+            gust_params=gust_params,
+            **check_boat(boat),
+        )
         self.ctrl_dt = self.sail.ctrl_dt
         p = self.sail.params
         self.hulls = hulls(p.hull_length_m, p.hull_beam_m, p.mass_kg, p.yaw_inertia_kgm2)
@@ -267,9 +339,19 @@ class RaceTask:
 
     # -- scenario ---------------------------------------------------------------------------
     def check_options(self, options: Mapping[str, Any] | None) -> dict[str, Any]:
-        """Validate ``reset`` options (the race's mean wind, gusts on or off); unknown keys
-        raise ``TypeError``, bad values name ``options[key]``."""
-        checked = check_option_keys(options, RESET_OPTIONS)
+        """Validate ``reset`` options (the race's mean wind, gusts on or off): a key the race
+        does not take is ignored unless :func:`check_option_key` refuses it (a typo of one
+        it takes, or the sail env's); bad values name ``options[key]``."""
+        if options is None:
+            return {}
+        if not isinstance(options, Mapping):
+            raise TypeError(f"options must be a dict, got {options!r}")
+        checked = {}
+        for key, value in options.items():
+            if key in RESET_OPTIONS:
+                checked[key] = value
+            else:
+                check_option_key(key)
         for key, value in checked.items():
             if key == "gusts":
                 checked[key] = check_bool(option_path(key), value)
