@@ -29,6 +29,125 @@ BALL_SIM_DT_S = interval(1e-4, 0.05)
 REWARD_WEIGHT = interval(0.0, 1000.0)
 
 
+GUST_HEADROOM_STDS = 3.0
+"""How many standard deviations of the gusts' speed the RK4 check allows above the mean
+wind (the gusts are a smoothed Gaussian process: beyond 3 stds about 1 launch in 700)."""
+
+
+def rk4_wind_limit_mps(
+    ball: BallParams, sim_dt: float, max_speed: float, gust_params: GustParams
+) -> float:
+    """The strongest mean wind a ball task flown in RK4 steps of ``sim_dt``
+    (``rk4_events``) accepts: a throw at ``max_speed`` straight into it, gusting
+    :data:`GUST_HEADROOM_STDS` above it, stays within the step's stable air speed
+    (:func:`~bbgym.physics.flight_events.rk4_stable_air_speed_mps`). Negative where even a
+    throw in calm air is too fast for the step; ``inf`` without drag."""
+    from bbgym.physics.flight_events import rk4_stable_air_speed_mps
+
+    stable = rk4_stable_air_speed_mps(ball, sim_dt)
+    if stable < ball.terminal_speed_mps():
+        return -math.inf  # a ball dropped from rest reaches its unstable speed
+    return (stable - max_speed) / (1.0 + GUST_HEADROOM_STDS * gust_params.speed_std)
+
+
+def check_rk4_ball(
+    ball: BallParams,
+    sim_dt: float,
+    max_speed: float,
+    wind_speed_range: tuple[float, float],
+    gust_params: GustParams,
+    integrator_arg: str,
+) -> float:
+    """Refuse a ball too light for RK4 steps of ``sim_dt`` at the task's fastest throw
+    into its strongest wind (RK4 then overshoots the drag and the flight runs to NaN;
+    :data:`~bbgym.physics.flight_events.RK4_DRAG_LIMIT`). The error names the ball's mass
+    field, ``sim_dt``, ``max_speed`` and ``wind_speed_range``, and says what each would
+    have to be. Returns the strongest mean wind a ``reset`` option may pin
+    (:func:`rk4_wind_limit_mps`)."""
+    from bbgym.physics.flight_events import rk4_stable_air_speed_mps
+
+    limit = rk4_wind_limit_mps(ball, sim_dt, max_speed, gust_params)
+    wind_hi = wind_speed_range[1]
+    if limit >= wind_hi:
+        return limit
+    mass_field = "ball.density_kgm3" if ball.solid else "ball.shell_areal_density_kgm2"
+    mass_value = ball.density_kgm3 if ball.solid else ball.shell_areal_density_kgm2
+    gusting = 1.0 + GUST_HEADROOM_STDS * gust_params.speed_std
+    needed_air_speed = max(max_speed + wind_hi * gusting, ball.terminal_speed_mps())
+    # The step and the ball's mass per drag area both scale the stable speed linearly.
+    scale = needed_air_speed / rk4_stable_air_speed_mps(ball, sim_dt)
+    raise ValueError(
+        f"{mass_field}={mass_value:g} is too light for {integrator_arg}'s RK4 steps of "
+        f"sim_dt={sim_dt:g} s: a throw at max_speed={max_speed:g} m/s into "
+        f"wind_speed_range's {wind_hi:g} m/s (gusting to {wind_hi * gusting:g} m/s) meets "
+        f"air at {needed_air_speed:.3g} m/s, and the step is stable against this ball's "
+        f"drag only to {rk4_stable_air_speed_mps(ball, sim_dt):.3g} m/s. Pass "
+        f"sim_dt <= {_rounded(sim_dt / scale, math.floor)}, or {mass_field} >= "
+        f"{_rounded(mass_value * scale, math.ceil)}, or a "
+        f"lower max_speed or wind_speed_range"
+    )
+
+
+def _rounded(value: float, direction: Any, digits: int = 3) -> str:
+    """``value`` to ``digits`` significant digits, rounded by ``direction`` (``math.floor``
+    for an upper bound, ``math.ceil`` for a lower one), so the bound an error quotes is
+    itself accepted."""
+    scale = 10.0 ** (digits - 1 - math.floor(math.log10(value)))
+    return f"{direction(value * scale) / scale:.{digits}g}"
+
+
+def rk4_task_wind_limit(task: Any, integrator_arg: str) -> float:
+    """A ball task's ``wind_limit``: ``inf`` unless ``getattr(task, integrator_arg)`` is
+    ``"rk4_events"``, else :func:`check_rk4_ball` of its checked ball, step, fastest throw,
+    wind range and gusts (which refuses a ball too light for the step)."""
+    if getattr(task, integrator_arg) != "rk4_events":
+        return math.inf
+    return check_rk4_ball(
+        task.ball,
+        task.sim_dt,
+        task.max_speed,
+        task.wind_speed_range,
+        task.gust_params,
+        f'{integrator_arg}="rk4_events"',
+    )
+
+
+def check_wind_option(path: str, value: Any, wind_limit: float) -> tuple[float, float]:
+    """A ``reset`` option's wind vector: a pair whose length lies in
+    :data:`WIND_SPEED_MPS` and, for RK4 flights, at most ``wind_limit``
+    (:func:`check_rk4_ball`)."""
+    from bbgym.physics.validation import check_norm, check_pair
+
+    accepted = WIND_SPEED_MPS
+    why = ""
+    if wind_limit < accepted.high:
+        accepted = interval(0.0, wind_limit)
+        why = "the most this ball's RK4 steps are stable for, at the task's max_speed"
+    return check_norm(path, check_pair(path, value), accepted, why=why)
+
+
+def fit_rk4_ball(kwargs: dict[str, Any], integrator_arg: str) -> dict[str, Any]:
+    """Drawn arguments of a ball task (the fuzzer's, every one present), with the ball made
+    heavy enough for RK4 steps where ``kwargs[integrator_arg]`` is ``"rk4_events"``: its
+    mass field raised a hair past the bound :func:`check_rk4_ball` sets, the rest kept."""
+    from bbgym.physics.flight_events import rk4_stable_air_speed_mps
+
+    if kwargs[integrator_arg] != "rk4_events":
+        return kwargs
+    ball = dict(kwargs["ball"])
+    params = BallParams(**ball)
+    gusting = 1.0 + GUST_HEADROOM_STDS * GustParams(**kwargs["gust_params"]).speed_std
+    needed = kwargs["max_speed"] + kwargs["wind_speed_range"][1] * gusting
+    # The stable speed grows with the mass, the terminal speed with its root: past the
+    # bound for the launch, past it for both.
+    scale = needed / rk4_stable_air_speed_mps(params, kwargs["sim_dt"])
+    if scale > 1.0:
+        field = "density_kgm3" if params.solid else "shell_areal_density_kgm2"
+        accepted = BallParams.__dataclass_fields__[field].metadata["interval"]
+        ball[field] = min(getattr(params, field) * scale * 1.001, accepted.high)
+    return {**kwargs, "ball": ball}
+
+
 def sample_ball_kwargs(draw: Any) -> dict[str, Any]:
     """The arguments every ball task takes (the ball, the wind, the launch), drawn over
     their accepted intervals (``draw`` is a :data:`bbgym.fuzz.Draw`)."""
@@ -48,11 +167,13 @@ def sample_ball_kwargs(draw: Any) -> dict[str, Any]:
     }
 
 
-def sample_wind_option(options: dict[str, Any], draw: Any) -> None:
-    """The reset options every ball task takes: ``gusts`` and ``wind``, each or not."""
+def sample_wind_option(options: dict[str, Any], draw: Any, wind_limit: float) -> None:
+    """The reset options every ball task takes: ``gusts`` and ``wind``, each or not (a
+    wind no stronger than the task's ``wind_limit``, :func:`check_wind_option`)."""
     from bbgym.fuzz import draw_flag, draw_vector
 
     if draw_flag(draw, "options.has_gusts"):
         options["gusts"] = draw_flag(draw, "options['gusts']")
     if draw_flag(draw, "options.has_wind"):
-        options["wind"] = draw_vector(draw, "wind", WIND_SPEED_MPS)
+        winds = interval(0.0, min(WIND_SPEED_MPS.high, wind_limit))
+        options["wind"] = draw_vector(draw, "wind", winds)

@@ -186,7 +186,10 @@ class BeachballThrowEnv(FlightFrames, CoreEnv):
     * BeachballThrow-v1 and BeachballCurve-v2 (unreleased, after bbgym 0.8.0): Throw-v0
       and Curve-v1 flown in RK4 steps with event location to the first touchdown
       (Description), with their own golden replays (``tests/test_golden_throw_v1.py``);
-      the same spaces, rewards and draws.
+      the same spaces, rewards and draws. They refuse a ball too light for the RK4 step
+      (before the check, a 0.02 kg/m^2 shell thrown forward landed behind the thrower):
+      the error names the ball's mass field and `sim_dt` and quotes the bounds
+      (`bbgym.envs.ball.check_rk4_ball`); every ball they take keeps its bits.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}

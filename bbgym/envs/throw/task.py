@@ -21,6 +21,8 @@ from bbgym.envs.ball import (
     THROWS_PER_EPISODE,
     WIND_SPEED_MPS,
     WINDSOCK_NOISE_MPS,
+    check_wind_option,
+    rk4_task_wind_limit,
 )
 from bbgym.envs.common import (
     check_box_action,
@@ -327,6 +329,9 @@ class ThrowTask(TaskCore):
         )
         self.events = self.flight_integrator == "rk4_events"
         self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
+        self.wind_limit = rk4_task_wind_limit(self, "flight_integrator")
+        """The strongest mean wind a ``reset`` option may pin (RK4 flights: what the step
+        is stable for, :func:`~bbgym.envs.ball.check_rk4_ball`)."""
         self.max_flight_time = check_number(
             "max_flight_time", max_flight_time, interval(10 * self.sim_dt, FLIGHT_TIME_MAX_S)
         )
@@ -370,7 +375,7 @@ class ThrowTask(TaskCore):
             if key in ("gusts", "screen"):
                 checked[key] = check_bool(path, value)
             elif key == "wind":
-                checked[key] = check_norm(path, check_pair(path, value), WIND_SPEED_MPS)
+                checked[key] = check_wind_option(path, value, self.wind_limit)
             else:
                 checked[key] = check_norm(path, check_pair(path, value), self.target_distance)
         return checked

@@ -181,7 +181,10 @@ class BeachballToppleEnv(FlightFrames, CoreEnv):
       substeps (`scripts/topple_accuracy.py`). The planner wins 40 of its first 40
       episodes, the scripted agent 39, random play none (`bbgym evaluate --env
       BeachballTopple-v2 --policies random,scripted,planner --episodes 40`; on v1 40, 40
-      and none).
+      and none). It refuses a ball too light for its RK4 step (before the check, it
+      ran to NaN: a 0.02 kg/m^2 shell): the error names the ball's mass field and
+      `sim_dt` and quotes the bounds; such a ball runs on v2 with a shorter `sim_dt`, or
+      on v1 (`bbgym.envs.ball.check_rk4_ball`). Every ball it takes keeps its bits.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": 20}

@@ -22,6 +22,8 @@ from bbgym.envs.ball import (
     THROWS_PER_EPISODE,
     WIND_SPEED_MPS,
     WINDSOCK_NOISE_MPS,
+    check_wind_option,
+    rk4_task_wind_limit,
 )
 from bbgym.envs.common import (
     FULL_CIRCLE_RAD,
@@ -52,9 +54,7 @@ from bbgym.physics.validation import (
     check_bool,
     check_choice,
     check_integer,
-    check_norm,
     check_number,
-    check_pair,
     check_range,
 )
 from bbgym.physics.wall import (
@@ -270,6 +270,9 @@ class ToppleTask(TaskCore):
         self.interval_integrator = check_choice(
             "interval_integrator", interval_integrator, INTEGRATORS
         )
+        self.wind_limit = rk4_task_wind_limit(self, "interval_integrator")
+        """The strongest mean wind a ``reset`` option may pin (RK4 steps: what the step is
+        stable for, :func:`~bbgym.envs.ball.check_rk4_ball`)."""
         self.interval = check_number("interval", interval, INTERVAL_S)
         self.gust_dt = check_number(
             "gust_dt", gust_dt, validation.interval(0.0, self.interval, low_open=True),
@@ -367,7 +370,7 @@ class ToppleTask(TaskCore):
             if key == "gusts":
                 checked[key] = check_bool(path, value)
             elif key == "wind":
-                checked[key] = check_norm(path, check_pair(path, value), WIND_SPEED_MPS)
+                checked[key] = check_wind_option(path, value, self.wind_limit)
             else:
                 checked[key] = check_number(path, value, self.wall_distance)
         return checked
