@@ -63,11 +63,16 @@ def mean_wind(
 
 def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
     """Actions as float64 ``(size,)`` (``batch == 0``: one env) or ``(batch, size)``,
-    clipped to [-1, 1]; a wrong shape or a NaN/inf raises ``ValueError``."""
+    clipped to [-1, 1]; a wrong shape or a NaN/inf raises ``ValueError``, a complex
+    number ``TypeError``."""
     try:
-        a = np.asarray(action, dtype=np.float64)
-    except (TypeError, ValueError):
+        raw = np.asarray(action)
+        is_complex = raw.dtype.kind == "c"  # a cast would drop the imaginary part, warning
+        a = raw if is_complex else raw.astype(np.float64)
+    except (TypeError, ValueError):  # a string, a ragged nest of lists
         raise ValueError(f"action must be numeric, got {action!r}") from None
+    if is_complex:
+        raise TypeError(f"action must be real, got {action!r}")
     expected = (size,) if batch == 0 else (batch, size)
     if a.shape != expected:
         raise ValueError(f"action must have shape {expected}, got {a.shape}")
@@ -81,12 +86,31 @@ def vector_seeds(seed: int | list[int | None] | None, num_envs: int) -> list[int
     or fresh entropy for ``None``."""
     if seed is None:
         return [None] * num_envs
-    if isinstance(seed, (int, np.integer)):
-        return [int(seed) + i for i in range(num_envs)]
+    if isinstance(seed, (int, np.integer)) and not isinstance(seed, (bool, np.bool_)):
+        return [check_seed(seed) + i for i in range(num_envs)]
+    if not isinstance(seed, (list, tuple, np.ndarray)):
+        raise TypeError(f"seed must be an int >= 0, a list of {num_envs} or None, got {seed!r}")
     seeds = list(seed)
     if len(seeds) != num_envs:
         raise ValueError(f"seed must have {num_envs} entries, got {len(seeds)}")
-    return seeds
+    return [None if s is None else check_seed(s, f"seed[{i}]") for i, s in enumerate(seeds)]
+
+
+def check_seed(seed: Any, path: str = "seed") -> int:
+    """A seed as a Python int: an int (not a bool) >= 0, as Gymnasium's seeding needs.
+
+    Args:
+        seed: what the user passed.
+        path: its name in errors.
+
+    Returns:
+        ``int(seed)``.
+    """
+    if not isinstance(seed, (int, np.integer)) or isinstance(seed, (bool, np.bool_)):
+        raise TypeError(f"{path} must be an int >= 0 or None, got {seed!r}")
+    if seed < 0:
+        raise ValueError(f"{path} must be an int >= 0 or None, got {seed!r}")
+    return int(seed)
 
 
 def vector_info(info: dict[str, Any], num_envs: int) -> dict[str, Any]:

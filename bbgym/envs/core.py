@@ -22,6 +22,7 @@ from bbgym.envs.common import (
     RENDER_MODES,
     NormalStreams,
     check_render_mode,
+    check_seed,
     ensure_renderer,
     vector_info,
     vector_seeds,
@@ -86,7 +87,7 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        super().reset(seed=seed)
+        super().reset(seed=None if seed is None else check_seed(seed))
         options = self.task.check_options(options)
         self.streams.set(0, self.np_random)
         n_uniform, n_normal = self.task.initial_noise_counts
@@ -231,6 +232,34 @@ def check_info_keys(info_keys: Any, task: Any) -> tuple[str, ...] | None:
     return tuple(info_keys)
 
 
+def check_tensor_actions(actions: Any, shape: tuple[int, ...], backend: Any) -> Any:
+    """A batch of actions given as a tensor, on the backend's device and float dtype and
+    clipped to [-1, 1]; a complex tensor raises ``TypeError``, a wrong shape or a NaN/inf
+    ``ValueError`` naming the rows, as the NumPy check does.
+
+    Args:
+        actions: a torch tensor of shape ``shape``.
+        shape: the vector env's action shape ``(num_envs, size)``.
+        backend: the env's :class:`bbgym.backends.Backend`.
+
+    Returns:
+        The checked, clipped tensor.
+    """
+    if actions.is_complex():  # a cast would drop the imaginary part with a mere warning
+        raise TypeError(f"actions must be real, got a {actions.dtype} tensor")
+    if tuple(actions.shape) != tuple(shape):
+        raise ValueError(f"actions must have shape {tuple(shape)}, got {tuple(actions.shape)}")
+    a = actions.to(device=backend.device, dtype=backend.float_dtype)
+    # One reduction and a device sync a step: a NaN row would otherwise poison that env's
+    # state for the rest of its episode, silently (an inf clips to a valid action, but a
+    # learner that emits one is broken, and NumPy refuses it too).
+    finite = a.isfinite().all(dim=-1)
+    if not bool(finite.all()):
+        rows = [int(i) for i in (~finite).nonzero().flatten()[:8]]
+        raise ValueError(f"actions must be finite: rows {rows} hold NaN or inf")
+    return a.clamp(-1.0, 1.0)
+
+
 class CoreVectorEnv(VectorEnv):
     """A native vector env over a task core: ``num_envs`` envs in one batch.
 
@@ -283,7 +312,9 @@ class CoreVectorEnv(VectorEnv):
     ) -> None:
         if max_episode_steps is None:
             max_episode_steps = self.default_max_episode_steps
-        if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+        if not isinstance(num_envs, (int, np.integer)) or isinstance(num_envs, (bool, np.bool_)):
+            raise TypeError(f"num_envs must be an int >= 1, got {num_envs!r}")
+        if num_envs < 1:
             raise ValueError(f"num_envs must be an int >= 1, got {num_envs!r}")
         if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
             raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
@@ -486,10 +517,7 @@ class CoreVectorEnv(VectorEnv):
 
     def _step_torch(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         if hasattr(actions, "detach"):  # a tensor from a GPU-resident learner
-            a = actions.to(device=self.backend.device, dtype=self.backend.float_dtype)
-            if tuple(a.shape) != (self.num_envs, *self.single_action_space.shape):
-                raise ValueError(f"actions must have shape {self.action_space.shape}")
-            a = a.clamp(-1.0, 1.0)  # NaN check costs a sync: done in the numpy check only
+            a = check_tensor_actions(actions, self.action_space.shape, self.backend)
         else:
             a = self._tensor(self.task.check_action(actions, self.num_envs),
                              self.backend.float_dtype)  # fmt: skip
