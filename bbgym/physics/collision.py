@@ -31,6 +31,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from bbgym.physics.common import NORM_FLOOR
 from bbgym.physics.compaction import scatter, take
 from bbgym.physics.namespace import Array
 
@@ -109,7 +110,7 @@ def hull_contacts(h: Hulls, x: Array, y: Array, heading: Array, xp: Any) -> Cont
     centres_apart = centre > 1e-9
     nx = xp.where(apart, sep_x, xp.where(centres_apart, centre_x, port_x))
     ny = xp.where(apart, sep_y, xp.where(centres_apart, centre_y, port_y))
-    norm = xp.maximum(xp.hypot(nx, ny), 1e-300)
+    norm = xp.maximum(xp.hypot(nx, ny), NORM_FLOOR)
     return Contacts(
         gap_m=distance - 2.0 * h.radius_m,
         normal_x=nx / norm,

@@ -21,6 +21,11 @@ GRAVITY_MPS2 = 9.81
 AIR_DENSITY_KGM3 = 1.2
 WATER_DENSITY_KGM3 = 1025.0
 KNOT_MPS = 0.514444
+NORM_FLOOR = 1e-30
+"""Floor of a norm (a speed, a distance) that a direction divides by, where the vector may
+be zero: small enough to change no float64 result of a real motion, and, with its inverse
+(1e30), representable in float32 (1e-300 underflows to 0 there, and 0 / 0 is NaN: a boat
+in a calm on the float32 torch backend went NaN on its first step)."""
 
 
 def wrap_angle(angle_rad: Array, xp: Any = np) -> Array:

@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from bbgym.physics.common import (
+    NORM_FLOOR,
     split_along,
 )
 from bbgym.physics.dinghy import DinghyParams, DinghyState
@@ -206,7 +207,7 @@ def sail_force_linearised(
     # Along the boom, from the mast (-cos(boom), sin(boom)): > 0 when the air runs aft.
     wind_chord = aw_v * normal_u - aw_u * normal_v
     speed = xp.sqrt(aw_u * aw_u + aw_v * aw_v)
-    inv_speed = 1.0 / (speed + 1e-300)  # finite in a calm, where both components are 0
+    inv_speed = 1.0 / xp.maximum(speed, NORM_FLOOR)  # finite in a calm (components 0)
     wind_normal_abs = xp.abs(wind_normal)
     sin_attack = wind_normal_abs * inv_speed
     cos_attack = xp.abs(wind_chord) * inv_speed
