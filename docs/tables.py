@@ -10,6 +10,7 @@ typed by hand and none can go stale:
     <!-- table: polar -->                    docs/results/polar/polar.csv (bbgym polar)
     <!-- table: polar-compare -->            docs/results/polar/compare.csv (bbgym polar --compare)
     <!-- table: race-selfplay -->            docs/results/race/*.json (scripts/race_selfplay.py)
+    <!-- table: fuzz -->                     docs/results/fuzz/fuzz.json (bbgym fuzz)
     <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
     <!-- table: params GROUP -->             the intervals of a physics parameter dataclass
     <!-- include: CHANGELOG.md -->           a file of docs/, as it is
@@ -58,6 +59,7 @@ SPEED_FILE = "speed/bench.json"
 BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
 SCENES_SPEED_FILE = "speed/bench-scenes.json"
 POLAR_FILE = "polar/polar.json"
+FUZZ_FILE = "fuzz/fuzz.json"
 RACE_SELFPLAY_FILES = ("race/selfplay.json", "race/selfplay_absolute.json")
 """The race's self-play results (``scripts/race_selfplay.py --results``), one row each."""
 
@@ -543,6 +545,17 @@ def scene_table(name: str) -> str:
     return "\n".join([*lines, "", note])
 
 
+def fuzz_table(path: Path | None = None) -> str:
+    """The last long fuzz run (``bbgym fuzz --out docs/results/fuzz``): steps by id and
+    path, failures, and the command that ran it."""
+    from bbgym.fuzz import format_report
+
+    path = path or RESULTS / FUZZ_FILE
+    data = read_json(path)
+    command = field(data, "command", path, str)
+    return f"{format_report(data)}\n\nWritten by `{command}`. {_machine(data)}"
+
+
 def table(spec: str) -> str:
     """The table a marker's words ask for (``"baselines BeachballSail"``)."""
     kind, _, arg = spec.partition(" ")
@@ -559,6 +572,8 @@ def table(spec: str) -> str:
         return polar_compare_table()
     if kind == "race-selfplay" and not arg:
         return race_selfplay_table()
+    if kind == "fuzz" and not arg:
+        return fuzz_table()
     if kind == "arguments":
         return arguments_table(arg)
     if kind == "params":

@@ -1,12 +1,17 @@
-"""Fuzz every env through its public API (see :mod:`bbgym.fuzz`).
+"""Fuzz every env, the race and the course's scenes through their public API (see
+:mod:`bbgym.fuzz`).
 
-    bbgym fuzz [--steps 1000000] [--seed 0] [--num-envs 32] [--minutes M] [--out runs/fuzz]
+    bbgym fuzz [--steps 1000000] [--seed 0] [--num-envs 32] [--minutes M]
+               [--race-share 0.1] [--scene-share 0.1] [--out runs/fuzz]
 
 Random valid constructor arguments (every physical constant over its whole accepted
 interval), reset options and actions, on single and native vector envs; every
 observation, reward and info float is checked, and every invalid number argument is
-checked to raise the right error naming it. Writes ``fuzz.md`` and ``fuzz.json``; exits
-with status 1 if anything failed, with what reproduces it.
+checked to raise the right error naming it. The PettingZoo race (the ``race`` extra) is
+raced the same way in its parallel and AEC forms, and the course's scenes are run with
+random parameters on NumPy and torch (the ``torch`` extra), each taking its share of the
+steps. Writes ``fuzz.md`` and ``fuzz.json``; exits with status 1 if anything failed, with
+what reproduces it.
 """
 
 from __future__ import annotations
@@ -17,16 +22,31 @@ import math
 import warnings
 from pathlib import Path
 
-from bbgym.cli import positive_float, positive_int
+from bbgym.cli import UsageError, positive_float, positive_int
+
+
+def share(text: str) -> float:
+    """An argparse ``type``: a share of the steps, in [0, 1)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"must be in [0, 1), got {text}")
+    return value
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--steps", type=positive_int, default=1_000_000, help="env steps in all")
+    parser.add_argument("--steps", type=positive_int, default=1_000_000, help="steps in all")
     parser.add_argument("--seed", type=int, default=0, help="seed of the configurations")
-    parser.add_argument("--num-envs", type=positive_int, default=32,
-                        help="size of the vector envs")  # fmt: skip
-    parser.add_argument("--minutes", type=positive_float, default=math.inf,
-                        help="stop after this")  # fmt: skip
+    parser.add_argument("--num-envs", type=positive_int, default=32, help="size of the vector envs")
+    parser.add_argument("--minutes", type=positive_float, default=math.inf, help="stop after this")
+    parser.add_argument(
+        "--race-share", type=share, default=0.1, help="the race's share of the steps (0: none)"
+    )
+    parser.add_argument(
+        "--scene-share", type=share, default=0.1, help="the scenes' share of the steps (0: none)"
+    )
     parser.add_argument("--out", type=Path, default=Path("runs/fuzz"), help="report folder")
 
 
@@ -36,7 +56,26 @@ def run(args: argparse.Namespace) -> int:
 
     # Gymnasium's env checker warns about float precision and the like on every make.
     warnings.filterwarnings("ignore", module="gymnasium")
-    report = fuzz(args.steps, args.seed, args.num_envs, args.minutes)
+    if args.race_share + args.scene_share >= 1.0:
+        raise UsageError("--race-share and --scene-share must sum to under 1 (the envs' share)")
+    report = fuzz(
+        args.steps,
+        args.seed,
+        args.num_envs,
+        args.minutes,
+        race_share=args.race_share,
+        scene_share=args.scene_share,
+    )
+    from bbgym.cli.bench import machine_info
+
+    # What the site's table cites: the command and the machine that ran it.
+    minutes = "" if math.isinf(args.minutes) else f" --minutes {args.minutes:g}"
+    report["command"] = (
+        f"bbgym fuzz --steps {args.steps} --seed {args.seed} --num-envs {args.num_envs}"
+        f" --race-share {args.race_share:g} --scene-share {args.scene_share:g}{minutes}"
+        f" --out {args.out}"
+    )
+    report["machine"] = machine_info()
     text = format_report(report)
     print(text)
     args.out.mkdir(parents=True, exist_ok=True)

@@ -115,7 +115,15 @@ class DamBreakParams:
                 "box_width_m and box_height_m (the water starts in the box)"
             )
         if self.columns > self.particles or self.particles // self.columns < 1:
-            raise ValueError("DamBreakParams.particles: too few to fill one row of the block")
+            # A combination of three fields: the error names the other two (the block's
+            # shape sets how many particles a row takes).
+            ratio = self.water_width_m / self.water_height_m
+            raise ValueError(
+                f"DamBreakParams.particles: too few to fill one row of the block: "
+                f"{self.particles} particles spaced to fill it make rows of {self.columns} "
+                f"(water_width_m / water_height_m is {ratio:g}); use about that many "
+                f"particles at least, or a taller block"
+            )
         if self.neighbour_search == ALL_PAIRS and self.particles > MOST_ALL_PAIRS:
             raise ValueError(
                 f"DamBreakParams.neighbour_search: all pairs of more than {MOST_ALL_PAIRS} "

@@ -91,7 +91,9 @@ def gerstner_measures(p: GerstnerParams, s: Surface, xp: Any) -> dict[str, Array
     crest's height and where the first crest is."""
     radius = xp.sqrt((s.x_m - s.rest_x_m) ** 2 + s.y_m**2)
     gaps = s.x_m[:, 1:] - s.x_m[:, :-1]
-    count = s.x_m.shape[1] // p.wavelengths  # the first wavelength's points
+    # The points inside the first wavelength: ceil(points / wavelengths), the point at 0
+    # at least (fewer points than wavelengths once left none, and argmax failed).
+    count = -(-s.x_m.shape[1] // p.wavelengths)
     first = xp.argmax(s.y_m[:, :count], axis=1)
     crest_x = xp.take(s.x_m[0, :], first)
     return {

@@ -111,11 +111,26 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     }
 
 
+def _fit(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """A version's pinned targets (Curve's 7-10 m) inside the drawn ring: the target no
+    wider than the nearest target's distance allows, the field wide enough for the
+    farthest; then a ball heavy enough for RK4 steps."""
+    from bbgym.envs.ball import fit_rk4_ball
+
+    near, far = kwargs["target_distance_range"]
+    target_radius = kwargs["target_radius"]
+    target_radius = target_radius if target_radius < near else 0.5 * near
+    field_radius = kwargs["field_radius"]
+    field_radius = field_radius if far < field_radius - target_radius else far + 2 * target_radius
+    kwargs = {**kwargs, "target_radius": target_radius, "field_radius": field_radius}
+    return fit_rk4_ball(kwargs, "flight_integrator")
+
+
 def _sample_options(throw_task: Any, draw: Any) -> dict[str, Any] | None:
     from bbgym.fuzz import draw_flag, draw_vector
 
     options: dict[str, Any] = {}
-    sample_wind_option(options, draw)
+    sample_wind_option(options, draw, throw_task.wind_limit)
     if draw_flag(draw, "options.has_target"):
         options["target"] = draw_vector(draw, "target", throw_task.target_distance)
     if draw_flag(draw, "options.has_screen"):
@@ -172,7 +187,7 @@ SPEC = register_spec(
         policies={"scripted": _scripted, "planner": _planner},
         outcome=_outcome,
         argument_table=ARGUMENT_TABLE,
-        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=12),
+        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=12, fit=_fit),
         keyboard=_keyboard,
         step_unit="throws",
     )

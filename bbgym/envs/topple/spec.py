@@ -90,12 +90,36 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     }
 
 
+def _fit(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """A version's pinned step (Topple-v2's 0.05 s) dividing the drawn interval and gust
+    step (each rounded to a whole number of steps, at least one), the wall's foot clear of
+    the thrower at the pinned distances; then a ball heavy enough for RK4 steps."""
+    from bbgym.envs.ball import fit_rk4_ball
+
+    sim_dt = kwargs["sim_dt"]
+    n_substeps = max(1, round(kwargs["interval"] / sim_dt))
+    gust_every = min(n_substeps, max(1, round(kwargs["gust_dt"] / sim_dt)))
+    wall = dict(kwargs["wall"])
+    # The foot, half of base_depth_m, stands at least 1 m from the thrower.
+    most_depth = 2.0 * (kwargs["wall_distance_range"][0] - 1.0)
+    if wall.get("base_depth_m", WallParams.base_depth_m) > most_depth:
+        wall["base_depth_m"] = most_depth
+        wall["thickness_m"] = min(wall.get("thickness_m", WallParams.thickness_m), most_depth)
+    kwargs = {
+        **kwargs,
+        "interval": n_substeps * sim_dt,
+        "gust_dt": gust_every * sim_dt,
+        "wall": wall,
+    }
+    return fit_rk4_ball(kwargs, "interval_integrator")
+
+
 def _sample_options(topple_task: Any, draw: Any) -> dict[str, Any] | None:
     from bbgym.envs.ball import sample_wind_option
     from bbgym.fuzz import draw_flag
 
     options: dict[str, Any] = {}
-    sample_wind_option(options, draw)
+    sample_wind_option(options, draw, topple_task.wind_limit)
     if draw_flag(draw, "options.has_wall_distance"):
         options["wall_distance"] = draw(
             "options['wall_distance']", topple_task.wall_distance, False
@@ -137,7 +161,7 @@ SPEC = register_spec(
         policies={"scripted": _scripted, "planner": _planner},
         outcome=_outcome,
         argument_table=ARGUMENT_TABLE,
-        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=8),
+        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=8, fit=_fit),
         keyboard=_keyboard,
         step_unit="throws",
     )
