@@ -19,7 +19,7 @@ import pytest
 import bbgym  # noqa: F401  (registers the ids)
 from bbgym.envs.ball import GUST_HEADROOM_STDS, rk4_wind_limit_mps
 from bbgym.physics.ball import BallParams, BallState
-from bbgym.physics.flight_events import RK4_DRAG_LIMIT, rk4_cubics, rk4_stable_air_speed_mps
+from bbgym.physics.flight_events import RK4_AIR_LIMIT, rk4_cubics, rk4_stable_air_speed_mps
 from bbgym.physics.wind import GustParams
 
 RK4_IDS = ["BeachballThrow-v1", "BeachballCurve-v2", "BeachballTopple-v2"]
@@ -33,33 +33,49 @@ def quoted(message: str, name: str) -> float:
     return float(match.group(1))
 
 
-def test_stable_air_speed_is_the_rk4_limit_of_the_drag_rate() -> None:
+def test_stable_air_speed_is_the_rk4_limit_of_drag_and_magnus_rates() -> None:
     ball = BallParams()
     speed = rk4_stable_air_speed_mps(ball, 0.05)
-    # 2 h c(u) at that speed is the limit: c = rho C_d A u / (2 m).
-    rate = 1.2 * ball.drag_coefficient * ball.area_m2 * speed / (2 * ball.mass_kg)
-    assert 2 * 0.05 * rate == pytest.approx(RK4_DRAG_LIMIT, rel=1e-12)
-    assert speed == pytest.approx(177.3, abs=0.1)  # the default ball: never near it
-    assert rk4_stable_air_speed_mps(BallParams(drag_coefficient=0.0), 0.05) == math.inf
+    # 2 h (c + w) at that speed is the limit: rho A (C_d + C_L,max) u / (2 m).
+    coefficients = ball.drag_coefficient + ball.lift_coefficient_max
+    rate = 1.2 * coefficients * ball.area_m2 * speed / (2 * ball.mass_kg)
+    assert 2 * 0.05 * rate == pytest.approx(RK4_AIR_LIMIT, rel=1e-12)
+    assert speed == pytest.approx(101.6, abs=0.1)  # the default ball: never near it
+    vacuum = BallParams(drag_coefficient=0.0, lift_coefficient_max=0.0)
+    assert rk4_stable_air_speed_mps(vacuum, 0.05) == math.inf
     # Half the step, twice the speed; a quarter of the mass, a quarter of it.
     assert rk4_stable_air_speed_mps(ball, 0.025) == pytest.approx(2 * speed, rel=1e-12)
     light = BallParams(shell_areal_density_kgm2=0.125)
     assert rk4_stable_air_speed_mps(light, 0.05) == pytest.approx(speed / 4, rel=1e-12)
 
 
-def test_one_rk4_step_past_the_limit_overshoots_and_within_it_does_not() -> None:
-    """The reason for the limit, on the step itself: a ball moving through still air
-    (no gravity's help: horizontal) at the stable speed keeps moving forward slower; at
-    twice that speed the step reverses and speeds it up."""
-    ball = BallParams(shell_areal_density_kgm2=0.02)
+def _one_step_speed(ball: BallParams, speed: float, spin: float = 0.0) -> float:
+    """A ball moving horizontally at ``speed`` through still air, spinning about the
+    vertical at ``spin``: its speed after one RK4 step of 0.05 s, gravity's part aside."""
+    s = BallState(*([0.0] * 13))._replace(z=10.0, vx=speed, wz=spin, qw=1.0)
+    cubics = rk4_cubics(ball, s, 0.0, 0.0, 0.05, np)
+    vx, vy = sum(cubics[3]), sum(cubics[4])  # the cubics at theta = 1: the RK4 step
+    return math.hypot(vx, vy)
+
+
+def test_one_rk4_step_past_the_limit_overshoots_the_drag() -> None:
+    """The reason for the limit: within it the drag slows the ball, forward; at twice the
+    speed the step reverses it and speeds it up (no lift here: drag alone)."""
+    ball = BallParams(shell_areal_density_kgm2=0.02, lift_coefficient_max=0.0)
     stable = rk4_stable_air_speed_mps(ball, 0.05)
-    for speed, grows in ((stable, False), (2.0 * stable, True)):
-        s = BallState(*([0.0] * 13))._replace(z=10.0, vx=speed, qw=1.0)
-        vx = rk4_cubics(ball, s, 0.0, 0.0, 0.05, np)[3]
-        after = sum(vx)  # the cubic at theta = 1: the RK4 step
-        assert (abs(after) > speed) == grows, (speed, after)
-        if not grows:
-            assert 0.0 < after < speed
+    assert 0.0 < _one_step_speed(ball, stable) < stable
+    assert _one_step_speed(ball, 2.0 * stable) > 2.0 * stable
+
+
+def test_one_rk4_step_past_the_limit_overshoots_the_magnus_turn() -> None:
+    """No drag, a saturated Magnus force (fast spin): within the limit the step turns the
+    ball without speeding it up; at three times the speed it turns too far and speeds up
+    (the 20 m/s winds that ran Topple-v1's and v2's light, high-lift balls to NaN)."""
+    ball = BallParams(shell_areal_density_kgm2=0.02, drag_coefficient=0.0)
+    stable = rk4_stable_air_speed_mps(ball, 0.05)
+    spin = 500.0  # rad/s: r w / v of 2 to 6, where C_L has saturated
+    assert _one_step_speed(ball, stable, spin) <= stable * (1 + 1e-9)
+    assert _one_step_speed(ball, 3.0 * stable, spin) > 3.0 * stable * 1.5
 
 
 @pytest.mark.parametrize("env_id", RK4_IDS)
@@ -111,20 +127,24 @@ def test_at_the_quoted_bound_the_worst_throw_runs_finite_and_slows(env_id: str, 
 
 @pytest.mark.parametrize("env_id", RK4_IDS)
 def test_the_defaults_and_a_100_g_ball_are_accepted(env_id: str) -> None:
-    for ball in (None, {"shell_areal_density_kgm2": 0.1 / (4 * math.pi * 0.2**2)}):
-        env = gym.make(env_id, **({} if ball is None else {"ball": ball}))
-        env.reset(seed=0, options={"wind": (-20.0, 0.0)})  # the strongest wind anyone takes
-        env.close()
+    env = gym.make(env_id)
+    env.reset(seed=0, options={"wind": (-20.0, 0.0)})  # the strongest wind anyone takes
+    env.close()
+    gym.make(env_id, ball={"shell_areal_density_kgm2": 0.1 / (4 * math.pi * 0.2**2)}).close()
 
 
 def test_a_reset_wind_beyond_the_steps_limit_is_refused_naming_the_option() -> None:
-    ball = {"shell_areal_density_kgm2": 0.1}
+    ball = {"shell_areal_density_kgm2": 0.2}
     env = gym.make("BeachballTopple-v2", ball=ball)
     limit = env.unwrapped.task.wind_limit
     gusts = GustParams(speed_std=0.25)
-    assert limit == pytest.approx(rk4_wind_limit_mps(BallParams(**ball), 0.05, 18.0, gusts))
-    stable = rk4_stable_air_speed_mps(BallParams(**ball), 0.05)
-    assert limit == pytest.approx((stable - 18.0) / (1 + GUST_HEADROOM_STDS * 0.25))
+    params = BallParams(**ball)
+    assert limit == pytest.approx(rk4_wind_limit_mps(params, 0.05, 18.0, 60.0, 1.5, gusts))
+    stable = rk4_stable_air_speed_mps(params, 0.05)
+    fall = math.sqrt(2 * 9.81 * 1.5)  # from the launch height
+    rolled = 0.4 * 0.2 * 60.0  # a shell's spin, rolling: k / (1 + k) r w with k = 2/3
+    fastest = 18.0 + fall + rolled
+    assert limit == pytest.approx((stable - fastest) / (1 + GUST_HEADROOM_STDS * 0.25))
     assert 3.0 < limit < 20.0
     env.reset(seed=0, options={"wind": (-limit * 0.999, 0.0)})
     with pytest.raises(ValueError, match=r"options\['wind'\]"):
@@ -132,12 +152,34 @@ def test_a_reset_wind_beyond_the_steps_limit_is_refused_naming_the_option() -> N
     env.close()
 
 
-def test_a_ball_whose_terminal_speed_is_past_the_limit_takes_no_wind() -> None:
-    """Dropped from rest, it would reach its unstable speed by itself: no wind is safe.
-    (No accepted ball does at the envs' steps: at 0.05 s it needs ``m / (rho C_d A)``
-    under 0.031 m, a shell under 0.019 kg/m^2 at ``C_d = 2``; a 0.5 s step shows it.)"""
-    ball = BallParams(shell_areal_density_kgm2=0.02, drag_coefficient=2.0)
-    assert rk4_stable_air_speed_mps(ball, 0.05) > ball.terminal_speed_mps()
-    assert rk4_wind_limit_mps(ball, 0.05, 1.0, GustParams()) > 0.0
-    assert rk4_stable_air_speed_mps(ball, 0.5) < ball.terminal_speed_mps()
-    assert rk4_wind_limit_mps(ball, 0.5, 1.0, GustParams()) == -math.inf
+def test_a_large_fast_spinning_ball_is_refused() -> None:
+    """The configuration the long fuzz run found on Topple-v2: a 2.6 m shell spun at
+    500 rad/s, heavy enough for its throw, rolled off at up to 260 m/s when friction
+    caught its spin at the touchdown, and its next RK4 step ran to NaN."""
+    ball = {"radius_m": 1.3, "shell_areal_density_kgm2": 0.28, "lift_coefficient_max": 0.45}
+    with pytest.raises(ValueError, match=r"max_spin=500 .*Magnus"):
+        gym.make("BeachballTopple-v2", ball=ball, max_spin=500.0, launch_height=2.6)
+    gym.make("BeachballTopple-v2", ball=ball, max_spin=20.0, launch_height=2.6).close()
+
+
+def test_a_light_high_lift_ball_in_a_gale_is_refused() -> None:
+    """The configuration the long fuzz run found on Topple-v1 with ``rk4_events``: no drag,
+    but a 3.3 m shell of 0.02 kg/m^2 with C_L up to 0.94 in a 20 m/s wind; its Magnus turn
+    ran the flight to NaN."""
+    ball = {
+        "radius_m": 1.66,
+        "shell_areal_density_kgm2": 0.02,
+        "drag_coefficient": 0.0,
+        "lift_coefficient_max": 0.94,
+    }
+    with pytest.raises(ValueError, match=r"ball\.shell_areal_density_kgm2=0\.02 .*Magnus"):
+        gym.make(
+            "BeachballTopple-v1",
+            ball=ball,
+            wind_speed_range=(13.6, 20.0),
+            sim_dt=0.04,
+            interval=2.96,
+            gust_dt=2.8,
+            interval_integrator="rk4_events",
+            launch_height=4.47,
+        )

@@ -42,10 +42,10 @@ from bbgym.physics.ball import (
     BallParams,
     BallState,
     air_force,
-    drag_rate_per_s,
     panel_bounce,
     spin_decay,
 )
+from bbgym.physics.common import AIR_DENSITY_KGM3, quadratic_drag_rate
 from bbgym.physics.flight import (
     Flight,
     Screen,
@@ -75,30 +75,36 @@ ROLL_DISPLAY_DT_S = 0.01
 """Substep of the bounces and the roll after the touchdown, flown for display only."""
 
 
-RK4_DRAG_LIMIT = 2.5
-"""The largest ``2 h c`` (step times the drag's damping rate along the air-relative
-velocity) at which a ball's RK4 step is taken. Quadratic drag ``-c(|u|) u`` damps a
-perturbation along ``u`` at ``2 c`` (and across it at ``c``), and RK4's stability interval
-on the negative real axis ends at ``-2.785``: past it each step multiplies the error, the
-drag grows with the speed it overshoots to and the flight runs to inf, then NaN (a
-0.02 kg/m^2 shell thrown at 18 m/s, ``2 h c`` about 6 at ``h = 0.05``). 2.5 keeps a margin
-for the Magnus force's turn. Near the limit the step is stable but coarse: RK4 damps by
-0.65 a step where the drag alone would damp by 0.08, so such a flight is stable, not
-accurate; accurate to about 1% needs ``2 h c`` below about 1."""
+RK4_AIR_LIMIT = 2.5
+"""The largest ``2 h (c + w)`` at which a ball's RK4 step is taken: ``h`` the step, ``c``
+the drag's damping rate and ``w`` the Magnus force's largest turning rate, both at the
+air-relative speed ``u`` (``rho A C |u| / (2 m)`` with ``C_d`` and ``C_L``'s saturation,
+seed §8). Quadratic drag ``-c(|u|) u`` damps a perturbation along ``u`` at ``2 c``; the
+Magnus force ``c_L |u| u`` turned a right angle rotates ``u`` at ``w`` and, growing with
+``|u|``, couples at up to ``2 w``. RK4 is stable on the negative real axis to ``-2.785``,
+on the imaginary axis to ``2.83``, and on the left half-disk of radius 2.5 between them:
+past it each step multiplies the error, the forces grow with the speed they overshoot to,
+and the flight runs to inf, then NaN (a 0.02 kg/m^2 shell thrown at 18 m/s, ``2 h c``
+about 6 at ``h = 0.05``; a 3 m shell with ``C_L`` 0.94 in a 20 m/s wind, ``2 h w`` about
+11). Near the limit the step is stable but coarse: RK4 damps by 0.65 a step where the
+drag alone would damp by 0.08, so such a flight is stable, not accurate; accurate to
+about 1% needs ``2 h (c + w)`` below about 1."""
 
 
 def rk4_stable_air_speed_mps(p: BallParams, dt_s: float) -> float:
     """The fastest air-relative speed ``u`` at which one RK4 step of ``dt_s`` is stable
-    against the ball's drag: ``2 dt c(u) = RK4_DRAG_LIMIT`` with the damping rate
-    ``c(u) = rho C_d A u / (2 m)`` of :func:`~bbgym.physics.ball.drag_rate_per_s` (seed
-    §8); ``inf`` without drag. A ball never flies faster through the air than the larger of
-    its launch's air speed and its terminal speed (drag exceeds gravity above terminal
-    speed; the Magnus force turns the velocity without speeding it up), so a throw's
-    launch bounds the whole flight, bounces included."""
-    rate_per_speed = float(drag_rate_per_s(p, 1.0))
+    against the ball's drag and Magnus force: ``2 dt (c(u) + w(u)) = RK4_AIR_LIMIT``
+    with ``c(u) + w(u) = rho A (C_d + C_L,max) u / (2 m)``
+    (:func:`~bbgym.physics.common.quadratic_drag_rate` of the summed coefficient; seed §8);
+    ``inf`` with neither. A ball never flies faster through the air than the larger of its
+    launch's air speed and its terminal speed (drag exceeds gravity above terminal speed;
+    the Magnus force turns the velocity without speeding it up), so a throw's launch
+    bounds the whole flight, bounces included."""
+    area_m2 = (p.drag_coefficient + p.lift_coefficient_max) * p.area_m2
+    rate_per_speed = float(quadratic_drag_rate(area_m2, AIR_DENSITY_KGM3, 1.0)) / p.mass_kg
     if rate_per_speed == 0.0:
         return math.inf
-    return RK4_DRAG_LIMIT / (2.0 * dt_s * rate_per_speed)
+    return RK4_AIR_LIMIT / (2.0 * dt_s * rate_per_speed)
 
 
 def flight_steps(dt_s: float, max_time_s: float) -> int:
