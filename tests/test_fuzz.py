@@ -20,7 +20,6 @@ from hypothesis import strategies as st
 from bbgym.fuzz import (
     BAD_ACTIONS,
     BAD_NUMBERS,
-    _Stepper,
     check_episode,
     check_rejections,
     log_floor,
@@ -29,6 +28,7 @@ from bbgym.fuzz import (
     sample_kwargs,
     sample_options,
 )
+from bbgym.fuzz.envs import _Stepper
 from bbgym.physics.ball import BallParams
 from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.validation import Interval

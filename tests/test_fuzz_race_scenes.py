@@ -26,7 +26,6 @@ from bbgym.fuzz import (
     BAD_NUMBERS,
     RACE_FORMS,
     SCENE_MOST_BODIES,
-    _refusal_names_another_field,
     check_race_episode,
     check_race_rejections,
     check_scene,
@@ -38,6 +37,7 @@ from bbgym.fuzz import (
     sample_scene_params,
     scene_count_caps,
 )
+from bbgym.fuzz.scenes import _refusal_names_another_field
 from bbgym.physics.validation import Interval
 from bbgym.scenes import SCENES, get_scene, simulate
 from bbgym.scenes.scene import to_numpy

@@ -80,7 +80,7 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     """Every argument over its accepted interval, the step sizes and mark distances over
     their cheap ends (:data:`bbgym.fuzz.COST_CAPS`)."""
     from bbgym.envs.sail import task
-    from bbgym.fuzz import COST_CAPS, draw_flag, draw_int, draw_pair, sample_params
+    from bbgym.fuzz.draws import COST_CAPS, draw_flag, draw_int, draw_pair, sample_params
     from bbgym.physics.dinghy import RIGS, SAIL_MODELS
     from bbgym.physics.validation import interval
     from bbgym.physics.water import WaterParams, max_wave_amplitude
@@ -116,7 +116,7 @@ def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
 
 def _sample_options(sail_task: Any, draw: Any) -> dict[str, Any] | None:
     from bbgym.envs.sail import task
-    from bbgym.fuzz import COST_CAPS, draw_flag, draw_vector
+    from bbgym.fuzz.draws import COST_CAPS, draw_flag, draw_vector
     from bbgym.physics.validation import interval
 
     options: dict[str, Any] = {}

@@ -72,7 +72,7 @@ def _keyboard(env: Any, seed: int | None) -> Any:
 
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     from bbgym.envs.throw import task
-    from bbgym.fuzz import COST_CAPS, draw_flag, draw_int, draw_pair
+    from bbgym.fuzz.draws import COST_CAPS, draw_flag, draw_int, draw_pair
     from bbgym.physics.validation import interval
 
     common = sample_ball_kwargs(draw)
@@ -127,7 +127,7 @@ def _fit(kwargs: dict[str, Any]) -> dict[str, Any]:
 
 
 def _sample_options(throw_task: Any, draw: Any) -> dict[str, Any] | None:
-    from bbgym.fuzz import draw_flag, draw_vector
+    from bbgym.fuzz.draws import draw_flag, draw_vector
 
     options: dict[str, Any] = {}
     sample_wind_option(options, draw, throw_task.wind_limit)

@@ -52,7 +52,7 @@ def _keyboard(env: Any, seed: int | None) -> Any:
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
     from bbgym.envs.ball import REWARD_WEIGHT, sample_ball_kwargs
     from bbgym.envs.topple import task
-    from bbgym.fuzz import COST_CAPS, draw_int, draw_pair, sample_params
+    from bbgym.fuzz.draws import COST_CAPS, draw_int, draw_pair, sample_params
     from bbgym.physics.validation import interval
 
     common = sample_ball_kwargs(draw)
@@ -116,7 +116,7 @@ def _fit(kwargs: dict[str, Any]) -> dict[str, Any]:
 
 def _sample_options(topple_task: Any, draw: Any) -> dict[str, Any] | None:
     from bbgym.envs.ball import sample_wind_option
-    from bbgym.fuzz import draw_flag
+    from bbgym.fuzz.draws import draw_flag
 
     options: dict[str, Any] = {}
     sample_wind_option(options, draw, topple_task.wind_limit)
