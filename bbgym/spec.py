@@ -14,7 +14,10 @@ like are callables that import what they need when called.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+import difflib
+import importlib
+import inspect
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -210,21 +213,137 @@ def merge_kwargs(
     return merged
 
 
+NEAR_MATCH = 0.7
+"""How alike (:class:`difflib.SequenceMatcher` ratio) a name a user typed must be to a known
+one for an error to ask "did you mean"."""
+
+
+def nearest(name: str, known: Iterable[str]) -> str | None:
+    """The known name closest to ``name``, if one is near enough to be what the user meant.
+
+    Args:
+        name: The name as the user typed it.
+        known: The names that exist.
+
+    Returns:
+        The nearest of ``known`` (at least :data:`NEAR_MATCH` alike), or ``None``.
+    """
+    close = difflib.get_close_matches(name, list(known), n=1, cutoff=NEAR_MATCH)
+    return close[0] if close else None
+
+
+class UnknownArgumentError(TypeError):
+    """An env id made with a keyword argument that none of its constructors take.
+
+    It is raised while ``gym.make`` / ``gym.make_vec`` merge the user's kwargs into the
+    version's (:meth:`VersionKwargs.update`), before the env creator runs: there the error can
+    name the id and the argument as the user passed it, and the registered (preset) kwargs
+    the user never passed stay out of it. Gymnasium re-raises a ``TypeError`` from the env
+    creator as ``type(e)(f"{e} was raised from the environment creator for {id} with kwargs
+    ({every kwarg})")``; should this error ever come from there, the constructor keeps only
+    the part before that suffix, so the message stays the one written here."""
+
+    _GYMNASIUM_SUFFIX = " was raised from the environment creator"
+
+    def __init__(self, message: str = "", *args: Any) -> None:
+        if isinstance(message, str):
+            message = message.split(self._GYMNASIUM_SUFFIX, 1)[0]
+        super().__init__(message, *args)
+
+
+def _parameters(creator: Any) -> tuple[list[str], bool]:
+    """``(names, open)``: the keyword arguments ``creator`` takes by name, and whether it
+    takes ``**kwargs`` as well."""
+    names, open_ = [], False
+    for parameter in inspect.signature(creator).parameters.values():
+        if parameter.kind is parameter.VAR_KEYWORD:
+            open_ = True
+        elif parameter.kind in (parameter.POSITIONAL_OR_KEYWORD, parameter.KEYWORD_ONLY):
+            names.append(parameter.name)
+    return names, open_
+
+
+def accepted_arguments(spec: EnvSpec) -> tuple[list[str], list[str]] | None:
+    """The keyword arguments a family's envs take, from their constructors' signatures.
+
+    Args:
+        spec: The family.
+
+    Returns:
+        ``(arguments, vector_only)``: what ``gym.make`` takes (the task's arguments and
+        ``render_mode``), and what only the native vector env takes on top (``backend``,
+        ...); ``None`` where a constructor takes any keyword (nothing to check against).
+    """
+    module = importlib.import_module(spec.module)
+    lists = []
+    for class_name in (spec.env_class, spec.vector_env_class):
+        cls = getattr(module, class_name)
+        names, open_ = _parameters(cls)
+        if open_:
+            task_class = getattr(cls, "task_class", None)
+            if task_class is None:
+                return None
+            task_names, task_open = _parameters(task_class)
+            if task_open:
+                return None
+            names = [n for n in names if n not in task_names] + task_names
+        lists.append([n for n in names if n != "num_envs"])
+    single, vector = lists
+    return single, [n for n in vector if n not in single]
+
+
+def check_arguments(spec: EnvSpec, env_id: str, given: Iterable[Any]) -> None:
+    """Raise :class:`UnknownArgumentError` for a keyword argument no env of ``env_id`` takes.
+
+    Its message names the id, the argument as passed and the nearest accepted one ("did you
+    mean"); only where none is near, it lists the accepted ones.
+
+    Args:
+        spec: ``env_id``'s family.
+        env_id: The id the user made.
+        given: The names of the user's keyword arguments.
+
+    Raises:
+        UnknownArgumentError: For the first unknown name.
+    """
+    accepted = accepted_arguments(spec)
+    if accepted is None:
+        return
+    single, vector_only = accepted
+    for name in given:
+        if name in single or name in vector_only:
+            continue
+        text = name if isinstance(name, str) else str(name)
+        message = f"{env_id} got an unknown argument {name!r}"
+        near = nearest(text, single + vector_only)
+        if near is not None:
+            raise UnknownArgumentError(f"{message}; did you mean {near!r}?")
+        raise UnknownArgumentError(
+            f"{message}; its arguments: {', '.join(single)}"
+            f" (and for its native vector env: {', '.join(vector_only)})"
+        )
+
+
 class VersionKwargs(dict):
     """The kwargs a version is registered with (``gym.spec(env_id).kwargs``).
 
     ``gym.make`` and ``gym.make_vec`` copy them and ``update`` the copy with the user's
     kwargs: a plain dict's update would replace a parameter group whole, so that
     ``dinghy={"mass_kg": 150}`` dropped Sail-v2's sloop for the default cat rig.
-    This update is :func:`merge_kwargs`. (A copy that ``dataclasses.asdict`` makes has no
-    ``family`` and updates as a dict: it is only ever turned into JSON.)"""
+    This update is :func:`merge_kwargs`. It first checks the user's kwargs
+    (:func:`check_arguments`): an unknown one raises :class:`UnknownArgumentError` naming
+    the id, rather than the task class's ``TypeError`` with the version's preset kwargs
+    appended by ``gym.make``. (A copy that ``dataclasses.asdict`` makes has no ``family``
+    and updates as a dict: it is only ever turned into JSON.)"""
 
     family: str | None = None
+    env_id: str | None = None
 
     @classmethod
-    def of(cls, family: str, kwargs: Mapping[str, Any]) -> VersionKwargs:
+    def of(cls, family: str, kwargs: Mapping[str, Any], env_id: str | None = None) -> VersionKwargs:
         registered = cls(kwargs)
         registered.family = family
+        registered.env_id = env_id
         return registered
 
     def update(self, other: Any = (), /, **kwargs: Any) -> None:
@@ -233,6 +352,8 @@ class VersionKwargs(dict):
         if spec is None:
             super().update(given)
             return
+        if self.env_id is not None:
+            check_arguments(spec, self.env_id, given)
         merged = merge_kwargs(spec, self, given)
         self.clear()
         super().update(merged)
@@ -258,7 +379,7 @@ def register_spec(spec: EnvSpec) -> EnvSpec:
             entry_point=f"{spec.module}:{spec.env_class}",
             vector_entry_point=f"{spec.module}:{spec.vector_env_class}",
             max_episode_steps=spec.max_episode_steps,
-            kwargs=VersionKwargs.of(spec.family, version.kwargs),
+            kwargs=VersionKwargs.of(spec.family, version.kwargs, version.env_id),
         )
     return spec
 
@@ -292,6 +413,19 @@ def env_ids() -> list[str]:
 def base_ids() -> list[str]:
     """The ids of the base tasks (:attr:`Version.base`): what fuzzing and bench cover."""
     return [v.env_id for s in _SPECS.values() for v in s.versions if v.base]
+
+
+def newest_ids() -> list[str]:
+    """The newest version of every task (the highest ``-vN`` of each name), in registration
+    order: what ``bbgym bench`` times by default, so that it makes no env
+    Gymnasium calls out of date."""
+    newest: dict[str, tuple[int, str]] = {}
+    for spec in _SPECS.values():
+        for version in spec.versions:
+            name, _, number = version.env_id.rpartition("-v")
+            if name not in newest or int(number) > newest[name][0]:
+                newest[name] = (int(number), version.env_id)
+    return [env_id for _, env_id in newest.values()]
 
 
 def env_id_of(env: Any) -> str:

@@ -63,6 +63,7 @@ def test_bad_arguments_say_what_is_wrong(capsys, argv, message):
         ["play", "--env", "CartPole-v1"],
         ["demo", "--env", "CartPole-v1"],
         ["bench", "--envs", "BeachballSail-v0", "CartPole-v1"],
+        ["bench", "--env", "CartPole-v1"],
     ],
 )
 def test_a_registered_env_that_is_not_bbgyms_is_refused_by_every_command(capsys, argv):
@@ -73,7 +74,7 @@ def test_a_registered_env_that_is_not_bbgyms_is_refused_by_every_command(capsys,
         cli.main(argv)
     assert exit_info.value.code == 2
     err = capsys.readouterr().err
-    option = "--envs" if argv[0] == "bench" else "--env"
+    option = argv[1]  # as typed: bench takes --envs and --env alike
     assert f"argument {option}: 'CartPole-v1' is a registered Gymnasium env but not" in err
     assert "BeachballSail-v1" in err
 

@@ -183,8 +183,106 @@ def check_device(device: str, argument: str) -> None:
                          f"{argument} it runs on the CPU")  # fmt: skip
 
 
+class StoreAsPassed(argparse.Action):
+    """argparse's ``store``, for an option with aliases (``--policies``, ``--policy``): it
+    also keeps the spelling the user typed, so that an error can name the option as
+    passed (:func:`as_passed`)."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        setattr(namespace, self.dest, values)
+        setattr(namespace, f"_{self.dest}_as_passed", option_string)
+
+
+def add_aliased(
+    parser: argparse.ArgumentParser,
+    name: str,
+    *aliases: str,
+    required: bool = False,
+    **kwargs: Any,
+) -> argparse.Action:
+    """Add option ``name`` that ``aliases`` spell too (the parsers take no abbreviations,
+    so each spelling is explicit).
+
+    Each alias is an option of its own, hidden from the usage, that stores to the same
+    place: argparse's errors then name the spelling the user typed ("argument --policy:
+    invalid choice"), not both. The spellings are a mutually exclusive group (required
+    where ``required``): one value, given once.
+
+    Args:
+        parser: The command's parser.
+        name: The canonical spelling (``"--policies"``): the usage and help show it, and
+            ``args`` holds the value under its name.
+        *aliases: The other spellings (``"--policy"``), named in the help.
+        required: Whether one of the spellings must be given.
+        **kwargs: ``add_argument``'s other keyword arguments (not ``action`` nor ``dest``).
+
+    Returns:
+        The canonical spelling's argparse action.
+    """
+    target = parser.add_mutually_exclusive_group(required=required)
+    if aliases and kwargs.get("help"):
+        kwargs["help"] += f" (also {', '.join(aliases)})"
+    action = target.add_argument(name, action=StoreAsPassed, **kwargs)
+    hidden = {k: v for k, v in kwargs.items() if k not in ("help", "default", "metavar")}
+    for alias in aliases:
+        target.add_argument(
+            alias,
+            dest=action.dest,
+            action=StoreAsPassed,
+            default=argparse.SUPPRESS,
+            help=argparse.SUPPRESS,
+            **hidden,
+        )
+    return action
+
+
+def as_passed(args: argparse.Namespace, dest: str, canonical: str) -> str:
+    """The spelling of an option of :func:`add_aliased` the user typed.
+
+    Args:
+        args: The parsed arguments.
+        dest: The option's attribute in ``args`` (``"policies"``).
+        canonical: What to name it when the user did not pass it (its default applies).
+
+    Returns:
+        The option string as typed (``"--policy"``), else ``canonical``.
+    """
+    return getattr(args, f"_{dest}_as_passed", None) or canonical
+
+
+def unrecognized_message(parser: argparse.ArgumentParser, extras: Sequence[str]) -> str:
+    """argparse's "unrecognized arguments" message, with the nearest option of ``parser``
+    after each unknown option that is near one ("did you mean --list?").
+
+    Args:
+        parser: The (sub)command's parser the arguments were given to.
+        extras: The arguments it did not recognise, as the user typed them.
+
+    Returns:
+        The message for ``parser.error``.
+    """
+    from bbgym.spec import nearest
+
+    options = [s for action in parser._actions for s in action.option_strings]
+    words = []
+    for text in extras:
+        near = nearest(text.split("=", 1)[0], options) if text.startswith("-") else None
+        words.append(text if near is None else f"{text} (did you mean {near}?)")
+    return f"unrecognized arguments: {' '.join(words)}"
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``bbgym`` parser with every subcommand."""
+    """The ``bbgym`` parser with every subcommand.
+
+    No parser takes abbreviations (``allow_abbrev=False``): ``--polic`` is an error, not
+    ``--policies``; an option that has two names (``--policies``, ``--policy``) declares
+    both (:func:`add_aliased`)."""
     from bbgym import __version__
 
     parser = argparse.ArgumentParser(
@@ -192,6 +290,7 @@ def build_parser() -> argparse.ArgumentParser:
         description=plain_text(__doc__.split("\n\n")[0].replace("\n", " ")),
         epilog=f"ENV_ID: one of {', '.join(bbgym_env_ids())}. Run 'bbgym <command> --help' "
         "for a command's options.",
+        allow_abbrev=False,
     )
     parser.add_argument("--version", action="version", version=f"bbgym {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -202,6 +301,7 @@ def build_parser() -> argparse.ArgumentParser:
             help=summary,
             description=plain_text(module.__doc__ or ""),
             formatter_class=HelpFormatter,
+            allow_abbrev=False,
         )
         module.add_arguments(sub)
         needs = getattr(module, "needs", None)
@@ -212,7 +312,15 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``bbgym`` with ``argv`` (default ``sys.argv[1:]``); return the exit status."""
     parser = build_parser()
-    args = parser.parse_args(list(sys.argv[1:] if argv is None else argv))
+    argv = list(sys.argv[1:] if argv is None else argv)
+    # A subcommand's parser hands what it does not recognise up to the top-level parser,
+    # whose own error would print ``bbgym``'s usage: the subcommand's parser reports it,
+    # with its usage, and the nearest option where one is near.
+    args, extras = parser.parse_known_args(argv)
+    if extras:
+        before_command = argv[: argv.index(args.command)]
+        target = parser if any(text in extras for text in before_command) else args._parser
+        target.error(unrecognized_message(target, extras))  # exits with status 2
     try:
         # Every extra the command will need is checked before it starts any work: a
         # baseline does not train for an hour and then fail for want of pygame.

@@ -75,9 +75,9 @@ import numpy as np
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym._extras import extra_needs
 from bbgym.backends import STEP_GRAPHS
-from bbgym.cli import check_device, positive_float, positive_int, require_all
+from bbgym.cli import add_aliased, check_device, positive_float, positive_int, require_all
 from bbgym.cli import env_id as env_id_type
-from bbgym.spec import base_ids, spec_of
+from bbgym.spec import newest_ids, spec_of
 
 REFERENCE = "CartPole-v1"
 
@@ -637,9 +637,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--backends", action="store_true", help="add the torch backend rows")
     parser.add_argument("--torch-threads", type=positive_int, default=2,
                         help="torch's thread count")  # fmt: skip
-    parser.add_argument("--envs", nargs="+", type=env_id_type, default=base_ids(),
-                        help="the envs to time (default: every family's base tasks, "
-                             f"{' '.join(base_ids())})")  # fmt: skip
+    add_aliased(
+        parser,
+        "--envs",
+        "--env",
+        nargs="+",
+        type=env_id_type,
+        default=newest_ids(),
+        help=f"the envs to time (default: the newest version of each, {' '.join(newest_ids())})",
+    )
     parser.add_argument("--no-compile", dest="compile", action="store_false",
                         help="torch rows eager (no torch.compile)")  # fmt: skip
     parser.add_argument("--step-graph", nargs="+", choices=STEP_GRAPHS, default=None,

@@ -25,7 +25,7 @@ from bbgym.scenes.springs import SCENES as SPRINGS
 from bbgym.scenes.waves import SCENES as WAVES
 from bbgym.scenes.wind import SCENES as WIND
 
-__all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate"]
+__all__ = ["SCENES", "Scene", "Trajectory", "get_scene", "simulate", "unknown_scene"]
 
 SCENES: dict[str, Scene] = {
     scene.name: scene
@@ -49,8 +49,27 @@ SCENES: dict[str, Scene] = {
 
 
 def get_scene(name: str) -> Scene:
-    """The scene called ``name``, or a ``KeyError`` listing the names."""
+    """The scene called ``name``, or a ``KeyError`` saying :func:`unknown_scene`."""
     try:
         return SCENES[name]
     except KeyError:
-        raise KeyError(f"unknown scene {name!r}; the scenes: {', '.join(SCENES)}") from None
+        raise KeyError(unknown_scene(name)) from None
+
+
+def unknown_scene(name: str) -> str:
+    """What to say of a scene name that is not one: the nearest name, where one is near
+    (``"unknown scene 'magnos': did you mean 'magnus'?"``), then the names.
+
+    Args:
+        name: The name as the user gave it.
+
+    Returns:
+        The message.
+    """
+    from bbgym.spec import nearest
+
+    names = ", ".join(SCENES)
+    near = nearest(name, SCENES)
+    if near is None:
+        return f"unknown scene {name!r}; the scenes: {names}"
+    return f"unknown scene {name!r}: did you mean {near!r}? The scenes: {names}"
