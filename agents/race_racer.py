@@ -61,9 +61,25 @@ class RaceRacer:
     def for_env(cls, env: Any, tack_cone_deg: float | None = None, **kwargs: Any) -> RaceRacer:
         """A racer for the boats of a :class:`~bbgym.envs.race.env.BeachballRaceEnv` (or of
         a fleet, whose rows are its boats in order); ``tack_cone_deg`` is its autopilot's
-        (:class:`~bbgym.agents.VMGAutopilot`: play the shifts on a beat)."""
+        (:class:`~bbgym.agents.VMGAutopilot`: play the shifts on a beat).
+
+        The first racer of a boat in a process computes its autopilot's polar (about 16 s on
+        the 2-core machine); a wait over 2 s is said on stderr
+        (:func:`bbgym.backends.announced`, silenced by ``BBGYM_QUIET=1``).
+
+        Args:
+            env: the race env or fleet.
+            tack_cone_deg: the autopilot's tack cone, or None (tack at the layline).
+            **kwargs: the racer's other arguments (:class:`RaceRacer`).
+
+        Returns:
+            The racer, its :attr:`boats` the env's possible agents.
+        """
+        from bbgym.backends import announced
+
         task = env.unwrapped.task if hasattr(env, "unwrapped") else env.task
-        pilot = VMGAutopilot(task.sail.params, tack_cone_deg=tack_cone_deg)
+        with announced("RaceRacer: computing the boats' polar for their autopilot"):
+            pilot = VMGAutopilot(task.sail.params, tack_cone_deg=tack_cone_deg)
         kwargs.setdefault("penalty_turns", task.penalty == "turn")
         racer = cls(pilot, task.race_column, task.neighbours, task.countdown_s, **kwargs)
         racer.boats = list(getattr(env, "possible_agents", []))

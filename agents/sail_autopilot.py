@@ -244,8 +244,26 @@ class VMGAutopilot:
 
     @classmethod
     def for_env(cls, env: Any, **kwargs: Any) -> VMGAutopilot:
-        """An autopilot for ``env``'s boat (a single or vector BeachballSail env)."""
-        return cls(env.unwrapped.task.params, **kwargs)
+        """An autopilot for ``env``'s boat (a single or vector BeachballSail env).
+
+        The first autopilot of a boat in a process computes its polar (a minute of sailing
+        at each heading, sheet and wind speed: about 6 s for BeachballSail-v2 on an idle
+        2-core machine, longer on a busy one); a wait over 2 s is said on stderr
+        (:func:`bbgym.backends.announced`, silenced by ``BBGYM_QUIET=1``).
+
+        Args:
+            env: the env (its ``unwrapped.task.params`` is the boat).
+            **kwargs: the autopilot's other arguments (:class:`VMGAutopilot`).
+
+        Returns:
+            The autopilot.
+        """
+        from bbgym.backends import announced
+
+        spec = getattr(env, "spec", None)
+        name = getattr(spec, "id", None) or type(env.unwrapped).__name__
+        with announced(f"VMGAutopilot: computing the boat's polar for {name}"):
+            return cls(env.unwrapped.task.params, **kwargs)
 
     def reset(self, index: int | np.ndarray | None = None) -> None:
         """Forget the tack/gybe of every env, or only of ``index``."""

@@ -16,8 +16,11 @@ from __future__ import annotations
 
 import logging
 import math
+import os
+import sys
+import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from types import SimpleNamespace
@@ -176,6 +179,25 @@ compile of the ball envs' steps (22 or less: 34-44 s instead of 68-81 s on the 2
 machine) but slows their steps by 17-61%, so it is a trade for each user, not a default
 (docs/pages/speed.md, "Compile time"; ``python scripts/bench_inductor.py``)."""
 
+CACHE_OPTIONS: dict[str, Any] = {
+    "cpp.dynamic_threads": True,
+    "unsafe_marked_cacheable_functions": {"torch.ops.higher_order.while_loop": "bbgym"},
+}
+"""Inductor's settings that let its on-disk cache (FX graph and AOTAutograd caches, under
+:func:`compile_cache_dir`) serve bbgym's compiled steps across processes, in force while
+a compiled function's first call compiles it (as a config patch, not ``torch.compile``'s
+``options``, which a backend other than inductor would be handed; a later recompile, rare
+at a fixed batch size, uses inductor's defaults). ``cpp.dynamic_threads``: the C++ kernels
+ask OpenMP for the thread count at run time instead of holding ``torch.get_num_threads()``
+as a constant, which put the thread count in the cache key (a run with another
+``torch.set_num_threads`` compiled from cold). ``unsafe_marked_cacheable_functions``:
+inductor and AOTAutograd refuse to cache a graph holding a higher-order op unless it is
+marked cacheable, and ``while_loop`` (the one graph's loop over chunks) is not, so the
+ball envs' one-graph step compiled from cold at every start; the cache key holds the
+loop's condition and body graphs (the graph module pickles its submodules' code), so
+marking it is safe for these graphs. Measured in docs/pages/speed.md, "The first step
+compiles"."""
+
 
 def compiled(fn: Any, backend: Backend) -> Any:
     """``fn`` under ``torch.compile`` (a static graph per input shape), or ``fn`` itself
@@ -203,8 +225,15 @@ def compiled(fn: Any, backend: Backend) -> Any:
     compiled_fn = torch.compile(fn, dynamic=False, options=dict(INDUCTOR_OPTIONS))
     name = getattr(fn, "__qualname__", repr(fn))
 
+    cold = [True]  # until the first call has compiled its graph (with CACHE_OPTIONS)
+
     def call(*args: Any) -> Any:
         try:
+            if cold[0]:
+                with torch._inductor.config.patch(CACHE_OPTIONS):
+                    out = compiled_fn(*args)
+                cold[0] = False
+                return out
             return compiled_fn(*args)
         except TorchDynamoException as error:  # the compiler failed, not the step
             raise RuntimeError(
@@ -226,25 +255,180 @@ def compile_cache_dir() -> str:
     return str(cache_dir())
 
 
+# -- what a person waiting for a compile is told ---------------------------------------------
+QUIET_VARIABLE = "BBGYM_QUIET"
+"""The environment variable that silences bbgym's notices on stderr (``BBGYM_QUIET=1``):
+the compile notice of a torch env's first step and the waits of the scripted agents and
+``bbgym evaluate``. Python's logging (logger ``bbgym``) still gets the compile lines."""
+
+PROGRESS_INTERVAL_S = 15.0
+"""Seconds between the "still compiling" lines while a first step compiles."""
+
+NOTICE_AFTER_S = 2.0
+"""Seconds a wait under :func:`announced` runs before it is said on stderr."""
+
+TYPICAL_COMPILE_S = {"cold": (60, 240), "warm": (2, 30)}
+"""The range of seconds a first compiled step takes on the 2-core CPU the project measures
+on, with a cold and a warm compile cache, across the envs (``scripts/compile_times.py``
+measures each; its table is on the Speed page): what the notice tells a user to expect.
+A faster core takes less, a busy machine more."""
+
+_ANNOUNCED: set[tuple[Any, ...]] = set()
+"""The compiles this process has announced on stderr (one line each, not one per env)."""
+
+
+def quiet() -> bool:
+    """Whether bbgym's notices on stderr are off (:data:`QUIET_VARIABLE` set, not to 0).
+
+    Returns:
+        True where ``BBGYM_QUIET`` is set to anything but ``""`` or ``"0"``.
+    """
+    return os.environ.get(QUIET_VARIABLE, "") not in ("", "0")
+
+
+def _logging_shows(log: logging.Logger) -> bool:
+    """Whether an INFO record of ``log`` reaches a handler that prints it (the ``bbgym``
+    command's, or a script's ``logging.basicConfig(level=logging.INFO)``)."""
+    if not log.isEnabledFor(logging.INFO):
+        return False
+    current: logging.Logger | None = log
+    while current is not None:
+        if any(h.level <= logging.INFO for h in current.handlers):
+            return True
+        current = current.parent if current.propagate else None
+    return False
+
+
+def notice(message: str, log: logging.Logger | None = None) -> None:
+    """Tell a person waiting what bbgym is doing: ``message`` goes to ``log`` at INFO
+    (logger ``bbgym.backends`` by default) and, unless logging already shows it or
+    ``BBGYM_QUIET=1``, to stderr as ``bbgym: <message>``.
+
+    Args:
+        message: one line, without the ``bbgym:`` prefix.
+        log: the logger that also gets it.
+    """
+    log = logger if log is None else log
+    log.info("%s", message)
+    if not quiet() and not _logging_shows(log):
+        print(f"bbgym: {message}", file=sys.stderr, flush=True)
+
+
 @contextmanager
-def compile_logged(what: str, backend: Backend, batch: int) -> Iterator[None]:
-    """Log (INFO, logger ``bbgym.backends``) that the block compiles ``what`` and, after
-    it, how long that took and how many graphs Dynamo traced: a cold first step runs for
-    a minute or more with no output of its own, which looks like a hang."""
+def _ticking(tick: Callable[[], None], every_s: float, once: bool = False) -> Iterator[Any]:
+    """Call ``tick`` from a daemon thread every ``every_s`` seconds while the block runs
+    (only the first time if ``once``); yields an event set once it has been called."""
+    done, ticked = threading.Event(), threading.Event()
+
+    def run() -> None:
+        while not done.wait(every_s):
+            ticked.set()
+            tick()
+            if once:
+                return
+
+    thread = threading.Thread(target=run, name="bbgym-notice", daemon=True)
+    thread.start()
+    try:
+        yield ticked
+    finally:
+        done.set()
+        thread.join()
+
+
+@contextmanager
+def announced(message: str, threshold_s: float | None = None) -> Iterator[None]:
+    """A wait that may be long, said on stderr (:func:`notice`) only if it lasts over
+    ``threshold_s``: ``message`` then, and ``... done in N s`` after it.
+
+    Args:
+        message: what the block does, e.g. ``"VMGAutopilot: computing the polar ..."``.
+        threshold_s: seconds the block runs before anything is said
+            (:data:`NOTICE_AFTER_S` by default).
+    """
+    threshold = NOTICE_AFTER_S if threshold_s is None else threshold_s
+    start = time.perf_counter()
+    with _ticking(lambda: notice(f"{message}..."), threshold, once=True) as said:
+        yield
+    if said.is_set():
+        notice(f"{message}: done in {time.perf_counter() - start:.1f} s")
+
+
+def _expected_wait(cache: str) -> str:
+    """The notice's estimate of a first compile: the typical cold and warm seconds
+    (:data:`TYPICAL_COMPILE_S`) and whether the cache holds any graph yet."""
+    try:
+        with os.scandir(os.path.join(cache, "fxgraph")) as entries:
+            empty = not any(entries)
+    except OSError:
+        empty = True
+    state = "the cache is empty, so expect the cold time" if empty else "the cache has graphs"
+    (cold_low, cold_high), (warm_low, warm_high) = TYPICAL_COMPILE_S.values()
+    return (
+        f"a first step takes {cold_low:.0f}-{cold_high:.0f} s with a cold compile cache and "
+        f"{warm_low:.0f}-{warm_high:.0f} s with a warm one on a 2-core CPU ({state})"
+    )
+
+
+@contextmanager
+def compile_logged(
+    what: str,
+    backend: Backend,
+    batch: int,
+    graph: str | None = None,
+    interval_s: float | None = None,
+) -> Iterator[None]:
+    """Say that the block compiles ``what`` and, after it, how long that took and how many
+    graphs Dynamo traced: a cold first step runs for a minute or more with no output of
+    its own, which looks like a hang.
+
+    The lines go to logger ``bbgym.backends`` (INFO) and, unless logging shows them or
+    ``BBGYM_QUIET=1``, to stderr (:func:`notice`): the first line once per process for each
+    (what, device, dtype, batch, graph), then ``still compiling ...`` every ``interval_s``
+    (logger ``bbgym.backends.progress``) while the block runs, and ``compiled ... in N s``.
+
+    Args:
+        what: what compiles, e.g. ``"the <env id> step"``.
+        backend: the torch backend compiling it.
+        batch: the batch size the graph is compiled for.
+        graph: how the step compiles, ``"parts"`` or ``"one"`` (``STEP_GRAPHS``).
+        interval_s: seconds between progress lines (:data:`PROGRESS_INTERVAL_S`).
+    """
     from torch._dynamo.utils import counters
 
-    logger.info(
-        "compiling %s for torch (%s, %s, batch %d): the first call can take a minute or "
-        "two; later calls and runs reuse the compile cache (%s)",
-        what, backend.device, backend.dtype, batch, compile_cache_dir(),
-    )  # fmt: skip
+    interval = PROGRESS_INTERVAL_S if interval_s is None else interval_s
+    key = (what, backend.device, backend.dtype, batch, graph)
+    first = key not in _ANNOUNCED
+    _ANNOUNCED.add(key)
+    cache = compile_cache_dir()
+    kind = {"one": "the step as one graph", "parts": "the step's parts"}.get(graph or "")
+    start_line = (
+        f"compiling {what} for torch ({backend.device}, {backend.dtype}, batch {batch})"
+        f"{'' if kind is None else f' ({kind})'}: {_expected_wait(cache)}; later "
+        f"calls and runs reuse the compile cache ({cache})"
+    )
+    progress_log = logging.getLogger(f"{__name__}.progress")
+    if first:
+        notice(start_line)
+    else:  # this process announced it: a recompile here is quick, and said only if not
+        logger.info("%s", start_line)
     graphs = counters["stats"]["unique_graphs"]
     start = time.perf_counter()
-    yield
-    logger.info(
-        "compiled %s in %.1f s (%d new graphs)",
-        what, time.perf_counter() - start, counters["stats"]["unique_graphs"] - graphs,
-    )  # fmt: skip
+
+    def progress() -> None:
+        elapsed = time.perf_counter() - start
+        notice(f"still compiling {what}: {elapsed:.0f} s so far", progress_log)
+
+    with _ticking(progress, interval) as spoke:
+        yield
+    end_line = (
+        f"compiled {what} in {time.perf_counter() - start:.1f} s "
+        f"({counters['stats']['unique_graphs'] - graphs} new graphs)"
+    )
+    if first or spoke.is_set():
+        notice(end_line)
+    else:
+        logger.info("%s", end_line)
 
 
 # -- counter-based random numbers -----------------------------------------------------------

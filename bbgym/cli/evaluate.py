@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import time
 from collections import Counter
 from collections.abc import Callable
@@ -43,7 +44,8 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym._extras import extra_needs
-from bbgym.cli import UsageError, env_id, positive_int, require
+from bbgym.backends import announced
+from bbgym.cli import UsageError, add_aliased, as_passed, env_id, positive_int, require
 from bbgym.spec import env_id_of, spec_of
 
 Policy = Callable[[np.ndarray], np.ndarray]
@@ -118,33 +120,47 @@ def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated
 
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:
     """``episodes`` seeded episodes (seeds ``seed ..``) of ``policy_name`` on ``env_id``, a
-    bbgym id (else ``ValueError`` listing them: the outcomes come from the family's spec)."""
+    bbgym id (else ``ValueError`` listing them: the outcomes come from the family's spec).
+
+    Args:
+        env_id: a bbgym env id.
+        policy_name: ``random``, a learnt policy (``ppo``, ``sac``) or one of the family's.
+        episodes: how many episodes.
+        seed: the first episode's seed.
+        model: the saved model of a learnt policy.
+
+    Returns:
+        The result row; its ``wall_time_s`` counts making the env and the policy (a
+        sailing autopilot's polar, a model's loading) as well as the episodes.
+    """
     spec_of(env_id)
-    env = gym.make(env_id)
-    policy = make_policy(policy_name, env, model, seed)
+    start = time.perf_counter()
+    with announced(f"evaluate: making {env_id} and the {policy_name} policy"):
+        env = gym.make(env_id)
+        policy = make_policy(policy_name, env, model, seed)
     successes, returns, lengths, times = 0, [], [], []
     outcomes: Counter[str] = Counter()
     episode_times: list[float | None] = []  # time to the mark per episode, None if missed
-    start = time.perf_counter()
-    for k in range(episodes):
-        obs, info = env.reset(seed=seed + k)
-        if hasattr(policy, "reset"):
-            policy.reset()
-        total, steps, done = 0.0, 0, False
-        while not done:
-            obs, reward, terminated, truncated, info = env.step(policy(obs))
-            total += reward
-            steps += 1
-            done = terminated or truncated
-        successes += bool(info["is_success"])
-        outcomes[outcome_kind(env, info, terminated, truncated)] += 1
-        returns.append(total)
-        lengths.append(steps)
-        if info["is_success"] and "elapsed_time" in info:
-            times.append(info["elapsed_time"])
-        if "elapsed_time" in info:  # sailing
-            episode_times.append(float(info["elapsed_time"]) if info["is_success"] else None)
-    env.close()
+    with announced(f"evaluate: {episodes} episodes of {policy_name} on {env_id}"):
+        for k in range(episodes):
+            obs, info = env.reset(seed=seed + k)
+            if hasattr(policy, "reset"):
+                policy.reset()
+            total, steps, done = 0.0, 0, False
+            while not done:
+                obs, reward, terminated, truncated, info = env.step(policy(obs))
+                total += reward
+                steps += 1
+                done = terminated or truncated
+            successes += bool(info["is_success"])
+            outcomes[outcome_kind(env, info, terminated, truncated)] += 1
+            returns.append(total)
+            lengths.append(steps)
+            if info["is_success"] and "elapsed_time" in info:
+                times.append(info["elapsed_time"])
+            if "elapsed_time" in info:  # sailing
+                episode_times.append(float(info["elapsed_time"]) if info["is_success"] else None)
+        env.close()
     low, high = wilson_interval(successes, episodes)
     return {
         "env": env_id,
@@ -369,10 +385,14 @@ def parse_policies(text: str) -> list[str]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
-    parser.add_argument(
-        "--policies", type=parse_policies, default="random,scripted",
+    add_aliased(
+        parser,
+        "--policies",
+        "--policy",
+        type=parse_policies,
+        default="random,scripted",
         help=f"comma-separated, of: {', '.join(POLICIES)}",
-    )  # fmt: skip
+    )
     parser.add_argument("--model", type=Path, default=None, help="saved PPO or SAC model (.zip)")
     parser.add_argument("--episodes", type=positive_int, default=100, help="episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
@@ -409,12 +429,14 @@ def run(args: argparse.Namespace) -> int:
     learnt = [name for name in names if name in LEARNT]
     if learnt and args.model is None:
         raise UsageError(
-            f"--policies {learnt[0]} needs --model (a saved stable-baselines3 model .zip)"
+            f"{as_passed(args, 'policies', '--policies')} {learnt[0]} needs --model (a saved "
+            "stable-baselines3 model .zip)"
         )
     try:
         results = [evaluate(args.env, name, args.episodes, args.seed, args.model) for name in names]
     except ValueError as err:
         raise UsageError(str(err)) from None
+    oracle = None
     if spec_of(args.env).timed_by_oracle:
         by_name = dict(zip(names, results, strict=True))
         oracle = by_name.get("scripted") or evaluate(
@@ -428,4 +450,49 @@ def run(args: argparse.Namespace) -> int:
     (args.out / f"{args.env}.json").write_text(json.dumps(results, indent=2) + "\n")
     (args.out / f"{args.env}.md").write_text(table + "\n")
     print(f"wrote {args.out / (args.env + '.json')} and {args.out / (args.env + '.md')}")
+    hidden = [] if oracle is None or any(r is oracle for r in results) else [oracle]
+    print(total_line(results, process_seconds(), hidden))
     return 0
+
+
+def process_seconds() -> float | None:
+    """Seconds since this process started (Linux's ``/proc``), or None where unknown.
+
+    Returns:
+        The process's wall time so far: Python's start and imports included.
+    """
+    try:
+        with open("/proc/self/stat") as stat, open("/proc/uptime") as uptime:
+            started = int(stat.read().rsplit(")", 1)[1].split()[19])
+            now = float(uptime.read().split()[0])
+        return now - started / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, AttributeError):
+        return None
+
+
+def total_line(
+    results: list[dict], total_s: float | None, unlisted: list[dict] | None = None
+) -> str:
+    """The command's whole wall time beside what the table's "wall time" column holds.
+
+    Args:
+        results: the table's rows (each with its ``wall_time_s``).
+        total_s: the process's seconds so far (:func:`process_seconds`), or None.
+        unlisted: runs not in the table (the scripted policy run for "time / oracle").
+
+    Returns:
+        ``"total wall time 31 s: ..."``, or the policies' part alone where the total is
+        unknown.
+    """
+    rows = sum(r["wall_time_s"] for r in results)
+    parts = f"the table's policies {rows:.0f} s (making their envs and policies included)"
+    hidden = sum(r["wall_time_s"] for r in unlisted or [])
+    if hidden:
+        parts += f", the scripted policy for time / oracle {hidden:.0f} s"
+    if total_s is None:
+        return f"wall time: {parts}"
+    rest = max(total_s - rows - hidden, 0.0)
+    return (
+        f"total wall time {total_s:.0f} s: {parts}, and {rest:.0f} s starting Python, "
+        "importing and writing"
+    )

@@ -550,7 +550,9 @@ class CoreVectorEnv(VectorEnv):
         """:func:`backends.compile_logged` for this env's first step (where its parts
         compile, for its task, batch size and dtype)."""
         name = self.spec.id if self.spec is not None else type(self.task).__name__
-        return backends.compile_logged(f"the {name} step", self.backend, self.num_envs)
+        return backends.compile_logged(
+            f"the {name} step", self.backend, self.num_envs, self.step_graph
+        )
 
     _wants_reset_hook = False
     """Subclasses that keep per-env host state (render wakes) set this."""
