@@ -111,9 +111,36 @@ class BeachballRaceEnv(ParallelEnv):
     included), ``finish_bonus`` (20) times ``(K - place + 1) / K`` at the finish,
     ``-ocs_penalty`` (5) when over the line at the gun, ``-capsize_penalty`` (30) at a
     capsize, ``-foul_penalty`` (2) for each foul, ``-time_penalty`` (0.1) a step after the
-    gun until it finishes. The infos' ``reward_terms`` hold each. A boat's ``place`` is 0
-    and its ``finish_time`` ``inf`` (s, penalties included) until it finishes: the one
-    non-finite float a race returns, by design (the fuzz allows it there alone).
+    gun until it finishes. The infos' ``reward_terms`` hold each.
+
+    ## Info
+
+    Per boat, at every step it races, its last included (PettingZoo drops a boat from
+    ``agents`` and from the next step's dicts once its race ends: keep each boat's last
+    info to read its result):
+
+    | key | meaning |
+    |---|---|
+    | `place` | 1 first, ...; 0: not finished (see below) |
+    | `finished`, `is_success` | crossed the finish, any time penalty served |
+    | `finish_time` | race clock at the finish, penalty included (s); `inf` before |
+    | `race_clock` | time from the gun (s), negative during the countdown |
+    | `leg` | the waypoint it sails to next (an index) |
+    | `ocs` | over the line at the gun and not yet back |
+    | `capsized` | capsized: its race is over |
+    | `fouls`, `turns_owed` | fouls so far, penalty turns owed |
+    | `penalty_owed` | time penalty owed (s) |
+    | `touched` | its hull touched another's in the step |
+    | `wind_factor` | the shadows on its wind over the step: speed over the race's |
+    | `wind_bend` | ... and the turn they gave it (rad, counterclockwise) |
+    | `reward_terms` | each reward term of the step |
+
+    and the boat's state: `position`, `velocity`, `heading`, `boat_speed`, `heel`,
+    `true_wind_speed`, `true_wind_angle`, `distance_to_waypoint`. ``place`` 0 is a boat
+    still racing, or one whose race ended unfinished: it capsized, or it was still racing
+    when the race clock reached ``max_race_time_s`` (truncated). Random actions seldom
+    finish (a four-boat race seeded 0 ends with every place 0). ``finish_time`` ``inf`` is
+    the one non-finite float a race returns, by design (the fuzz allows it there alone).
 
     ## The course and the rules sailed
 

@@ -13,9 +13,9 @@ from bbgym.envs.race.env import BeachballRaceEnv
 
 LEARNER = "boat_0"
 SOLO_ENV_ID = "bbgym/BeachballRaceSolo-v0"
-"""Its Gymnasium id (``gym.make(SOLO_ENV_ID)`` once :mod:`bbgym.envs.race` is imported, or
-``gym.make("bbgym.envs.race:bbgym/BeachballRaceSolo-v0")``); no time limit of Gymnasium's,
-the race's own ``max_race_time_s`` truncates it."""
+"""Its Gymnasium id (``gym.make(SOLO_ENV_ID)`` after ``import bbgym``, which registers it
+without importing PettingZoo: :mod:`bbgym.envs`); no time limit of Gymnasium's, the race's
+own ``max_race_time_s`` truncates it."""
 
 
 class BeachballRaceSoloEnv(gym.Env):
