@@ -16,20 +16,23 @@ RUN_STAMP := $(VENV)/.installed-run
 .PHONY: run test docs setup demo polar bench clean
 
 # torch goes in first, pinned to the CPU wheel this project's machines carry: left to
-# resolve `torch` itself, pip would fetch a multi-GB CUDA build.
+# resolve `torch` itself, pip would fetch a multi-GB CUDA build. Elsewhere, PyTorch's CPU
+# wheel index gives the CPU build: make setup TORCH_INDEX=https://download.pytorch.org/whl/cpu
 TORCH ?= torch==2.13.0
+TORCH_INDEX ?=
+TORCH_PIP := $(if $(TORCH_INDEX),--index-url $(TORCH_INDEX),)
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet "$(TORCH)"
+	$(PY) -m pip install --quiet $(TORCH_PIP) "$(TORCH)"
 	$(PY) -m pip install --quiet -e ".[dev,train,torch,torchrl,rllib,zoo,docs]"
 	touch $(STAMP) $(RUN_STAMP)
 
 $(RUN_STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet "$(TORCH)"
+	$(PY) -m pip install --quiet $(TORCH_PIP) "$(TORCH)"
 	$(PY) -m pip install --quiet -e ".[train,plots,render]"
 	touch $(RUN_STAMP)
 
