@@ -219,3 +219,24 @@ def test_policy_and_policies_are_one_option():
     args = parser.parse_args(["evaluate", "--env", "BeachballSail-v0"])
     assert args.policies == ["random", "scripted"]
     assert cli.as_passed(args, "policies", "--policies") == "--policies"
+
+
+@pytest.mark.parametrize(
+    ("env_id", "argument", "value"),
+    [
+        ("BeachballSail-v2", "backend", "torch"),
+        ("BeachballThrow-v1", "dtype", "float32"),
+        ("BeachballTopple-v2", "output", "torch"),
+    ],
+)
+def test_a_vector_env_argument_given_to_make_points_to_make_vec(env_id, argument, value):
+    """It used to be the task class's ``TypeError`` with the preset's kwargs appended."""
+    with pytest.raises(UnknownArgumentError) as raised:
+        gym.make(env_id, **{argument: value})
+    message = str(raised.value)
+    assert (
+        f"got {argument!r}, an argument of its native vector env only: gym.make_vec(id, num_envs=N"
+        in message
+    )
+    assert "Task" not in message
+    assert_no_preset(message, env_id, argument)

@@ -7,6 +7,7 @@ autoreset is :func:`~bbgym.envs.functional.settle` and
 
 from __future__ import annotations
 
+import inspect
 from contextlib import nullcontext
 from typing import Any
 
@@ -63,6 +64,7 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
         check_render_mode(render_mode, self.metadata["render_modes"])
+        check_single_env_arguments(type(self).__name__, kwargs)
         self.task = self.task_class(**kwargs)
         self.render_mode = render_mode
         self.action_space = self.task.action_space
@@ -195,6 +197,28 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def check_single_env_arguments(env_name: str, kwargs: dict[str, Any]) -> None:
+    """Refuse, naming it, an argument only the native vector env takes (``backend``, ...)
+    given to ``gym.make``: the task would raise a ``TypeError`` naming itself instead.
+
+    Args:
+        env_name: the env class's name, for the message.
+        kwargs: the task arguments ``gym.make`` passed.
+
+    Raises:
+        UnknownArgumentError: for the first vector-only argument.
+    """
+    from bbgym.spec import UnknownArgumentError
+
+    vector_only = inspect.signature(CoreVectorEnv.__init__).parameters
+    for name in kwargs:
+        if name in vector_only and name not in ("self", "render_mode", "kwargs"):
+            raise UnknownArgumentError(
+                f"{env_name} got {name!r}, an argument of its native vector env only: "
+                f"gym.make_vec(id, num_envs=N, {name}=...)"
+            )
 
 
 class FlightFrames:
