@@ -3,10 +3,10 @@
     python docs/pictures.py [NAME ...]
 
 Each env picture is the env's own ``render_mode="rgb_array"`` frame, a few steps into a
-seeded episode played by its scripted agent; each scene picture (``scene-*``) is a frame of
-the scene's view (:mod:`bbgym.scenes.view`) at a step, or for the bouncing balls their
-energy over the run (matplotlib). All are scaled down and saved as palette PNGs (tens of
-KB).
+seeded episode played by its scripted agent (the race's: every boat the scripted racer);
+each scene picture (``scene-*``) is a frame of the scene's view (:mod:`bbgym.scenes.view`)
+at a step, or for the bouncing balls their energy over the run (matplotlib). All are
+scaled down and saved as palette PNGs (tens of KB).
 """
 
 from __future__ import annotations
@@ -28,12 +28,17 @@ WIDTH = 480
 """Width of a saved picture in pixels (the frames are 640 x 480)."""
 
 PICTURES = {
-    # file stem: (env id, seed, steps of the scripted agent before the frame)
-    "sail": ("BeachballSail-v1", 3, 200),
-    "throw": ("BeachballThrow-v0", 0, 1),
-    "curve": ("BeachballCurve-v1", 0, 1),
-    "topple": ("BeachballTopple-v1", 1, 3),
+    # file stem: (env id, seed, steps of the scripted agent before the frame): each family's
+    # newest version (the sail's with its jib, waves and current)
+    "sail": ("BeachballSail-v2", 3, 60),
+    "throw": ("BeachballThrow-v1", 0, 1),
+    "curve": ("BeachballCurve-v2", 0, 1),
+    "topple": ("BeachballTopple-v2", 1, 3),
 }
+RACE_PICTURE = ("race", 3, 300)
+"""(file stem, seed, steps): the race (bbgym/BeachballRace-v0, the PettingZoo env), every
+boat the scripted racer, 45 s after the start: the fleet on the first beat, boat 1's
+wind shadow over boat 2."""
 
 
 SCENE_FRAMES = {
@@ -145,6 +150,26 @@ def frame(env_id: str, seed: int, steps: int):
     return picture
 
 
+def race_frame(seed: int, steps: int):
+    """The race's ``rgb_array`` frame ``steps`` steps (0.25 s each) into a seeded race of
+    scripted racers (their autopilot's polar takes seconds first: it says so on stderr)."""
+    from bbgym.agents import RaceRacer
+
+    from bbgym.envs.race.env import BeachballRaceEnv
+
+    env = BeachballRaceEnv(render_mode="rgb_array")
+    racer = RaceRacer.for_env(env)
+    observations, _ = env.reset(seed=seed)
+    racer.reset()
+    for _ in range(steps):
+        if not env.agents:
+            break
+        observations, *_ = env.step(racer.actions(observations, list(env.agents)))
+    picture = env.render()
+    env.close()
+    return picture
+
+
 def save(picture, path: Path) -> None:
     image = Image.fromarray(picture)
     height = round(image.height * WIDTH / image.width)
@@ -154,9 +179,13 @@ def save(picture, path: Path) -> None:
 
 def main(names: list[str]) -> int:
     OUT.mkdir(parents=True, exist_ok=True)
-    for name in names or [*PICTURES, *SCENE_FRAMES, *SCENE_ENERGY]:
+    race, race_seed, race_steps = RACE_PICTURE
+    for name in names or [*PICTURES, race, *SCENE_FRAMES, *SCENE_ENERGY]:
         path = OUT / f"{name}.png"
-        if name in SCENE_FRAMES:
+        if name == race:
+            save(race_frame(race_seed, race_steps), path)
+            what = f"bbgym/BeachballRace-v0, seed {race_seed}, {race_steps} steps"
+        elif name in SCENE_FRAMES:
             scene, step = SCENE_FRAMES[name]
             save(scene_frame(scene, step), path)
             what = f"scene {scene}, step {step}"

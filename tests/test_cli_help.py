@@ -51,7 +51,12 @@ def test_the_top_help_lists_bbgyms_registered_ids():
 
 
 def option_actions(parser: argparse.ArgumentParser) -> list[argparse.Action]:
-    return [a for a in parser._actions if a.option_strings and a.dest != "help"]
+    """The options the help shows (not an alias's hidden action, :func:`cli.add_aliased`)."""
+    return [
+        a
+        for a in parser._actions
+        if a.option_strings and a.dest != "help" and a.help is not argparse.SUPPRESS
+    ]
 
 
 @pytest.mark.parametrize("command", cli.COMMANDS)

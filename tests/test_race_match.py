@@ -152,10 +152,26 @@ def test_bbgym_record_draws_a_race(tmp_path, capsys) -> None:
     assert "seed_0.json beside it" in capsys.readouterr().err
     model.with_suffix(".json").write_text('{"learners": 2, "residual": true}')
     assert cli.main([*argv, "--policy", "ppo", "--model", str(model), "--out", str(out)]) == 0
-    assert "places 0*:- 1*:- 2:- 3:-" in capsys.readouterr().out
+    # 6 steps: nobody finished; boats 0 and 1 are the model's (marked *)
+    assert "boat_0*, boat_1*, boat_2, boat_3 did not finish" in capsys.readouterr().out
     for bad, message in ((["--env", "bbgym/BeachballRace-v9", "--policy", "random"], "v9"),
                          (["--env", "bbgym/BeachballRace-v0", "--policy", "planner"],
                           "--policy planner")):  # fmt: skip
         with pytest.raises(SystemExit):
             cli.main(["record", *bad])
         assert message in capsys.readouterr().err
+
+
+def test_race_outcome_gives_the_places_in_words() -> None:
+    """The last caption of a recorded race: the places in order, learned boats marked ``*``
+    only where some (not all) learn."""
+    from bbgym.cli.record import race_outcome
+
+    place, learned = np.array([0, 1, 2, 3]), np.array([True, False, False, False])
+    assert (
+        race_outcome(place, learned) == "1st boat_1, 2nd boat_2, 3rd boat_3; boat_0* did not finish"
+    )
+    assert race_outcome(np.array([2, 1, 4, 3]), np.ones(4, bool)) == (
+        "1st boat_1, 2nd boat_0, 3rd boat_3, 4th boat_2"
+    )
+    assert race_outcome(np.zeros(2, int), np.zeros(2, bool)) == "boat_0, boat_1 did not finish"

@@ -111,6 +111,24 @@ def test_record_sail_gif(tmp_path, capsys):
     assert "success False" in line  # 30 steps (7.5 s) do not reach the mark
 
 
+def test_record_gif_of_a_long_episode_stays_small(tmp_path, capsys):
+    """A GIF of more frames than the budget (300) keeps every second one, each shown twice
+    as long (real time still), and stays under 3 MB; the summary says how many it holds."""
+    out = tmp_path / "long.gif"
+    argv = ["--env", "BeachballSail-v0", "--policy", "random", "--max-steps", "330"]
+    assert cli.main(["record", *argv, "--seed", "0", "--out", str(out)]) == 0
+    n, size, durations = gif_frames(out)
+    assert n <= record.MAX_GIF_FRAMES == 300
+    assert 150 <= n <= 170  # 331 frames: every second one (166), fewer if two were alike
+    assert out.stat().st_size < 3_000_000
+    assert size == render_size("BeachballSail-v0")
+    # 330 steps at 20 fps, then the last frame held 1 s: 17.5 s, as without the budget
+    assert sum(durations) == pytest.approx(330 * 50 + 1000, abs=10)
+    assert durations[-1] == 1000 and durations[0] == 100
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    assert f"331 frames ({n} in the GIF)" in line
+
+
 def test_record_episode_frame_skip_keeps_the_last_frame():
     env = gym.make("BeachballSail-v0", render_mode="rgb_array")
     sink = ListSink()

@@ -19,13 +19,13 @@ from gymnasium.error import DependencyNotInstalled  # noqa: E402
 
 from bbgym.envs.sail import view as sail_view  # noqa: E402
 from bbgym.envs.sail.view import (  # noqa: E402
-    CREST_COLOR,
+    CREST_BAND_COLOR,
     CREW_COLOR,
     CURRENT_COLOR,
     JIB_FILL_COLOR,
     MARK_COLOR,
     SAIL_FILL_COLOR,
-    TROUGH_COLOR,
+    WATER_COLOR,
     SailRenderer,
     SailScene,
     body_to_world,
@@ -301,10 +301,18 @@ def test_the_jib_is_drawn_on_its_side_of_the_bow(renderer: SailRenderer) -> None
     assert not color_mask(renderer.render(make_scene()), JIB_FILL_COLOR, tol=8).any()
 
 
+PANEL_ROWS, PANEL_COLS = 160, 240
+"""The readout panel's corner of the frame (top left)."""
+
+
 def test_current_arrows_are_fixed_to_the_world(renderer: SailRenderer) -> None:
     arrows = tuple(((x, y), (0.5, 0.0)) for x in (-16.0, 0.0, 16.0) for y in (-12.0, 12.0))
     img = renderer.render(make_scene(current_arrows=arrows, current_mps=0.5))
     teal = color_mask(img, CURRENT_COLOR, tol=10)
+    # the readout's last line, "current 0.50 m/s (arrows)", is the arrows' legend, in teal
+    panel = (slice(0, PANEL_ROWS), slice(0, PANEL_COLS))
+    assert teal[panel].sum() > 30
+    teal[panel] = False
     assert teal.sum() > 6 * 20  # six arrows, each 3 m long (0.5 m/s for 6 s)
     # the boat moves 4 m east: the arrows move 4 m west on the screen
     moved = color_mask(
@@ -312,13 +320,19 @@ def test_current_arrows_are_fixed_to_the_world(renderer: SailRenderer) -> None:
         CURRENT_COLOR,
         tol=10,
     )
+    moved[panel] = False
     shift = np.nonzero(teal)[1].mean() - np.nonzero(moved)[1].mean()
     assert shift == pytest.approx(4.0 * PPM, abs=2.0)
     assert not color_mask(renderer.render(make_scene()), CURRENT_COLOR, tol=10).any()
 
 
-@pytest.mark.parametrize(("height", "color"), [(1.0, CREST_COLOR), (-1.0, TROUGH_COLOR)])
-def test_wave_crests_are_light_and_troughs_dark(renderer: SailRenderer, height, color) -> None:
+@pytest.mark.parametrize(
+    ("height", "color"), [(1.0, CREST_BAND_COLOR), (0.2, WATER_COLOR), (-1.0, WATER_COLOR)]
+)
+def test_wave_crests_are_a_light_band_on_plain_water(renderer: SailRenderer, height, color) -> None:
+    """Flat bands (a GIF of them stays small): crests lighter than the water, the rest the
+    plain water."""
+    assert sum(CREST_BAND_COLOR) > sum(WATER_COLOR)
     rows = tuple(tuple(height for _ in range(60)) for _ in range(50))
     img = renderer.render(make_scene(wave_cells=((-30.0, -25.0), rows), mark_m=(500.0, 0.0)))
     # a patch of open water, clear of the boat and the panels

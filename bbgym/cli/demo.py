@@ -4,7 +4,8 @@
 
 The env's family declares the demo (:attr:`bbgym.spec.EnvSpec.demo`; by default the first
 family that has one: sailing's helmsman beating to an upwind mark). Prints its statistics,
-writes ``<out>/episode.gif`` (every ``--frame-skip``-th frame) and ``<out>/episode.json``.
+writes ``<out>/episode.gif`` (every ``--frame-skip``-th frame, at most ``--max-frames`` of
+them, 300: a longer episode keeps every second one, ...) and ``<out>/episode.json``.
 Runs headless (SDL's dummy video driver).
 """
 
@@ -21,6 +22,7 @@ from pathlib import Path
 
 import bbgym  # noqa: F401  (registers the ids)
 from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_all
+from bbgym.render.gif import MAX_GIF_FRAMES
 from bbgym.spec import spec_of, specs
 
 
@@ -33,6 +35,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=["gif", "mp4"], default="gif", help="animation format")
     parser.add_argument("--frame-skip", type=positive_int, default=2, help="keep every n-th frame")
     parser.add_argument("--fps", type=positive_float, default=10.0, help="animation playback rate")
+    parser.add_argument(
+        "--max-frames",
+        type=positive_int,
+        default=MAX_GIF_FRAMES,
+        help="frames a GIF keeps at most: a longer episode keeps every second frame (every "
+        "fourth, ...), still in real time (default: %(default)s)",
+    )
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
@@ -43,7 +52,7 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from bbgym.cli.record import check_format, open_writer
+    from bbgym.cli.record import check_format, file_frames, open_writer
 
     require_all(needs(args))
     spec = spec_of(args.env) if args.env else None
@@ -56,12 +65,13 @@ def run(args: argparse.Namespace) -> int:
     print(table)
 
     args.out.mkdir(parents=True, exist_ok=True)
-    writer = open_writer(animation, args.fps)
+    writer = open_writer(animation, args.fps, max_frames=args.max_frames)
     for frame in frames:
         writer(frame)
     writer.close()
     stats_path = args.out / "episode.json"
     stats_path.write_text(json.dumps(stats, indent=2) + "\n")
-    print(f"wrote {animation} ({len(frames)} frames at {args.fps:g} fps)")
+    kept = file_frames(writer, len(frames))
+    print(f"wrote {animation} ({kept} of {len(frames)} frames, in real time at {args.fps:g} fps)")
     print(f"wrote {stats_path}")
     return 0

@@ -6,7 +6,9 @@
 
 Policies: those of ``bbgym evaluate`` (``random``, ``scripted``,
 ``ppo`` or ``sac`` with ``--model``, ...). The format follows the extension of ``--out``: ``.gif``
-(Pillow) or ``.mp4`` (H.264 through the ``imageio-ffmpeg`` package, in the ``plots``
+(Pillow; at most 300 frames and about 2.8 MB: a long episode keeps every second frame, or
+every fourth, ..., each shown for the time of those it stands for, so it still plays in
+real time) or ``.mp4`` (H.264 through the ``imageio-ffmpeg`` package, in the ``plots``
 extra).
 
 Sailing: one frame per step (0.25 s, so the default 20 fps plays 5x real time). Ball envs
@@ -25,7 +27,8 @@ whole race, every boat, a frame per 0.25 s step. ``--policy scripted``: every bo
 scripted racer; ``random``: every boat random; ``ppo --model M.zip``: a model of
 ``scripts/race_selfplay.py`` sails its learning boats (as it was trained: the
 ``M.json`` beside it says which, and whether it corrects the racer) against scripted
-racers. The last frame's caption gives the places.
+racers. The last frame's caption gives the places ("1st boat_1, 2nd boat_2, ...; boat_0
+did not finish").
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 import argparse
 import importlib.util
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -46,8 +50,17 @@ import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym._extras import install_hint
-from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_all
+from bbgym.cli import (
+    UsageError,
+    add_aliased,
+    as_passed,
+    env_id,
+    positive_float,
+    positive_int,
+    require_all,
+)
 from bbgym.cli.evaluate import LEARNT, POLICIES, make_policy, model_needs
+from bbgym.render.gif import MAX_GIF_FRAMES, GifWriter
 from bbgym.spec import env_id_of, spec_of
 
 FORMATS = (".gif", ".mp4")
@@ -83,39 +96,6 @@ class FrameList:
     def __call__(self, frame: np.ndarray, periods: int = 1) -> None:
         self.frames.append(frame)
         self.periods.append(periods)
-
-
-class GifWriter:
-    """Collects frames (as palette images, a quarter of the memory) and writes a looping GIF.
-
-    Pillow merges identical consecutive frames into one (adding up their durations), so
-    the file may hold fewer frames than were added; the timing is kept.
-    """
-
-    def __init__(self, path: Path, fps: float) -> None:
-        from PIL import Image
-
-        self._image = Image
-        self.path, self.fps = path, fps
-        self.images: list[Any] = []
-        self.durations: list[int] = []
-
-    def __call__(self, frame: np.ndarray, periods: int = 1) -> None:
-        image = self._image.fromarray(np.asarray(frame, dtype=np.uint8))
-        self.images.append(image.convert("P", palette=self._image.Palette.ADAPTIVE))
-        self.durations.append(int(round(periods * 1000.0 / self.fps)))
-
-    def close(self) -> None:
-        if not self.images:
-            raise ValueError("no frames to write")
-        self.images[0].save(
-            self.path,
-            save_all=True,
-            append_images=self.images[1:],
-            duration=self.durations if len(self.durations) > 1 else self.durations[0],
-            loop=0,
-            optimize=False,
-        )
 
 
 class Mp4Writer:
@@ -164,9 +144,26 @@ def check_format(path: Path) -> str:
     return suffix
 
 
-def open_writer(path: Path, fps: float) -> GifWriter | Mp4Writer:
-    """A frame sink writing ``path`` in the format its extension names."""
-    return Mp4Writer(path, fps) if check_format(path) == ".mp4" else GifWriter(path, fps)
+def open_writer(path: Path, fps: float, max_frames: int = MAX_GIF_FRAMES) -> GifWriter | Mp4Writer:
+    """A frame sink writing ``path`` in the format its extension names: an MP4 of every
+    frame, or a GIF (:class:`bbgym.render.gif.GifWriter`) of at most ``max_frames`` frames
+    and about 2.8 MB, in real time still (a long episode keeps every second frame, ...)."""
+    if check_format(path) == ".mp4":
+        return Mp4Writer(path, fps)
+    return GifWriter(path, fps, max_frames=max_frames)
+
+
+def file_frames(writer: GifWriter | Mp4Writer, kept: int) -> int:
+    """How many frames the file ``writer`` wrote holds, ``kept`` frames having been passed
+    to it: a GIF may hold fewer (every second one, ..., of a long episode)."""
+    return len(writer.images) if isinstance(writer, GifWriter) else kept
+
+
+def frames_text(stats: dict[str, Any]) -> str:
+    """The frames of a recording, for its summary line: ``"31 frames"``, or
+    ``"1201 frames (300 in the GIF)"``."""
+    kept, held = stats["frames"], stats.get("file_frames", stats["frames"])
+    return f"{kept} frames" + (f" ({held} in the GIF)" if held < kept else "")
 
 
 class _CaptionedFrames:
@@ -318,7 +315,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
     parser.add_argument("--env", required=True, type=race_or_env_id,
                         help="a bbgym env id, or the race's PettingZoo id")  # fmt: skip
-    parser.add_argument("--policy", required=True, choices=POLICIES, help="the policy to record")
+    add_aliased(
+        parser,
+        "--policy",
+        "--policies",
+        required=True,
+        choices=POLICIES,
+        help="the policy to record",
+    )
     parser.add_argument("--model", type=Path, default=None,
                         help="saved PPO or SAC model (.zip), or a PPO policy .pt of --engine "
                         "torchrl")  # fmt: skip
@@ -345,7 +349,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--hold must be >= 0")
     if args.policy in LEARNT and args.model is None:
         raise UsageError(
-            f"--policy {args.policy} needs --model (a saved stable-baselines3 model .zip, or a "
+            f"{as_passed(args, 'policy', '--policy')} {args.policy} needs --model (a saved "
+            "stable-baselines3 model .zip, or a "
             "PPO policy .pt of bbgym train --engine torchrl)"
         )
     args.out = default_out(args)
@@ -353,6 +358,9 @@ def run(args: argparse.Namespace) -> int:
         check_format(args.out)
     except ValueError as err:
         raise UsageError(str(err)) from None
+    # a whole episode takes seconds to a minute to draw and write: say so first
+    starting = f"recording {args.env} {args.policy} seed {args.seed} into {args.out} ..."
+    print(starting, file=sys.stderr, flush=True)
     if is_race(args):
         return run_race(args)
     stats = record_to_file(
@@ -362,7 +370,7 @@ def run(args: argparse.Namespace) -> int:
     capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
     print(
         f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
-        f"{stats['frames']} frames at {args.fps:g} fps, return {stats['return']:.2f}, "
+        f"{frames_text(stats)} at {args.fps:g} fps, return {stats['return']:.2f}, "
         f"success {stats['success']} ({stats['outcome']}) -> {args.out}"
     )
     return 0
@@ -400,6 +408,7 @@ def record_to_file(
             hold_periods=max(1, round(hold * fps)), title=title, policy_name=policy_name,
         )  # fmt: skip
         writer.close()
+        stats["file_frames"] = file_frames(writer, stats["frames"])
     finally:
         env.close()
     return stats
@@ -412,14 +421,17 @@ def run_race(args: argparse.Namespace) -> int:
     if args.env != ENV_ID:
         raise UsageError(f"argument --env: unknown env id {args.env!r}; the race is {ENV_ID}")
     if args.policy not in RACE_POLICIES:
-        raise UsageError(f"--policy {args.policy}: a race records {', '.join(RACE_POLICIES)}")
+        raise UsageError(
+            f"{as_passed(args, 'policy', '--policy')} {args.policy}: a race records "
+            f"{', '.join(RACE_POLICIES)}"
+        )
     stats = record_race(args.policy, args.out, model=args.model, seed=args.seed, fps=args.fps,
                         frame_skip=args.frame_skip, max_steps=args.max_steps,
                         hold=args.hold)  # fmt: skip
     capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
     print(
         f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
-        f"{stats['frames']} frames at {args.fps:g} fps, {stats['outcome']} -> {args.out}"
+        f"{frames_text(stats)} at {args.fps:g} fps, {stats['outcome']} -> {args.out}"
     )
     return 0
 
@@ -440,12 +452,12 @@ def race_model_settings(model: Path) -> dict[str, Any]:
 
 
 def race_outcome(place: np.ndarray, learned: np.ndarray) -> str:
-    """The last caption of a race: each boat's place (``-``: not finished), learned ones
-    marked ``*`` where only some boats learn."""
-    marks = learned.any() and not learned.all()
-    cells = [f"{k}{'*' if marks and learned[k] else ''}:{p if p else '-'}"
-             for k, p in enumerate(place.tolist())]  # fmt: skip
-    return "places " + " ".join(cells)
+    """The last caption of a race: the places in words
+    (:func:`~bbgym.envs.race.view.places_text`: ``"1st boat_1, 2nd boat_2, 3rd boat_3;
+    boat_0 did not finish"``), learned boats marked ``*`` where only some boats learn."""
+    from bbgym.envs.race.view import places_text
+
+    return places_text(np.asarray(place).tolist(), np.asarray(learned, bool).tolist())
 
 
 def record_race(
@@ -509,5 +521,6 @@ def record_race(
         renderer.close()
         env.close()
     return {"steps": steps, "frames": frames.kept, "outcome": outcome,
+            "file_frames": file_frames(writer, frames.kept),
             "capped": not bool(env.fleet.races_ended[0]),
             "place": state.place[0].tolist()}  # fmt: skip

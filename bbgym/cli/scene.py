@@ -8,8 +8,9 @@ A scene (bbgym.scenes) is one of the course text's demos on the envs' physics: i
 (what the text says the demo shows, as the tests check it) and a table of its measures at
 the start and the end of the run are printed; with --out an animation is written (.gif
 through Pillow, .mp4 through imageio-ffmpeg; pygame draws it), played in real time at
---fps frames a second. --param sets one of the scene's parameters (repeat it; --list
-shows each scene's parameters and defaults).
+--fps frames a second (a run longer than --max-frames frames, 300, is drawn every n-th
+step instead, still in real time: a GIF of a few MB at most). --param sets one of the
+scene's parameters (repeat it; --list shows each scene's parameters and defaults).
 """
 
 from __future__ import annotations
@@ -20,11 +21,13 @@ os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 import argparse
+import math
 from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from bbgym.cli import UsageError, nonnegative_int, positive_float
+from bbgym.cli import UsageError, nonnegative_int, positive_float, positive_int
+from bbgym.render.gif import MAX_GIF_FRAMES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -39,6 +42,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=None,
                         help="write an animation, .gif or .mp4 (default: none)")  # fmt: skip
     parser.add_argument("--fps", type=positive_float, default=30.0, help="animation frame rate")
+    frames_help = (
+        "frames an animation keeps at most: a longer run is drawn every n-th step, still "
+        "in real time (default: %(default)s)"
+    )
+    parser.add_argument("--max-frames", type=positive_int, default=MAX_GIF_FRAMES, help=frames_help)
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
@@ -84,8 +92,18 @@ def measures_table(trajectory: Any, bodies: tuple[str, ...]) -> str:
     return "\n".join(rows)
 
 
+def frame_every(scene: Any, params: Any, args: argparse.Namespace) -> int:
+    """Steps between an animation's frames: one frame each ``1 / --fps`` seconds, or fewer
+    where the run would take more than ``--max-frames`` frames."""
+    steps = args.steps
+    if steps is None:
+        steps = math.ceil(scene.duration_s(params) / params.dt_s - 1e-9)
+    real_time = max(1, round(1.0 / (args.fps * params.dt_s)))
+    return max(real_time, math.ceil(steps / max(args.max_frames - 1, 1)))
+
+
 def run(args: argparse.Namespace) -> int:
-    from bbgym.scenes import SCENES, simulate
+    from bbgym.scenes import SCENES, simulate, unknown_scene
 
     if args.list:
         print(listing())
@@ -93,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
     if args.name is None:
         raise UsageError("name a scene (bbgym scene --list lists them)")
     if args.name not in SCENES:
-        raise UsageError(f"unknown scene {args.name!r}; the scenes: {', '.join(SCENES)}")
+        raise UsageError(unknown_scene(args.name))
     scene = SCENES[args.name]
     if args.out is not None:
         from bbgym.cli.record import check_format
@@ -107,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     except (TypeError, ValueError) as err:
         raise UsageError(f"--param: {err}") from None
     states: list[Any] = []
-    keep = None if args.out is None else max(1, round(1.0 / (args.fps * params.dt_s)))
+    keep = None if args.out is None else frame_every(scene, params, args)
     step = iter(range(10**12))
 
     def collect(p: Any, state: Any) -> None:
@@ -124,9 +142,14 @@ def run(args: argparse.Namespace) -> int:
         from bbgym.scenes.view import frames
 
         args.out.parent.mkdir(parents=True, exist_ok=True)
-        writer = open_writer(args.out, args.fps)
+        # each frame stands for ``keep`` steps, shown for their time (real time)
+        fps = 1.0 / (keep * params.dt_s)
+        if args.out.suffix.lower() == ".gif":
+            writer, periods = open_writer(args.out, fps, max_frames=args.max_frames), 1
+        else:
+            writer, periods = open_writer(args.out, args.fps), max(1, round(args.fps / fps))
         for image in frames(scene, params, states, every=keep):
-            writer(image)
+            writer(image, periods)
         writer.close()
-        print(f"wrote {args.out} ({len(states)} frames at {args.fps:g} fps)")
+        print(f"wrote {args.out} ({len(states)} frames at {fps:.3g} fps, real time)")
     return 0

@@ -387,7 +387,7 @@ def draw_top_windsock(
     """Windsock seen from above at ``pole_m``, pointing where the (read) wind blows.
 
     A sock droops in light air, so from above it looks shorter: its length shows the speed.
-    The label ("sock 2.3 m/s") stands clear of the sock, below it or above it, inside
+    The label ("sock reads 2.3 m/s") stands clear of the sock, below it or above it, inside
     ``view.rect`` and at least ``label_min_y_px`` below its top edge (room for a panel
     title). Returns the label's and the sock's (pole included) rectangles in pixels.
     """
@@ -425,7 +425,8 @@ def draw_top_windsock(
     right, bottom = max(c[0] for c in corners), max(c[1] for c in corners)
     sock = (int(left), int(top), math.ceil(right - left) + 1, math.ceil(bottom - top) + 1)
 
-    label = label_font.render(f"sock {speed:.1f} m/s", True, LABEL_COLOR)
+    # the sock's reading (the wind now, with reading noise), told apart from the compass's
+    label = label_font.render(f"sock reads {speed:.1f} m/s", True, LABEL_COLOR)
     lw, lh = label.get_width(), label.get_height()
     x, y, w, h = view.rect
     lx = min(max(pole[0] - lw / 2, x + 2), x + w - lw - 2)
@@ -447,7 +448,10 @@ def draw_wind_compass(
     wind_mps: Vec2,
     background: Color = READOUT_COLOR,
 ) -> None:
-    """True wind in ``rect``: a disc with an arrow (north up) where the air moves, and its speed."""
+    """True wind in ``rect``: a disc with an arrow (north up) where the air moves, and its
+    speed ("true wind 1.9 m/s": the wind now, gusts included; the windsock reads it with
+    noise) right of it, on two lines ("true wind" over "1.9 m/s") where one line would
+    run past the rect's right edge."""
     x, y, w, h = rect
     radius = max(min(WIND_ARROW_MAX_PX / 2 + 4, h / 2), 6.0)
     cx, cy = x + radius, y + h / 2
@@ -467,5 +471,14 @@ def draw_wind_compass(
             (base[0] + uy * 4, base[1] - ux * 4),
         ]
         pg.draw.polygon(surface, WIND_ARROW_COLOR, head)
-    text = label_font.render(f"wind {speed:.1f} m/s", True, TEXT_COLOR)
-    surface.blit(text, (cx + radius + 6, cy - text.get_height() / 2))
+    left = cx + radius + 6
+    line = f"true wind {speed:.1f} m/s"
+    if left + label_font.size(line)[0] <= x + w:
+        lines = [line]
+    else:
+        lines = ["true wind", f"{speed:.1f} m/s"]
+    step = label_font.get_linesize()
+    top = cy - step * len(lines) / 2
+    for k, words in enumerate(lines):
+        text = label_font.render(words, True, TEXT_COLOR)
+        surface.blit(text, (left, top + k * step + (step - text.get_height()) / 2))

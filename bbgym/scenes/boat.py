@@ -106,12 +106,19 @@ def points_frame(p: PointsOfSailParams, s: DinghyState) -> Frame:
         # the boom from the aft-pointing centreline, + to port (the sail view's convention)
         segments.append(Segment(mast, lane, mast - 2.0 * math.cos(boom),
                                 lane + 2.0 * math.sin(boom), SAIL, 4))  # fmt: skip
-        # the wind, drawn blowing toward the boat from where it comes
+        # the wind: an arrow blowing at the boat from where it comes, its head just clear
+        # of the hull (an ellipse around it), so it stays by its own boat, not between two
         wx, wy = math.cos(twa), math.sin(twa)
-        segments.append(Segment(4.0 * wx, lane + 4.0 * wy, 2.5 * wx, lane + 2.5 * wy, WIND, 2))
+        reach = half * abs(wx) + 1.0 * abs(wy) + 0.4
+        tip = (reach * wx, lane + reach * wy)
+        segments.append(Segment(tip[0] + 2.5 * wx, tip[1] + 2.5 * wy, *tip, WIND, 2))
+        for side in (-0.45, 0.45):  # the arrowhead's two barbs
+            bx, by = math.cos(twa + side), math.sin(twa + side)
+            segments.append(Segment(tip[0] + 0.7 * bx, tip[1] + 0.7 * by, *tip, WIND, 2))
         segments.append(Segment(half, lane, half + speed, lane, (230, 70, 60), 3))
         name = ("run", "reach", "beat")[k]
-        circles.append(Circle(-half - 1.0, lane, 0.15, WIND, f"{name}: {speed:.2f} m/s"))
+        # the name and speed well astern, clear of the boom and of a wind from astern
+        circles.append(Circle(-half - 5.5, lane, 0.15, WIND, f"{name}: {speed:.2f} m/s"))
     return Frame(circles, segments, [f"true wind {p.wind_speed_mps:g} m/s (blue), seen from "
                                      "above; red: the boat's speed"])  # fmt: skip
 
@@ -128,7 +135,7 @@ POINTS_OF_SAIL = Scene(
     step=points_step,
     measures=points_measures,
     frame=points_frame,
-    view_box_m=lambda p: (-10.0, 10.0, -12.0, 12.0),
+    view_box_m=lambda p: (-11.5, 8.5, -10.5, 10.5),
     duration_s=lambda p: 60.0,
     bodies=("run", "reach", "beat"),
     test="test_points_of_sail_reach_fastest_run_slower_than_the_wind_beat_to_windward",

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from bbgym.render.base import PygameRenderer
+from bbgym.render.labels import place_labels
 from bbgym.scenes.scene import Frame, Scene
 
 SKY = (236, 244, 250)
@@ -16,6 +17,11 @@ FLOOR = (120, 110, 95)
 TEXT = (30, 30, 30)
 TITLE_BAND_PX = 44
 """The band at the top for the title and the measures."""
+LABEL_FONT_PX = 14
+MIN_BALL_RADIUS_PX = 4.0
+"""A ball smaller than this on screen is drawn this big (a 5 cm ball seen 30 m high)."""
+LEADER_PX = 12.0
+"""A label placed farther than this from its ball gets a thin line to it."""
 
 
 class SceneView(PygameRenderer[tuple[float, Frame]]):
@@ -27,6 +33,8 @@ class SceneView(PygameRenderer[tuple[float, Frame]]):
                  width: int = 640, height: int = 400, render_fps: int = 30) -> None:  # fmt: skip
         super().__init__(render_mode, width, height, render_fps)
         self.scene, self.params = scene, params
+        self.label_boxes: list[tuple[float, float, float, float]] = []
+        """The last frame's ball labels, ``(x0, y0, x1, y1)`` px: no two overlap."""
         x0, x1, y0, y1 = scene.view_box_m(params)
         usable = height - TITLE_BAND_PX
         # One scale for both axes (circles stay round), the box centred in the view.
@@ -50,17 +58,39 @@ class SceneView(PygameRenderer[tuple[float, Frame]]):
         for seg in frame.segments:
             pg.draw.line(surface, seg.color, self.to_px(seg.x0_m, seg.y0_m),
                          self.to_px(seg.x1_m, seg.y1_m), seg.width_px)  # fmt: skip
+        anchors = []
         for ball in frame.circles:
             center = self.to_px(ball.x_m, ball.y_m)
-            radius = max(self.px_per_m * ball.radius_m, 2.0)
+            radius = max(self.px_per_m * ball.radius_m, MIN_BALL_RADIUS_PX)
             pg.draw.circle(surface, ball.color, center, radius)
             pg.draw.circle(surface, TEXT, center, radius, 1)
-            if ball.label:
-                self._draw_text(ball.label, (center[0] - radius, center[1] + radius + 2), TEXT, 14)
+            anchors.append((*center, radius))
+        self._draw_labels(frame, anchors)
         section = f"{self.scene.section} {self.scene.title}"
         self._draw_text(f"{section}   t = {time_s:.2f} s", (8, 4), TEXT, 18)
         for k, line in enumerate(frame.lines):
             self._draw_text(line, (8, 22 + 14 * k), TEXT, 15)
+
+    def _draw_labels(self, frame: Frame, anchors: list[tuple[float, float, float]]) -> None:
+        """Each ball's label beside it, laid out by measured width so that none overlaps
+        another, a ball or the title band; one moved away gets a line to its ball."""
+        font = self._get_font(LABEL_FONT_PX)
+        pairs = zip(frame.circles, anchors, strict=True)
+        named = [(ball.label, anchor) for ball, anchor in pairs if ball.label]
+        sizes = [font.size(label) for label, _ in named]
+        title = (0.0, 0.0, float(self.width), float(TITLE_BAND_PX))
+        bounds = (0.0, float(TITLE_BAND_PX), float(self.width), float(self.height))
+        boxes = place_labels([a for _, a in named], sizes, bounds, [title])
+        for (label, (x, y, r)), box in zip(named, boxes, strict=True):
+            nx = min(max(x, box[0]), box[2])
+            ny = min(max(y, box[1]), box[3])
+            gap = ((nx - x) ** 2 + (ny - y) ** 2) ** 0.5 - r
+            if gap > LEADER_PX:  # from the ball's edge to the label's nearest point
+                ux, uy = (nx - x) / (gap + r), (ny - y) / (gap + r)
+                start = (x + r * ux, y + r * uy)
+                self._pg.draw.line(self._surface, (110, 110, 110), start, (nx, ny), 1)
+            self._draw_text(label, (box[0], box[1]), TEXT, LABEL_FONT_PX)
+        self.label_boxes = boxes
 
 
 def frames(scene: Scene, params: Any, states: list[Any], every: int = 1) -> list[np.ndarray]:

@@ -8,10 +8,13 @@ The view reads a :class:`RaceScene` of plain numbers; it never steps the physics
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from bbgym.envs.sail.view import hull_outline_body, rotate
+from bbgym.render.annotations import CAPTION_BAND_PX
 from bbgym.render.base import Color, PygameRenderer, Vec2, blend
+from bbgym.render.labels import place_labels
 
 WATER_COLOR: Color = (28, 96, 148)
 LINE_COLOR: Color = (240, 240, 240)
@@ -27,6 +30,30 @@ BOAT_COLORS: tuple[Color, ...] = (
 BOAT_DRAW_SCALE = 2.0
 """Boats are drawn this many times their size (the course is two hundred metres tall)."""
 MARGIN_M = 15.0
+LABEL_FONT_PX = 16
+BOAT_LABEL_RADIUS_PX = 9.0
+"""A boat's label keeps this far from its centre (the boat drawn twice its size)."""
+
+
+def ordinal(place: int) -> str:
+    """``1st``, ``2nd``, ``3rd``, ``4th``, ... ``11th``, ``21st``."""
+    suffix = "th" if 10 <= place % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(place % 10, "th")
+    return f"{place}{suffix}"
+
+
+def places_text(place: Sequence[int], learned: Sequence[bool] = ()) -> str:
+    """A race's result in words: ``"1st boat_1, 2nd boat_2, 3rd boat_3; boat_0 did not
+    finish"`` (``place[k]`` boat ``k``'s place, 0 where it did not finish; a boat that learns,
+    where only some do, is marked ``*``)."""
+    marks = any(learned) and not all(learned)
+    names = [f"boat_{k}" + ("*" if marks and learned[k] else "") for k in range(len(place))]
+    done = sorted((int(p), names[k]) for k, p in enumerate(place) if int(p) > 0)
+    out = ", ".join(f"{ordinal(p)} {name}" for p, name in done)
+    left = [names[k] for k, p in enumerate(place) if int(p) <= 0]
+    if left:
+        tail = f"{', '.join(left)} did not finish"
+        out = f"{out}; {tail}" if out else tail
+    return out
 
 
 @dataclass(frozen=True)
@@ -72,11 +99,21 @@ class RaceRenderer(PygameRenderer[RaceScene]):
     """Draws :class:`RaceScene` frames into a window (``human``) or an RGB array."""
 
     caption = "bbgym race"
+    label_boxes: list[tuple[float, float, float, float]] = []
+    """The last frame's boat labels, ``(x0, y0, x1, y1)`` px: no two overlap."""
+    course_label_boxes: list[tuple[float, float, float, float]] = []
+    """The last frame's names of the marks (windward mark, start / finish, gate), px."""
+
+    @property
+    def course_height_px(self) -> int:
+        """The rows the course is fitted to: all but the bottom CAPTION_BAND_PX, where a
+        recording writes its caption (no boat is hidden under it)."""
+        return max(self.height - CAPTION_BAND_PX, 1)
 
     def _scale(self, scene: RaceScene) -> float:
         tall = scene.top_m + scene.bottom_m + 2.0 * MARGIN_M
         wide = 2.0 * (scene.half_width_m + MARGIN_M)
-        return min(self.height / tall, self.width / wide)
+        return min(self.course_height_px / tall, self.width / wide)
 
     def _to_screen(self, scene: RaceScene, world: Vec2) -> Vec2:
         """World point to pixels: upwind is up, the course's middle in the frame's."""
@@ -85,7 +122,8 @@ class RaceRenderer(PygameRenderer[RaceScene]):
         left = -world[0] * uy + world[1] * ux  # across, to the left facing upwind
         scale = self._scale(scene)
         middle = 0.5 * (scene.top_m - scene.bottom_m)
-        return (self.width / 2.0 - left * scale, self.height / 2.0 - (up - middle) * scale)
+        down = self.course_height_px / 2.0 - (up - middle) * scale
+        return (self.width / 2.0 - left * scale, down)
 
     def _draw_scene(self, scene: RaceScene) -> None:
         pg, surface = self._pg, self._surface
@@ -96,12 +134,15 @@ class RaceRenderer(PygameRenderer[RaceScene]):
                 corners = [self._to_screen(scene, p) for p in boat.cone]
                 pg.draw.polygon(shade, (*SHADOW_COLOR, SHADOW_ALPHA), corners)
         surface.blit(shade, (0, 0))
-        self._draw_course(scene)
+        course_labels = self._draw_course(scene)
         for boat in scene.boats:
             self._draw_boat(scene, boat)
-        self._draw_panel(scene)
+        panel = self._draw_panel(scene)
+        self._draw_boat_labels(scene, [panel, *course_labels])
 
-    def _draw_course(self, scene: RaceScene) -> None:
+    def _draw_course(self, scene: RaceScene) -> list[tuple[float, float, float, float]]:
+        """The line, the marks, their names and the wind arrow; returns the boxes (px) of
+        the names and the arrow, which the boats' labels keep clear of."""
         pg, surface = self._pg, self._surface
         committee, pin = (self._to_screen(scene, p) for p in (scene.committee_m, scene.pin_m))
         pg.draw.line(surface, LINE_COLOR, committee, pin, 1)
@@ -110,13 +151,24 @@ class RaceRenderer(PygameRenderer[RaceScene]):
             centre = self._to_screen(scene, mark)
             pg.draw.circle(surface, MARK_COLOR, (round(centre[0]), round(centre[1])), 4)
         windward = self._to_screen(scene, scene.windward_m)
-        self._draw_text("windward mark", (windward[0] + 8, windward[1] - 8), TEXT_COLOR, 16)
-        self._draw_text("start / finish", (committee[0] + 8, committee[1] - 6), TEXT_COLOR, 16)
+        # the gate's name right of its right-hand mark (as drawn), below the line's
+        gate = max((self._to_screen(scene, m) for m in scene.gate_m), key=lambda p: p[0])
+        names = [
+            ("windward mark", (windward[0] + 8, windward[1] - 8)),
+            ("start / finish", (committee[0] + 8, committee[1] - 6)),
+            ("gate", (gate[0] + 8, gate[1] - 8)),
+        ]
+        boxes = []
+        for text, (x, y) in names:
+            w, h = self._draw_text(text, (x, y), TEXT_COLOR, LABEL_FONT_PX)
+            boxes.append((x, y, x + w, y + h))
         # the wind: an arrow down from the top edge
         x = self.width - 30
         pg.draw.line(surface, TEXT_COLOR, (x, 12), (x, 48), 2)
         pg.draw.polygon(surface, TEXT_COLOR, [(x - 6, 40), (x + 6, 40), (x, 50)])
         self._draw_text(f"{scene.wind_speed_mps:.1f} m/s", (x - 60, 54), TEXT_COLOR, 16)
+        self.course_label_boxes = boxes
+        return [*boxes, (self.width - 100.0, 0.0, float(self.width), 72.0)]
 
     def _draw_boat(self, scene: RaceScene, boat: BoatView) -> None:
         pg, surface = self._pg, self._surface
@@ -139,11 +191,30 @@ class RaceRenderer(PygameRenderer[RaceScene]):
                 scene.boom_length_m * math.sin(boat.boom_angle_rad),
             )
             pg.draw.line(surface, (20, 20, 20), world(mast), world(end), 2)
-        label = str(boat.number) + (f" ({boat.place})" if boat.place else "")
-        tip = world((-0.6 * scene.hull_length_m, 0.0))
-        self._draw_text(label, (tip[0] + 4, tip[1] + 2), color, 16)
 
-    def _draw_panel(self, scene: RaceScene) -> None:
+    def _draw_boat_labels(
+        self, scene: RaceScene, keep_clear: list[tuple[float, float, float, float]]
+    ) -> None:
+        """Each boat's number (and its place once finished) beside it, laid out by measured
+        width so that no two overlap, nor the boxes ``keep_clear`` (the panel, the marks'
+        names, the wind arrow), nor the caption band."""
+        font = self._get_font(LABEL_FONT_PX)
+        texts, anchors = [], []
+        for boat in scene.boats:
+            texts.append(str(boat.number) + (f" ({ordinal(boat.place)})" if boat.place else ""))
+            anchors.append((*self._to_screen(scene, boat.position_m), BOAT_LABEL_RADIUS_PX))
+        bounds = (0.0, 0.0, float(self.width), float(self.course_height_px))
+        boxes = place_labels(anchors, [font.size(t) for t in texts], bounds, keep_clear)
+        for boat, text, box in zip(scene.boats, texts, boxes, strict=True):
+            color = BOAT_COLORS[boat.number % len(BOAT_COLORS)]
+            if boat.stopped:
+                color = blend(color, TEXT_COLOR, 0.3)
+            backing = (box[0] - 1, box[1], box[2] - box[0] + 2, box[3] - box[1])
+            self._pg.draw.rect(self._surface, PANEL_COLOR, backing)  # readable on the line
+            self._draw_text(text, (box[0], box[1]), color, LABEL_FONT_PX)
+        self.label_boxes = boxes
+
+    def _draw_panel(self, scene: RaceScene) -> tuple[float, float, float, float]:
         clock = scene.clock_s
         if clock < 0.0:
             head = f"start in {-clock:4.1f} s"
@@ -151,9 +222,11 @@ class RaceRenderer(PygameRenderer[RaceScene]):
             head = f"race {int(clock // 60):d}:{clock % 60:04.1f}"
         lines = [(head, TEXT_COLOR)]
         finished = sorted((b.place, b.number) for b in scene.boats if b.place)
-        if finished:
-            lines.append(("finished: " + ", ".join(f"{n}" for _, n in finished), TEXT_COLOR))
+        lines += [(f"{ordinal(p)} boat_{n}", TEXT_COLOR) for p, n in finished]
         self._draw_text_panel(lines, (8, 8), PANEL_COLOR)
+        font = self._font  # the panel's size, as _draw_text_panel draws it
+        width = max(font.size(text)[0] for text, _ in lines) + 12
+        return (8.0, 8.0, 8.0 + width, 8.0 + font.get_linesize() * len(lines) + 8)
 
 
 def race_scene(task: object, state: object, race: int = 0) -> RaceScene:
