@@ -1,6 +1,6 @@
 # Two entry points, each doing its own set-up on a fresh machine:
-#   make run   - the main job: train SAC on BeachballSail-v1 with the quick preset
-#                (configs/beachball_sail_v1_quick.yaml: under 10 minutes on two CPU cores),
+#   make run   - the main job: train SAC on BeachballSail-v2 with the quick preset
+#                (configs/beachball_sail_v2_quick.yaml: under 10 minutes on two CPU cores),
 #                evaluate it beside random play and the VMG autopilot, and write the run
 #                folder runs/main (model, results table, learning curve, animation)
 #   make test  - lint, the test suite and the strict build of the documentation site
@@ -39,7 +39,7 @@ $(RUN_STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(RUN_STAMP)
-	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v1 --preset beachball_sail_v1_quick --seeds 1 --torch-threads 2 --out runs/main
+	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym baseline --env BeachballSail-v2 --preset beachball_sail_v2_quick --seeds 1 --torch-threads 2 --out runs/main
 
 demo: $(STAMP)
 	SDL_VIDEODRIVER=dummy $(VENV)/bin/bbgym demo --out runs/demo

@@ -188,12 +188,16 @@ def test_the_evaluation_during_training_steps_its_envs_at_once(tmp_path):
     assert eval_env_count(load_training(config)[1]) == 50
 
 
-def test_the_quick_sail_v1_preset_is_the_shipped_one_with_a_quarter_of_its_update_work():
+@pytest.mark.parametrize("version", ["v1", "v2"])
+def test_the_quick_sail_presets_are_the_shipped_ones_with_a_quarter_of_their_update_work(
+    version,
+):
     from bbgym.config import load_training
 
-    assert load_preset("beachball_sail_v1_quick") == load_preset("BeachballSail-v1")
-    sac, train = load_training("BeachballSail-v1")
-    quick_sac, quick_train = load_training("beachball_sail_v1_quick")
+    env_id = f"BeachballSail-{version}"
+    assert load_preset(f"beachball_sail_{version}_quick") == load_preset(env_id)
+    sac, train = load_training(env_id)
+    quick_sac, quick_train = load_training(f"beachball_sail_{version}_quick")
     # Half the updates (one per step of the 8 envs) on networks of half the width: the
     # main job's (make run) quarter of the shipped preset's update work, nothing else.
     assert quick_sac == {**sac, "gradient_steps": 1, "policy_kwargs": {"net_arch": [128, 128]}}

@@ -18,7 +18,7 @@ pytest.importorskip("stable_baselines3")
 pytest.importorskip("matplotlib")
 
 ROOT = Path(__file__).resolve().parents[1]
-MAIN_ENV = "BeachballSail-v1"
+MAIN_ENV = "BeachballSail-v2"
 """The env the main job trains (the sailing baseline of the README)."""
 
 
@@ -49,7 +49,7 @@ def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     argv = make_run_command()
     # The job's preset (the quick one: under 10 minutes on two cores), on a tiny budget.
     name = argv[argv.index("--preset") + 1]
-    assert name == "beachball_sail_v1_quick"
+    assert name == "beachball_sail_v2_quick"
     _, settings = load_training(name)
     assert settings["algo"] == "sac" and settings["evaluate_model"] == "final"
     preset = write_tiny_sail_preset(tmp_path / "sail.yaml", preset_path(name).name)

@@ -6,7 +6,7 @@ beside random and scripted play, write a run folder.
         [--engine sb3|torchrl] [--device cpu] [--out runs/baseline/<env>] [--no-train]
 
 The main job (``make run``, see the Makefile) is this command on the sailing env with its
-quick preset (``beachball_sail_v1_quick``) and one training seed. Steps, each reported as
+quick preset (``beachball_sail_v2_quick``) and one training seed. Steps, each reported as
 it goes:
 
 1. train as ``bbgym train`` does (the preset's ``algo``, its section and ``train``; with
