@@ -177,7 +177,8 @@ graphs only); empty: inductor's defaults. Measured and left so: a lower
 this, else recomputes it in every kernel that reads it; default 30) halves the cold
 compile of the ball envs' steps (22 or less: 34-44 s instead of 68-81 s on the 2-core
 machine) but slows their steps by 17-61%, so it is a trade for each user, not a default
-(docs/pages/speed.md, "Compile time"; ``python scripts/bench_inductor.py``)."""
+(docs/pages/speed-torch.md, "What was tried to compile faster"; ``python
+scripts/bench_inductor.py``)."""
 
 CACHE_OPTIONS: dict[str, Any] = {
     "cpp.dynamic_threads": True,
@@ -195,8 +196,8 @@ inductor and AOTAutograd refuse to cache a graph holding a higher-order op unles
 marked cacheable, and ``while_loop`` (the one graph's loop over chunks) is not, so the
 ball envs' one-graph step compiled from cold at every start; the cache key holds the
 loop's condition and body graphs (the graph module pickles its submodules' code), so
-marking it is safe for these graphs. Measured in docs/pages/speed.md, "The first step
-compiles"."""
+marking it is safe for these graphs. Measured in docs/pages/speed-torch.md, "The compile
+cache"."""
 
 
 def compiled(fn: Any, backend: Backend) -> Any:
@@ -220,7 +221,7 @@ def compiled(fn: Any, backend: Backend) -> Any:
     config.recompile_limit = max(config.recompile_limit, 256)
     config.accumulated_recompile_limit = max(config.accumulated_recompile_limit, 4096)
     # A static graph per batch size: dynamic=True let one graph serve every num_envs, with
-    # the same bits, but its steps were 30-51% slower on CPU (docs/pages/speed.md,
+    # the same bits, but its steps were 30-51% slower on CPU (docs/pages/speed-torch.md,
     # scripts/bench_compile.py), and a warm cache recompiles a new size in seconds.
     compiled_fn = torch.compile(fn, dynamic=False, options=dict(INDUCTOR_OPTIONS))
     name = getattr(fn, "__qualname__", repr(fn))
@@ -267,11 +268,11 @@ PROGRESS_INTERVAL_S = 15.0
 NOTICE_AFTER_S = 2.0
 """Seconds a wait under :func:`announced` runs before it is said on stderr."""
 
-TYPICAL_COMPILE_S = {"cold": (60, 240), "warm": (2, 30)}
-"""The range of seconds a first compiled step takes on the 2-core CPU the project measures
-on, with a cold and a warm compile cache, across the envs (``scripts/compile_times.py``
-measures each; its table is on the Speed page): what the notice tells a user to expect.
-A faster core takes less, a busy machine more."""
+TYPICAL_COMPILE_S = {"cold": (45, 140), "warm": (5, 15)}
+"""The range of seconds a first compiled step took on the 2-core CPU the project measures
+on, with a cold and a warm compile cache, across the envs (``scripts/compile_times.py``,
+its table on docs/pages/speed-torch.md): what the notice tells a user to expect. A faster
+core takes less, a busy machine more."""
 
 _ANNOUNCED: set[tuple[Any, ...]] = set()
 """The compiles this process has announced on stderr (one line each, not one per env)."""

@@ -1,5 +1,5 @@
 """Developer tool: what the torch backend's compile costs and what it buys (the compile
-figures of docs/pages/speed.md).
+figures of docs/pages/speed.md and speed-torch.md).
 
     python scripts/bench_compile.py [--modes static dynamic] [--sizes 64 1024] [--numpy]
 

@@ -1,6 +1,6 @@
 """Developer tool: the torch backend's step compiled as its parts (the default) or as one
 graph (``step_graph="one"``), each with every info or with ``info_keys=["is_success"]``
-(the figures of docs/pages/speed.md, "The step as one graph").
+(the figures of docs/pages/speed-torch-cpu.md, "The step as one graph").
 
     python scripts/bench_fused.py [--envs BeachballSail-v1 BeachballThrow-v0] [--sizes 4096]
 

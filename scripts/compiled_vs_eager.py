@@ -8,7 +8,8 @@ truncations), and the first step's time.
 
 Run it under a torch other than the one the project pins (a GPU machine's own, say) before
 timing anything there: a compiler bug shows here as an error or a difference far above
-float64 rounding (docs/pages/speed.md, "On a GPU", has what it found under torch 2.11).
+float64 rounding (docs/pages/speed-method.md, "The first GPU lease", has what it found under
+torch 2.11).
 """
 
 from __future__ import annotations
