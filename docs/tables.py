@@ -1,16 +1,23 @@
 """The site's generated tables, and the MkDocs hook that puts them into the pages.
 
-A page asks for a table with a marker on a line of its own; at build time
-:func:`on_page_markdown` replaces each marker by the table, so no page holds a figure
-typed by hand and none can go stale:
+A page asks for a table with a marker on a line of its own, and ``python docs/tables.py
+write`` writes the table into the page after it, up to an end line (``<!-- /table -->``):
+the pages read the same in the repository, an editor and the site, and no page holds a
+figure typed by hand. The site's build (:func:`on_page_markdown`) and the test suite fail
+on a page whose written table differs from what its results and code give now:
 
     <!-- table: baselines [ENV_PREFIX] -->   docs/results/baselines/*.json (bbgym baseline)
+    <!-- table: baselines-summary -->        the same, a row per task, algorithm and engine
     <!-- table: speed -->                    docs/results/speed/bench.json (bbgym bench)
+    <!-- table: speed-summary -->            the same, as ratios to CartPole-v1 in one grid
+    <!-- table: speed-gpu -->                docs/results/speed/cuda-*.log (bench --device cuda)
     <!-- table: backends -->                 docs/results/speed/bench-backends-0.3.1.json
     <!-- table: polar -->                    docs/results/polar/polar.csv (bbgym polar)
     <!-- table: polar-compare -->            docs/results/polar/compare.csv (bbgym polar --compare)
     <!-- table: race-selfplay -->            docs/results/race/*.json (scripts/race_selfplay.py)
     <!-- table: fuzz -->                     docs/results/fuzz/fuzz.json (bbgym fuzz)
+    <!-- table: compile -->                  docs/results/speed/compile.json
+                                             (scripts/compile_times.py)
     <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
     <!-- table: params GROUP -->             the intervals of a physics parameter dataclass
     <!-- include: CHANGELOG.md -->           a file of docs/, as it is
@@ -19,6 +26,8 @@ Every results table names the command that wrote its results file, and says wher
 was transcribed rather than written by that command (its ``source`` field). A missing or
 malformed results file raises :class:`ResultsError` naming it, which fails the build.
 
+    python docs/tables.py write            # write every page's tables (after new results)
+    python docs/tables.py check            # list the pages whose tables are stale
     python docs/tables.py baselines        # print a table (any marker's words)
     python docs/tables.py record-baseline RUN [--command C] [--note N] [--name NAME]
                                            # a bbgym baseline run folder -> its results file
@@ -60,12 +69,21 @@ BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
 SCENES_SPEED_FILE = "speed/bench-scenes.json"
 POLAR_FILE = "polar/polar.json"
 FUZZ_FILE = "fuzz/fuzz.json"
+COMPILE_FILE = "speed/compile.json"
 RACE_SELFPLAY_FILES = ("race/selfplay.json", "race/selfplay_absolute.json")
 """The race's self-play results (``scripts/race_selfplay.py --results``), one row each."""
 
 THROW_ENVS = ("BeachballThrow", "BeachballCurve", "BeachballTopple")
 
 MARKER = re.compile(r"^<!-- (table|include): *([^>]*?) *-->$", re.MULTILINE)
+BLOCK = re.compile(
+    r"^<!-- (table|include): *([^>]*?) *-->\n"  # the marker
+    # what was written after it, up to its end line: lazily, and never across another marker
+    r"(?:(?:(?!<!-- (?:table|include):).*\n)*?<!-- /\1 -->\n)?",
+    re.MULTILINE,
+)
+"""A marker and, where :func:`expand` has written it, its table and end line."""
+PAGES = DOCS / "pages"
 
 
 class ResultsError(ValueError):
@@ -222,6 +240,135 @@ def baselines_table(env_prefix: str = "", results: Path = RESULTS) -> str:
     return "\n".join(lines)
 
 
+def current_ids() -> list[str]:
+    """The newest registered version of each task (``BeachballCurve-v2``), in the
+    families' order: what ``gym.make`` users should pick."""
+    newest: dict[str, str] = {}
+    for spec in families().values():
+        for version in spec.versions:
+            task, _, number = version.env_id.rpartition("-v")
+            known = newest.get(task)
+            if known is None or int(number) > int(known.rpartition("-v")[2]):
+                newest[task] = version.env_id
+    return list(newest.values())
+
+
+def _version(env_id: str) -> tuple[str, int]:
+    task, _, number = env_id.rpartition("-v")
+    return task, int(number)
+
+
+def _train_minutes(data: dict, summary: dict) -> str:
+    """``17.5-19.4 min (2 at once, 1 thread each)``: a seed's training time, from the
+    per-seed seconds where the file has them, else from its ``wall_time`` text."""
+    seconds = summary.get("train_wall_time_s_per_seed")
+    if seconds:
+        low, high = min(seconds.values()) / 60, max(seconds.values()) / 60
+        text = f"{low:.1f} min" if len(seconds) == 1 else f"{low:.1f}-{high:.1f} min"
+    else:
+        found = re.match(r"[\d.]+(?:-[\d.]+)? min", str(data.get("wall_time", "")))
+        text = found.group(0) if found else "-"
+    jobs, threads = summary.get("jobs", 1), summary.get("torch_threads", 1)
+    how = f"{jobs} at once" if jobs > 1 else "one at a time"
+    return f"{text} ({how}, {threads} thread{'s' if threads > 1 else ''} each)"
+
+
+def _summary_cells(path: Path) -> tuple[str, str, list[str], str]:
+    """``(env, engine, cells, command)`` of the summary row of a results file."""
+    data = read_json(path)
+    summary = field(data, "summary", path, dict)
+    rows = field(data, "results", path, list)
+    command = field(data, "command", path, str)
+    try:
+        env, algo = summary["env"], summary["algo"]
+        engine = summary.get("engine", "sb3")
+        by_policy = {r.get("policy"): r for r in rows if isinstance(r, dict)}
+        scripted = by_policy["scripted"]
+        learnt = next(r for r in rows if isinstance(r, dict) and r.get("algo") == algo)
+        worst = learnt["worst_seed_success_rate"]
+        seeds = len(learnt["success_by_seed"])
+        success = f"{100 * learnt['success_rate']:.1f}% (worst {pct(worst)}, {seeds} seeds)"
+        unit = "steps" if env.startswith("BeachballTopple") else "throws"
+        if learnt.get("time_vs_oracle") is not None:
+            ratio = (
+                f"time {learnt['time_vs_oracle']:.2f}x "
+                f"(worst seed {learnt['worst_time_vs_oracle']:.2f}x)"
+            )
+        elif learnt.get("mean_length") and scripted.get("mean_length"):
+            ratio = f"{unit} {learnt['mean_length'] / scripted['mean_length']:.2f}x"
+        else:
+            ratio = f"{unit}: not recorded"
+        name = f"{algo.upper()}" + (" (TorchRL)" if engine == "torchrl" else "")
+        preset = summary.get("config") or "-"
+        cells = [
+            f"{name}, `{preset}`",
+            success,
+            f"{pct(scripted['success_rate'])}; {ratio}",
+            _train_minutes(data, summary),
+        ]
+    except (KeyError, TypeError, ValueError, StopIteration) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    return env, engine, cells, command
+
+
+def baselines_summary_table(results: Path = RESULTS, current: list[str] | None = None) -> str:
+    """The answer first: per task, the newest env version trained with each algorithm and
+    engine, one row each (success over the seeds with the worst seed, the scripted oracle's
+    success and the learnt policy's time or throws over the oracle's, training time a seed),
+    and a row "not trained yet" for each current id that has no stable-baselines3 run; the
+    command of each row in a collapsed note under it."""
+    from bbgym.config import env_preset, load_training
+
+    current = current_ids() if current is None else current
+    chosen: dict[tuple, tuple] = {}  # (task, algo, engine) -> the newest version's row
+    trained_sb3 = set()
+    for name in BASELINE_FILES:
+        if name == "main.json":  # `make run`: a single seed of the quick preset's row
+            continue
+        env, engine, cells, command = _summary_cells(results / "baselines" / name)
+        if engine == "sb3":
+            trained_sb3.add(env)
+        task, number = _version(env)
+        key = (task, cells[0].split(",")[0], engine)
+        if key not in chosen or number > _version(chosen[key][0])[1]:
+            chosen[key] = (env, engine, cells, command)
+    for env in current:
+        if env not in trained_sb3:
+            algo = str(load_training(env)[1]["algo"]).upper()
+            cells = [f"{algo}, `{env_preset(env)[0].stem}`", "**not trained yet**", "-", "-"]
+            chosen[(*_version(env), "gap")] = (env, "sb3", cells, f"bbgym baseline --env {env}")
+    tasks = [_version(env)[0] for env in current]
+
+    def order(row: tuple) -> tuple:
+        task, number = _version(row[0])
+        return (tasks.index(task) if task in tasks else len(tasks), -number, row[1] != "sb3")
+
+    rows = sorted(chosen.values(), key=order)
+    lines = [
+        "| env | algorithm, preset | success (worst seed) | scripted oracle: success; learnt "
+        "/ oracle | training a seed (2 cores) |",
+        "|---|---|---|---|---|",
+    ]
+    commands = ["| env, algorithm | command |", "|---|---|"]
+    for env, _, cells, command in rows:
+        shown = f"**{env}**" if env in current else env
+        lines.append(f"| {shown} | " + " | ".join(cells) + " |")
+        what = "not run yet: " if "not trained yet" in cells[1] else ""
+        commands.append(f"| {env}, {cells[0].split(',')[0]} | {what}`{command}` |")
+    legend = (
+        "**Bold**: the current version of each task (the newest id registered); the others "
+        "are the newest version trained with that algorithm. Success: the learnt policy's "
+        "mean over its training seeds on evaluation episodes 0-99, and its worst seed. "
+        "Learnt / oracle: its time to the mark (sailing) or its throws or steps an episode "
+        "(the ball envs) over the scripted agent's. Training: minutes a seed on the "
+        "project's 2-core CPU machine, as the run was made. Every row of every results "
+        "file is in the full table below."
+    )
+    note = ['??? note "The command of each row"', ""]
+    note += [f"    {line}" for line in commands]
+    return "\n".join([*lines, "", legend, "", *note])
+
+
 def _bench(path: Path) -> tuple[dict, str]:
     data = read_json(path)
     command = field(data, "command", path, str)
@@ -262,6 +409,111 @@ def speed_table(path: Path | None = None) -> str:
     except (KeyError, TypeError, ValueError) as err:
         raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
     return "\n".join([*lines, "", note, _machine(data)])
+
+
+def _fraction(ratio: float) -> str:
+    """A rate over CartPole's as ``1/191`` (CartPole made 191 times as many), or ``2.5x``."""
+    if ratio >= 1:
+        return f"{ratio:.2g}x" if ratio < 10 else f"{ratio:,.0f}x"
+    times = 1 / ratio
+    return f"1/{times:.1f}" if times < 10 else f"1/{times:,.0f}"
+
+
+def speed_summary_table(path: Path | None = None) -> str:
+    """The answer first: ``bbgym bench``'s rows as one grid, an env a row and a kind of
+    stepping a column, each cell the env's rate as a fraction of CartPole-v1's in the same
+    kind and run (CartPole's row: its own rate)."""
+    path = path or RESULTS / SPEED_FILE
+    data, note = _bench(path)
+    rows = field(data, "rows", path, list)
+    try:
+        kinds = list(dict.fromkeys(r["kind"] for r in rows))
+        envs = list(dict.fromkeys(r["env"] for r in rows))
+        cell = {(r["env"], r["kind"]): r for r in rows}
+        reference = [env for env in envs if env.startswith("CartPole")]
+        if not reference:
+            raise ResultsError(f"{_name(path)}: no CartPole row to compare with")
+        lines = ["| env | " + " | ".join(kinds) + " |", "|---|" + "---:|" * len(kinds)]
+        for env in reference + [env for env in envs if env not in reference]:
+            cells = []
+            for kind in kinds:
+                r = cell.get((env, kind))
+                if r is None:
+                    cells.append("-")
+                elif env in reference:
+                    cells.append(f"{r['rate']:,.0f}/s")
+                else:
+                    cells.append(_fraction(r["ratio"]))
+            lines.append(f"| {env} | " + " | ".join(cells) + " |")
+    except (KeyError, TypeError, ValueError, ZeroDivisionError) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    legend = (
+        f"{reference[0]}'s row: its steps per second. The others: the env's rate over "
+        f"{reference[0]}'s in the same column and run (1/191: CartPole made 191 times as "
+        "many steps; the ball envs' env rows count throws, their PPO rows steps, one step "
+        "a throw). The NumPy backend on the CPU."
+    )
+    return "\n".join([*lines, "", legend, "", note, _machine(data)])
+
+
+GPU_LOG = "speed/cuda-h200-2026-12-04.log"
+"""The output of ``bbgym bench --device cuda`` runs on a lent GPU, as printed."""
+_GPU_ROW = re.compile(
+    r"^(?P<env>\S+) N=(?P<n>\d+) (?P<backend>torch|numpy) (?P<dtype>float\d+)"
+    r"(?P<cuda> cuda)?(?:, (?P<graph>[a-z ]+))?: (?P<rate>[\d,]+)/s"
+    r"(?:, warm-up (?P<warmup>[\d.]+) s)?$"
+)
+_CARTPOLE_ROW = re.compile(r"^(?P<env>CartPole-v1) N=(?P<n>\d+): (?P<rate>[\d,]+)/s$")
+
+
+def gpu_speed_table(path: Path | None = None, smallest: int = 4096) -> str:
+    """The GPU rows (N >= ``smallest``) of a ``bbgym bench --device cuda`` log: each with
+    its ratio to CartPole's NumPy vector env on the CPU and to the env's own NumPy backend
+    at the same N, where the same lease (a ``## lease`` section) measured them."""
+    path = path or RESULTS / GPU_LOG
+    if not path.is_file():
+        raise ResultsError(f"{_name(path)}: results file missing")
+    text = path.read_text(encoding="utf-8").splitlines()
+    leases: list[list[re.Match]] = [[]]
+    for line in text:
+        if line.startswith("## lease"):
+            leases.append([])
+        match = _GPU_ROW.match(line) or _CARTPOLE_ROW.match(line)
+        if match:
+            leases[-1].append(match)
+    lines = [
+        "| env | N, dtype, step | steps/s on the GPU | over CartPole (CPU) | over NumPy (CPU) "
+        "| first step (compile) |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    for lease in leases:
+        rate = {}
+        for m in lease:
+            key = "numpy" if m.groupdict().get("backend") == "numpy" else m["env"]
+            rate[(key if key in ("numpy", "CartPole-v1") else "gpu", m["env"], m["n"])] = m
+        for m in lease:
+            if m.groupdict().get("cuda") is None or int(m["n"]) < smallest:
+                continue
+            gpu = int(m["rate"].replace(",", ""))
+            cartpole = rate.get(("CartPole-v1", "CartPole-v1", m["n"]))
+            numpy = rate.get(("numpy", m["env"], m["n"]))
+
+            def over(ref: re.Match | None, gpu: int = gpu) -> str:
+                return _fraction(gpu / int(ref["rate"].replace(",", ""))) if ref else "-"
+
+            unit = " throws" if m["env"].startswith(THROW_ENVS) else ""
+            lines.append(
+                f"| {m['env']} | {int(m['n']):,}, {m['dtype']}, {m['graph']} | "
+                f"{gpu:,}{unit} | {over(cartpole)} | {over(numpy)} | {m['warmup']} s |"
+            )
+    if len(lines) == 2:
+        raise ResultsError(f"{_name(path)}: no GPU row of N >= {smallest}")
+    header = text[0].lstrip("# ").rstrip(",") if text else ""
+    note = (
+        f"Read from `{_name(path)}`: {header}. The rows at N >= {smallest:,}; a ratio only "
+        "where the same lease measured the reference at the same N ('-': not measured)."
+    )
+    return "\n".join([*lines, "", note])
 
 
 def backends_table(path: Path | None = None) -> str:
@@ -556,10 +808,63 @@ def fuzz_table(path: Path | None = None) -> str:
     return f"{format_report(data)}\n\nWritten by `{command}`. {_machine(data)}"
 
 
+def _compile_cell(run: dict | None) -> str:
+    """A first step's seconds and what inductor's cache did (``78 s (miss)``)."""
+    if not run:
+        return "-"
+    if "error" in run:
+        return f"failed: {run['error']}"
+    cache = run.get("inductor_cache") or {}
+    did = [k.split("_cache_")[-1] for k, v in sorted(cache.items()) if v and "_cache_" in k]
+    return f"{run['first_step_s']:.0f} s ({', '.join(did) or 'no cache'})"
+
+
+def compile_table(path: Path | None = None) -> str:
+    """The torch backend's first step per env, with a cold and a warm compile cache and
+    warm under another thread count, from ``scripts/compile_times.py``'s JSON file."""
+    path = path or RESULTS / COMPILE_FILE
+    data = read_json(path)
+    rows = field(data, "rows", path, list)
+    threads = {r.get("warm_other_threads", {}).get("torch_threads") for r in rows} - {None}
+    other = (
+        f"warm, {'/'.join(map(str, sorted(threads)))} thread(s)"
+        if threads
+        else "warm, other threads"
+    )
+    lines = [
+        f"| env | batch, dtype | cold cache | warm cache | {other} | later steps |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    for row in rows:
+        warm = row.get("warm") or {}
+        later = f"{warm['second_step_s'] * 1000:.0f} ms" if "second_step_s" in warm else "-"
+        lines.append(
+            f"| {row['env_id']} | {row['num_envs']}, {row['dtype']} "
+            f"| {_compile_cell(row.get('cold'))} | {_compile_cell(warm)} "
+            f"| {_compile_cell(row.get('warm_other_threads'))} | {later} |"
+        )
+    command = field(data, "command", path, str)
+    source = f" {data['source']}" if data.get("source") else ""
+    m = data.get("machine") or {}
+    return (
+        "\n".join(lines)
+        + f"\n\nWritten by `{command}`, each run a fresh process (cold: an empty cache folder)."
+        + f"{source} "
+        + f"Machine: {m.get('platform', '?')}, {m.get('cpu_count', '?')} CPUs, torch "
+        + f"{m.get('torch', '?')}."
+    )
+
+
 def table(spec: str) -> str:
     """The table a marker's words ask for (``"baselines BeachballSail"``)."""
     kind, _, arg = spec.partition(" ")
     arg = arg.strip()
+    if kind == "baselines-summary" and not arg:
+        return baselines_summary_table()
+    if kind == "speed-summary" and not arg:
+        return speed_summary_table()
+    if kind == "speed-gpu" and not arg:
+        return gpu_speed_table()
     if kind == "baselines":
         return baselines_table(arg)
     if kind == "speed" and not arg:
@@ -572,6 +877,8 @@ def table(spec: str) -> str:
         return polar_compare_table()
     if kind == "race-selfplay" and not arg:
         return race_selfplay_table()
+    if kind == "compile" and not arg:
+        return compile_table()
     if kind == "fuzz" and not arg:
         return fuzz_table()
     if kind == "arguments":
@@ -600,13 +907,45 @@ def include(name: str) -> str:
 
 
 def expand(markdown: str) -> str:
-    """The page's markdown with every marker replaced by its table or file."""
+    """The page's markdown with each marker followed by its table or file as they are now
+    (written or rewritten up to the marker's end line; idempotent).
+
+    Blank lines around the table keep Markdown from reading it as part of the comments.
+    """
 
     def replace(match: re.Match) -> str:
         kind, spec = match.group(1), match.group(2)
-        return include(spec) if kind == "include" else table(spec)
+        body = include(spec) if kind == "include" else table(spec)
+        return f"<!-- {kind}: {spec} -->\n\n{body.strip()}\n\n<!-- /{kind} -->\n"
 
-    return MARKER.sub(replace, markdown)
+    if not markdown.endswith("\n"):
+        markdown += "\n"
+    return BLOCK.sub(replace, markdown)
+
+
+def markdown_pages() -> list[Path]:
+    """Every page of the site (docs/pages/**/*.md), in a stable order."""
+    return sorted(PAGES.rglob("*.md"))
+
+
+def stale_pages(pages: list[Path] | None = None) -> list[Path]:
+    """The pages whose written tables differ from what the results and code give now."""
+    pages = markdown_pages() if pages is None else pages
+    return [
+        p for p in pages if expand(p.read_text(encoding="utf-8")) != p.read_text(encoding="utf-8")
+    ]
+
+
+def write_pages(pages: list[Path] | None = None) -> list[Path]:
+    """Write every marker's table into its page; returns the pages that changed."""
+    changed = []
+    for page in markdown_pages() if pages is None else pages:
+        text = page.read_text(encoding="utf-8")
+        new = expand(text)
+        if new != text:
+            page.write_text(new, encoding="utf-8")
+            changed.append(page)
+    return changed
 
 
 SPHINX_ROLE = re.compile(r":(?:func|meth|class|data|attr|mod|obj):<code>~?([^<]*)</code>")
@@ -623,9 +962,15 @@ def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
     from mkdocs.exceptions import PluginError
 
     try:
-        return expand(markdown)
+        fresh = expand(markdown)
     except (ResultsError, LookupError) as err:
         raise PluginError(f"docs/tables.py, page {page.file.src_path}: {err}") from None
+    if fresh.rstrip() != markdown.rstrip():  # MkDocs may drop the file's last newline
+        raise PluginError(
+            f"docs/tables.py: page {page.file.src_path} has a stale or unwritten table: "
+            "run `python docs/tables.py write` and commit the pages"
+        )
+    return markdown
 
 
 SUMMARY_KEYS = ("env", "config", "algo", "engine", "evaluated_model", "training_seeds", "jobs",
@@ -697,6 +1042,16 @@ def record_baseline(run: Path, command: str | None = None, note: str = "",
 
 
 def main(argv: list[str]) -> None:
+    if argv[:1] in (["write"], ["check"]):
+        pages = [Path(a).resolve() for a in argv[1:]] or None
+        if argv[0] == "write":
+            for page in write_pages(pages):
+                print(f"wrote {_name(page)}")
+            return
+        stale = stale_pages(pages)
+        for page in stale:
+            print(f"stale: {_name(page)} (python docs/tables.py write)")
+        sys.exit(1 if stale else 0)
     if argv[:1] != ["record-baseline"]:
         print(table(" ".join(argv)))
         return

@@ -54,10 +54,26 @@ def test_every_baselines_file_makes_a_row_naming_its_command_and_source():
     assert "BeachballSail-v1, SAC" in sail_only and "Curve" not in sail_only
 
 
+def test_the_compile_table_shows_every_id_and_the_cache_serving_warm_runs():
+    """scripts/compile_times.py's results: every registered id, its cold run a cache miss
+    and both warm runs (another thread count included) hits."""
+    import gymnasium as gym
+
+    text = tables.compile_table()
+    rows = [line for line in text.splitlines() if line.startswith("| Beachball")]
+    assert sorted(row.split(" | ")[0][2:] for row in rows) == sorted(
+        k for k in gym.registry if k.startswith("Beachball")
+    )
+    for row in rows:
+        cold, warm, other = row.split(" | ")[2:5]
+        assert cold.endswith("(miss)") and warm.endswith("(hit)") and other.endswith("(hit)"), row
+    assert "`python scripts/compile_times.py " in text
+
+
 def test_speed_and_polar_tables_name_their_commands():
     speed = tables.speed_table()
-    assert "`bbgym bench --out runs/bench`" in speed
-    assert "| CartPole-v1 | single |" in speed and "| BeachballTopple-v0 | vector N=4096 |" in speed
+    assert "`bbgym bench --repeats 3 --out runs/bench`" in speed
+    assert "| CartPole-v1 | single |" in speed and "| BeachballTopple-v2 | vector N=4096 |" in speed
     backends = tables.backends_table()
     assert "`bbgym bench --backends`" in backends and "| N=65536 torch float32 |" in backends
     polar = tables.polar_table()
@@ -170,15 +186,38 @@ def test_the_polar_comparison_table_marks_every_miss():
     assert sum(row.endswith("| **no** |") for row in rows) == misses
 
 
-def test_every_marker_of_every_page_expands_and_an_unknown_one_fails():
-    pages = sorted((DOCS / "pages").rglob("*.md"))
-    for page in pages:
-        text = tables.expand(page.read_text(encoding="utf-8"))
-        assert not tables.MARKER.search(text), page
+def test_every_page_holds_its_tables_as_they_are_now_and_an_unknown_marker_fails():
+    """The tables are written into the pages (they read the same in the repository and the
+    site), and none is stale: `python docs/tables.py write` after new results or code."""
+    assert tables.stale_pages() == [], "run: python docs/tables.py write"
+    for page in tables.markdown_pages():
+        text = page.read_text(encoding="utf-8")
+        for kind in ("table", "include"):
+            assert text.count(f"<!-- {kind}:") == text.count(f"<!-- /{kind} -->"), page
     changelog = tables.expand("<!-- include: CHANGELOG.md -->")
     assert "## 0.1.0" in changelog and "## 0.8.0" in changelog
+    assert changelog.endswith("<!-- /include -->\n")
     with pytest.raises(LookupError, match="unknown table marker"):
         tables.expand("<!-- table: nonsense -->")
+
+
+def test_a_stale_or_unwritten_table_is_noticed_and_rewritten_in_place():
+    page = "# Title\n\ntext\n\n<!-- table: versions sail -->\n\nafter\n"
+    written = tables.expand(page)
+    assert written != page and tables.expand(written) == written  # idempotent
+    assert written.startswith("# Title\n\ntext\n\n<!-- table: versions sail -->\n\n| ")
+    assert written.endswith("\n\n<!-- /table -->\n\nafter\n")
+    row = next(line for line in written.splitlines() if line.startswith("| `BeachballSail-v2`"))
+    stale = written.replace(row, row.replace("v2", "v9", 1))
+    assert tables.expand(stale) == written  # the stale row is replaced, nothing else moves
+    two = tables.expand(page + "<!-- table: versions throw -->\n")
+    assert two.count("<!-- /table -->") == 2 and "BeachballThrow-v1" in two
+
+
+def built_page(site: Path, name: str) -> Path:
+    """A built page: ``name.html`` (``use_directory_urls: false``: the site works opened
+    from a file)."""
+    return site / f"{name}.html"
 
 
 @pytest.mark.skipif(
@@ -194,14 +233,22 @@ def test_the_site_builds_strictly(tmp_path):
         env={"NO_MKDOCS_2_WARNING": "1", "PATH": "", "HOME": str(tmp_path)},
     )  # fmt: skip
     assert build.returncode == 0, build.stderr[-3000:]
-    baselines = (site / "baselines" / "index.html").read_text(encoding="utf-8")
+    baselines = built_page(site, "baselines").read_text(encoding="utf-8")
     assert "bbgym baseline --env BeachballSail-v1 --seeds 5 --jobs 1 --torch-threads 2" in baselines
-    validation = (site / "validation" / "index.html").read_text(encoding="utf-8")
-    assert "dinghy.mass_kg" in validation and "<!-- table:" not in validation
-    api = (site / "api" / "index.html").read_text(encoding="utf-8")
+    validation = built_page(site, "validation").read_text(encoding="utf-8")
+    # The table written under its marker is in the site (the marker and end line stay, as
+    # HTML comments): a row of it, and every marker with its end line.
+    assert "<td><code>dinghy.mass_kg</code></td>" in validation
+    assert validation.count("<!-- table:") == validation.count("<!-- /table -->") > 0
+    api = built_page(site, "api").read_text(encoding="utf-8")
     assert "BeachballSailEnv" in api and "Version History" in api
-    changelog = (site / "changelog" / "index.html").read_text(encoding="utf-8")
+    changelog = built_page(site, "changelog").read_text(encoding="utf-8")
     assert "0.1.0" in changelog
+    # Opened from a file: links go to page files (no folder's index.html to find), and the
+    # search index is a script the page loads (the offline plugin), not a fetch of JSON.
+    assert (site / "baselines.html").is_file() and not (site / "baselines").exists()
+    assert 'href="quickstart.html"' in built_page(site, "index").read_text(encoding="utf-8")
+    assert (site / "search" / "search_index.js").is_file()
 
 
 def test_each_env_page_lists_its_family_versions_with_the_envs_own_spaces():
@@ -224,8 +271,8 @@ def test_each_env_page_lists_its_family_versions_with_the_envs_own_spaces():
 
 
 def test_every_test_the_physics_page_cites_exists():
-    """The Physics page says which test checks each law: each name it cites is a test."""
-    page = (DOCS / "pages" / "physics.md").read_text()
+    """The Physics pages say which test checks each law: each name they cite is a test."""
+    page = "".join(path.read_text() for path in sorted((DOCS / "pages").glob("physics*.md")))
     cited = set(re.findall(r"`(test_\w+)`", page))
     defined = set()
     for path in (ROOT / "tests").glob("test_*.py"):
