@@ -53,6 +53,7 @@ BASELINE_FILES = (
     "BeachballSail-v1-ppo.json",
     "BeachballSail-v1-torchrl-ppo.json",
     "BeachballSail-v0-ppo.json",
+    "BeachballThrow-v1-ppo.json",
     "BeachballThrow-v0-ppo.json",
     "BeachballThrow-v0-torchrl-ppo.json",
     "BeachballCurve-v1-ppo.json",
