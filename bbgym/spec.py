@@ -46,6 +46,12 @@ class Version:
     base: bool = False
     """Whether it is a base task whose arguments the fuzzer draws freely (the others are
     fixed points of the same arguments) and which ``bbgym bench`` times by default."""
+    actions: str | None = None
+    """What its actions are, where they differ from the family's ``EnvSpec.actions``."""
+
+    def actions_of(self, spec: EnvSpec) -> str:
+        """What this version's actions are (its own words, else the family's)."""
+        return self.actions or spec.actions
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ figure typed by hand. The site's build (:func:`on_page_markdown`) and the test s
 on a page whose written table differs from what its results and code give now:
 
     <!-- table: baselines [ENV_PREFIX] -->   docs/results/baselines/*.json (bbgym baseline)
-    <!-- table: baselines-summary -->        the same, a row per task, algorithm and engine
+    <!-- table: baselines-summary [PREFIX] --> the same, a row per task, algorithm and engine
     <!-- table: speed -->                    docs/results/speed/bench.json (bbgym bench)
     <!-- table: speed-summary -->            the same, as ratios to CartPole-v1 in one grid
     <!-- table: speed-gpu -->                docs/results/speed/cuda-*.log (bench --device cuda)
@@ -236,8 +236,8 @@ def baselines_table(env_prefix: str = "", results: Path = RESULTS) -> str:
             notes[-1] += f" Planner column: `{data['planner_command']}`."
     if not notes:
         raise ResultsError(f"no baselines results file for envs {env_prefix!r}")
-    lines += ["", "Results files (each row's command is the one that made it):", ""]
-    lines += [f"- {note}" for note in notes]
+    lines += ["", '??? note "Where each results file came from (each row\'s command made it)"', ""]
+    lines += [f"    - {note}" for note in notes]
     return "\n".join(lines)
 
 
@@ -312,21 +312,29 @@ def _summary_cells(path: Path) -> tuple[str, str, list[str], str]:
     return env, engine, cells, command
 
 
-def baselines_summary_table(results: Path = RESULTS, current: list[str] | None = None) -> str:
+def baselines_summary_table(
+    env_prefix: str = "", results: Path = RESULTS, current: list[str] | None = None
+) -> str:
     """The answer first: per task, the newest env version trained with each algorithm and
     engine, one row each (success over the seeds with the worst seed, the scripted oracle's
     success and the learnt policy's time or throws over the oracle's, training time a seed),
     and a row "not trained yet" for each current id that has no stable-baselines3 run; the
-    command of each row in a collapsed note under it."""
+    command of each row in a collapsed note under it. Only the envs whose id starts with
+    ``env_prefix`` or one of its comma-separated prefixes (an env page's:
+    ``"BeachballThrow,BeachballCurve"``)."""
     from bbgym.config import env_preset, load_training
 
+    prefixes = tuple(env_prefix.split(","))
     current = current_ids() if current is None else current
+    current = [env for env in current if env.startswith(prefixes)]
     chosen: dict[tuple, tuple] = {}  # (task, algo, engine) -> the newest version's row
     trained_sb3 = set()
     for name in BASELINE_FILES:
         if name == "main.json":  # `make run`: a single seed of the quick preset's row
             continue
         env, engine, cells, command = _summary_cells(results / "baselines" / name)
+        if not env.startswith(prefixes):
+            continue
         if engine == "sb3":
             trained_sb3.add(env)
         task, number = _version(env)
@@ -362,8 +370,8 @@ def baselines_summary_table(results: Path = RESULTS, current: list[str] | None =
         "mean over its training seeds on evaluation episodes 0-99, and its worst seed. "
         "Learnt / oracle: its time to the mark (sailing) or its throws or steps an episode "
         "(the ball envs) over the scripted agent's. Training: minutes a seed on the "
-        "project's 2-core CPU machine, as the run was made. Every row of every results "
-        "file is in the full table below."
+        "project's 2-core CPU machine, as the run was made. Every run of every results "
+        "file, with its random and scripted play, failures and budget: Baselines, every run."
     )
     note = ['??? note "The command of each row"', ""]
     note += [f"    {line}" for line in commands]
@@ -698,7 +706,7 @@ def versions_table(family: str) -> str:
         # version is out of date, and only the spaces are wanted.
         env_class = getattr(importlib.import_module(spec.module), spec.env_class)
         env = env_class(**version.kwargs)
-        actions = f"{_space(env.action_space)}: {spec.actions}"
+        actions = f"{_space(env.action_space)}: {version.actions_of(spec)}"
         lines.append(
             f"| `{version.env_id}` | {actions} | {_space(env.observation_space)} "
             f"| {version.changes} |"
@@ -860,8 +868,8 @@ def table(spec: str) -> str:
     """The table a marker's words ask for (``"baselines BeachballSail"``)."""
     kind, _, arg = spec.partition(" ")
     arg = arg.strip()
-    if kind == "baselines-summary" and not arg:
-        return baselines_summary_table()
+    if kind == "baselines-summary":
+        return baselines_summary_table(arg)
     if kind == "speed-summary" and not arg:
         return speed_summary_table()
     if kind == "speed-gpu" and not arg:

@@ -54,6 +54,24 @@ def test_every_baselines_file_makes_a_row_naming_its_command_and_source():
     assert "BeachballSail-v1, SAC" in sail_only and "Curve" not in sail_only
 
 
+def test_the_baselines_summary_has_a_row_for_every_current_id_and_filters_by_prefix():
+    """Each current id has an SB3 row or a 'not trained yet' row (never silently absent); a
+    file's row shows its mean, worst seed and seed count; a prefix keeps that task's rows."""
+    text = tables.baselines_summary_table()
+    rows = [line for line in text.splitlines() if line.startswith("| **Beachball")]
+    for env in tables.current_ids():
+        mine = [row for row in rows if row.startswith(f"| **{env}** |")]
+        assert mine, env
+    assert "| BeachballCurve-v1 | PPO, `beachball_curve` | 91.8% (worst 87%, 5 seeds) |" in text
+    # A current id with no SB3 results file (Topple-v0 has none) gets a row saying so.
+    gap = tables.baselines_summary_table(current=["BeachballSail-v2", "BeachballTopple-v0"])
+    assert "| **BeachballTopple-v0** | PPO, `beachball_topple` | **not trained yet** |" in gap
+    sail = tables.baselines_summary_table("BeachballSail")
+    assert "**BeachballSail-v2**" in sail and "Throw" not in sail and "Curve" not in sail
+    topple = tables.baselines_summary_table("BeachballTopple")
+    assert "Sail" not in topple.split("**Bold**")[0]
+
+
 def test_the_compile_table_shows_every_id_and_the_cache_serving_warm_runs():
     """scripts/compile_times.py's results: every registered id, its cold run a cache miss
     and both warm runs (another thread count included) hits."""
@@ -233,7 +251,7 @@ def test_the_site_builds_strictly(tmp_path):
         env={"NO_MKDOCS_2_WARNING": "1", "PATH": "", "HOME": str(tmp_path)},
     )  # fmt: skip
     assert build.returncode == 0, build.stderr[-3000:]
-    baselines = built_page(site, "baselines").read_text(encoding="utf-8")
+    baselines = built_page(site, "baselines-all").read_text(encoding="utf-8")
     assert "bbgym baseline --env BeachballSail-v1 --seeds 5 --jobs 1 --torch-threads 2" in baselines
     validation = built_page(site, "validation").read_text(encoding="utf-8")
     # The table written under its marker is in the site (the marker and end line stay, as
@@ -262,7 +280,7 @@ def test_each_env_page_lists_its_family_versions_with_the_envs_own_spaces():
         assert [row.split("`")[1] for row in rows] == [v.env_id for v in reversed(spec.versions)]
         for row, version in zip(rows, reversed(spec.versions), strict=True):
             env = gym.spec(version.env_id).make()  # what a user gets, checked against the table
-            assert f"{env.action_space.shape})`: {spec.actions}" in row
+            assert f"{env.action_space.shape})`: {version.actions_of(spec)}" in row
             assert f"{env.observation_space.shape})`" in row
             assert version.changes in row
             env.close()

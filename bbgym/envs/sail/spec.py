@@ -154,7 +154,7 @@ SPEC = register_spec(
         vector_env_class="BeachballSailVectorEnv",
         max_episode_steps=MAX_EPISODE_STEPS,
         summary="sail a dinghy to a mark anywhere on the water (beat, tack, jibe) upright",
-        actions="rudder, sheet (v2: and jib sheet)",
+        actions="rudder, main sheet",
         versions=(
             Version(
                 "BeachballSail-v0",
@@ -176,6 +176,7 @@ SPEC = register_spec(
                 "a light current and small waves; v1's reward",
                 kwargs=V2_KWARGS,
                 preset="beachball_sail_v2",
+                actions="rudder, main sheet, jib sheets",
             ),
         ),
         param_groups={"dinghy": DinghyParams, "gust_params": GustParams, "water": WaterParams},
