@@ -1,4 +1,4 @@
-"""The sailing family's spec: its versions, arguments, fuzzing and agents (see :mod:`bbgym.spec`)."""
+"""The sailing family's spec: versions, arguments, fuzzing and agents (see :mod:`bbgym.spec`)."""
 
 from __future__ import annotations
 
