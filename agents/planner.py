@@ -72,9 +72,13 @@ def plan_throw(env: gym.Env, refine: int = 3, candidates: int = 6) -> tuple[np.n
     best_action, best_miss = None, math.inf
     for k in range(candidates):
         action = solve_throw(
-            task=base.task, target=target, wind=(float(wind_x), float(wind_y)),
-            screen=bool(scenario.screen), refine=refine, seed=k,
-        ).action  # fmt: skip
+            task=base.task,
+            target=target,
+            wind=(float(wind_x), float(wind_y)),
+            screen=bool(scenario.screen),
+            refine=refine,
+            seed=k,
+        ).action
         trial = copy.deepcopy(env)
         _, _, _, _, info = trial.step(action)
         trial.close()
@@ -122,9 +126,12 @@ def topple_candidates(task: object) -> np.ndarray:
             for azimuth in TOPPLE_AZIMUTHS_RAD:
                 for spin in TOPPLE_BACKSPIN:
                     v = speed * np.array(
-                        [np.cos(elevation) * np.cos(azimuth),
-                         np.cos(elevation) * np.sin(azimuth), np.sin(elevation)]
-                    )  # fmt: skip
+                        [
+                            np.cos(elevation) * np.cos(azimuth),
+                            np.cos(elevation) * np.sin(azimuth),
+                            np.sin(elevation),
+                        ]
+                    )
                     # Backspin of a ball flying +x turns about -y (its Magnus force, w x v, up).
                     w = (spin * np.sin(azimuth), -spin * np.cos(azimuth), 0.0)
                     rows.append(np.concatenate([v / task.max_speed, w]))

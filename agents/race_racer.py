@@ -41,9 +41,15 @@ class RaceRacer:
     each new race."""
 
     def __init__(
-        self, pilot: VMGAutopilot, sail_size: int, neighbours: int, countdown_s: float,
-        start_margin_s: float = 4.0, avoid_m: float = 10.0, penalty_turns: bool = True,
-    ) -> None:  # fmt: skip
+        self,
+        pilot: VMGAutopilot,
+        sail_size: int,
+        neighbours: int,
+        countdown_s: float,
+        start_margin_s: float = 4.0,
+        avoid_m: float = 10.0,
+        penalty_turns: bool = True,
+    ) -> None:
         from bbgym.envs.race.task import NEIGHBOUR_COLUMNS, RACE_COLUMNS
 
         self.pilot, self.sail_size, self.neighbours = pilot, sail_size, neighbours

@@ -90,9 +90,11 @@ class ToppleAgent:
         self.env_kwargs = dict(env_kwargs or {})
         n = len(self.SPEEDS) * len(self.ELEVATIONS_DEG)
         self._trial = gym.make_vec(
-            "BeachballTopple-v0", num_envs=n, vectorization_mode="vector_entry_point",
+            "BeachballTopple-v0",
+            num_envs=n,
+            vectorization_mode="vector_entry_point",
             **self.env_kwargs,
-        )  # fmt: skip
+        )
         grid = [(s, math.radians(e)) for s in self.SPEEDS for e in self.ELEVATIONS_DEG]
         v = np.array([(s * math.cos(e), 0.0, s * math.sin(e)) for s, e in grid])
         task = self._trial.unwrapped.task
@@ -111,11 +113,13 @@ class ToppleAgent:
             )
             _, _, _, _, info = self._trial.step(self._candidates.astype(np.float32))
             reach = [
-                np.max(samples) if state == "standing" else (10.0 if state != "fallen_toward"
-                                                             else -10.0)
-                for samples, state in zip(info["wall_angle_samples"], info["wall_state"],
-                                          strict=True)
-            ]  # fmt: skip
+                np.max(samples)
+                if state == "standing"
+                else (10.0 if state != "fallen_toward" else -10.0)
+                for samples, state in zip(
+                    info["wall_angle_samples"], info["wall_state"], strict=True
+                )
+            ]
             self._cache[key] = self._candidates[int(np.argmax(reach))].astype(np.float32)
         return self._cache[key]
 

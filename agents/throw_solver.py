@@ -102,8 +102,9 @@ def solve_throw_robust(
     # Half the shortlist bends the ball left, half right: which way round a screen has the
     # more room depends on the wind.
     left = params[:, 3] > 0.0
-    rows = np.concatenate([params[side][np.argsort(miss[side])[: shortlist // 2]]
-                           for side in (left, ~left)])  # fmt: skip
+    rows = np.concatenate(
+        [params[side][np.argsort(miss[side])[: shortlist // 2]] for side in (left, ~left)]
+    )
     rng = np.random.default_rng(seed)
     drawn = np.asarray(wind) + rng.normal(0.0, wind_std, (winds, 2))
     actions = np.clip(_actions(task, bearing, *rows.T), -1.0, 1.0)

@@ -280,16 +280,32 @@ def load_torchrl(preset: str | Path) -> dict[str, Any]:
         raise ValueError(f"{path}: no torchrl section (the settings of --engine torchrl)")
     unknown = sorted(set(section) - set(TORCHRL_DEFAULTS))
     if unknown:
-        raise ValueError(f"{path}: unknown torchrl settings {unknown}; "
-                         f"known: {sorted(TORCHRL_DEFAULTS)}")  # fmt: skip
+        raise ValueError(
+            f"{path}: unknown torchrl settings {unknown}; known: {sorted(TORCHRL_DEFAULTS)}"
+        )
     settings = {**TORCHRL_DEFAULTS, **section}
-    for name in ("num_envs", "n_steps", "total_timesteps", "minibatch_size", "n_epochs",
-                 "eval_every_timesteps", "eval_episodes", "sde_sample_freq"):  # fmt: skip
+    for name in (
+        "num_envs",
+        "n_steps",
+        "total_timesteps",
+        "minibatch_size",
+        "n_epochs",
+        "eval_every_timesteps",
+        "eval_episodes",
+        "sde_sample_freq",
+    ):
         value = settings[name]
         if isinstance(value, bool) or not isinstance(value, int) or value < 1:
             raise ValueError(f"{path}: torchrl.{name} must be a positive int, got {value!r}")
-    for name in ("gamma", "gae_lambda", "clip_range", "ent_coef", "vf_coef", "max_grad_norm",
-                 "log_std_init"):  # fmt: skip
+    for name in (
+        "gamma",
+        "gae_lambda",
+        "clip_range",
+        "ent_coef",
+        "vf_coef",
+        "max_grad_norm",
+        "log_std_init",
+    ):
         value = settings[name]
         if (
             isinstance(value, bool)
@@ -307,13 +323,16 @@ def load_torchrl(preset: str | Path) -> dict[str, Any]:
     if settings["ent_coef"] < 0.0 or settings["vf_coef"] < 0.0:
         raise ValueError(f"{path}: torchrl.ent_coef and torchrl.vf_coef must be >= 0")
     arch = settings["net_arch"]
-    if not (isinstance(arch, list) and arch and all(
-        isinstance(w, int) and not isinstance(w, bool) and w > 0 for w in arch
-    )):  # fmt: skip
+    if not (
+        isinstance(arch, list)
+        and arch
+        and all(isinstance(w, int) and not isinstance(w, bool) and w > 0 for w in arch)
+    ):
         raise ValueError(f"{path}: torchrl.net_arch must be a list of positive ints, got {arch!r}")
     if settings["dtype"] not in ("float32", "float64"):
-        raise ValueError(f"{path}: torchrl.dtype must be float32 or float64, got "
-                         f"{settings['dtype']!r}")  # fmt: skip
+        raise ValueError(
+            f"{path}: torchrl.dtype must be float32 or float64, got {settings['dtype']!r}"
+        )
     for name in ("normalize_reward", "use_sde", "squash_output", "compile_step"):
         if not isinstance(settings[name], bool):
             raise ValueError(f"{path}: torchrl.{name} must be true or false")
@@ -321,6 +340,7 @@ def load_torchrl(preset: str | Path) -> dict[str, Any]:
     if isinstance(rate, str):
         settings["learning_rate"] = linear_schedule(rate, f"{path}: torchrl.learning_rate")
     elif isinstance(rate, bool) or not isinstance(rate, (int, float)) or not 0.0 < rate < 1.0:
-        raise ValueError(f"{path}: torchrl.learning_rate must be in (0, 1) or 'lin_<number>', "
-                         f"got {rate!r}")  # fmt: skip
+        raise ValueError(
+            f"{path}: torchrl.learning_rate must be in (0, 1) or 'lin_<number>', got {rate!r}"
+        )
     return settings

@@ -107,6 +107,10 @@ def play_env(
 ) -> None:
     """Play ``env`` (a :class:`KeyboardWrapper`) in a pygame window until ESC or close."""
     import_gym_play().play(
-        env, fps=fps, zoom=zoom, keys_to_action=env.get_keys_to_action(), noop=env.noop,
+        env,
+        fps=fps,
+        zoom=zoom,
+        keys_to_action=env.get_keys_to_action(),
+        noop=env.noop,
         callback=callback,
-    )  # fmt: skip
+    )

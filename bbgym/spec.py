@@ -163,8 +163,9 @@ class EnvSpec:
             )
         return self.policies[name](env)
 
-    def episode_outcome(self, env: Any, info: dict[str, Any], terminated: bool,
-                        truncated: bool) -> tuple[str, bool | None]:  # fmt: skip
+    def episode_outcome(
+        self, env: Any, info: dict[str, Any], terminated: bool, truncated: bool
+    ) -> tuple[str, bool | None]:
         """``(text, success)`` of an episode from its last step; ``success`` is None for an
         episode cut short (neither terminated nor truncated)."""
         if not (terminated or truncated):
@@ -175,8 +176,9 @@ class EnvSpec:
             return "success", True
         return ("failed", False) if terminated else ("timed out", False)
 
-    def outcome_kind(self, env: Any, info: dict[str, Any], terminated: bool,
-                     truncated: bool) -> str:  # fmt: skip
+    def outcome_kind(
+        self, env: Any, info: dict[str, Any], terminated: bool, truncated: bool
+    ) -> str:
         """An episode's row in the failure breakdown: ``success``, or how it failed."""
         text, success = self.episode_outcome(env, info, terminated, truncated)
         return "success" if success else text

@@ -36,8 +36,9 @@ try:
 except ImportError as error:  # the fix, not a bare ModuleNotFoundError
     from bbgym._extras import install_hint
 
-    raise ImportError(f"bbgym.torchrl needs TorchRL (the 'torchrl' extra): "
-                      f"{install_hint('torchrl')}") from error  # fmt: skip
+    raise ImportError(
+        f"bbgym.torchrl needs TorchRL (the 'torchrl' extra): {install_hint('torchrl')}"
+    ) from error
 
 import bbgym  # noqa: F401  (registers the ids)
 from bbgym.envs.core import CoreVectorEnv
@@ -84,10 +85,16 @@ class BbgymTorchRLEnv(EnvBase):
         # env's kwargs ask for others).
         env_kwargs.setdefault("info_keys", ["is_success"])
         self.vector_env = gym.make_vec(
-            env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
-            backend="torch", device=str(device), dtype=dtype, output="torch",
-            compile=compile_step, **env_kwargs,
-        )  # fmt: skip
+            env_id,
+            num_envs=num_envs,
+            vectorization_mode="vector_entry_point",
+            backend="torch",
+            device=str(device),
+            dtype=dtype,
+            output="torch",
+            compile=compile_step,
+            **env_kwargs,
+        )
         self.core: CoreVectorEnv = self.vector_env.unwrapped
         self._float = DTYPES[dtype]
         self._make_specs(num_envs)
@@ -99,17 +106,21 @@ class BbgymTorchRLEnv(EnvBase):
             observation=Bounded(
                 low=torch.as_tensor(np.broadcast_to(obs.low, (n, *obs.shape)).copy()),
                 high=torch.as_tensor(np.broadcast_to(obs.high, (n, *obs.shape)).copy()),
-                shape=(n, *obs.shape), dtype=self._float, device=self.device,
+                shape=(n, *obs.shape),
+                dtype=self._float,
+                device=self.device,
             ),
             is_success=Categorical(2, shape=(n, 1), dtype=torch.bool, device=self.device),
             shape=(n,),
-        )  # fmt: skip
-        self.action_spec = Bounded(low=-1.0, high=1.0, shape=(n, *act.shape),
-                                   dtype=self._float, device=self.device)  # fmt: skip
+        )
+        self.action_spec = Bounded(
+            low=-1.0, high=1.0, shape=(n, *act.shape), dtype=self._float, device=self.device
+        )
         self.reward_spec = Unbounded(shape=(n, 1), dtype=self._float, device=self.device)
         flag = Categorical(2, shape=(n, 1), dtype=torch.bool, device=self.device)
-        self.done_spec = Composite(done=flag, terminated=flag.clone(), truncated=flag.clone(),
-                                   shape=(n,))  # fmt: skip
+        self.done_spec = Composite(
+            done=flag, terminated=flag.clone(), truncated=flag.clone(), shape=(n,)
+        )
 
     def _reset(self, tensordict: TensorDictBase | None = None, **kwargs: Any) -> TensorDictBase:
         mask = None if tensordict is None else tensordict.get("_reset", None)
@@ -120,18 +131,27 @@ class BbgymTorchRLEnv(EnvBase):
             obs = self.core.reset_envs(mask.reshape(-1).cpu().numpy())
         false = torch.zeros((self.batch_size[0], 1), dtype=torch.bool, device=self.device)
         return TensorDict(
-            {"observation": self._obs(obs), "is_success": false.clone(), "done": false,
-             "terminated": false.clone(), "truncated": false.clone()},
-            batch_size=self.batch_size, device=self.device,
-        )  # fmt: skip
+            {
+                "observation": self._obs(obs),
+                "is_success": false.clone(),
+                "done": false,
+                "terminated": false.clone(),
+                "truncated": false.clone(),
+            },
+            batch_size=self.batch_size,
+            device=self.device,
+        )
 
     def _step(self, tensordict: TensorDictBase) -> TensorDictBase:
         obs, reward, terminated, truncated, info = self.core.step(tensordict.get("action"))
         terminated = terminated.reshape(-1, 1)
         truncated = truncated.reshape(-1, 1)
         success = info.get("is_success")
-        success = (torch.zeros_like(terminated) if success is None
-                   else torch.as_tensor(success, device=self.device).reshape(-1, 1))  # fmt: skip
+        success = (
+            torch.zeros_like(terminated)
+            if success is None
+            else torch.as_tensor(success, device=self.device).reshape(-1, 1)
+        )
         out = {
             "observation": self._obs(obs),
             "is_success": success.to(torch.bool),
@@ -251,8 +271,10 @@ class CorrelatedExploration(torch.nn.Module):
         with torch.no_grad():
             if self.calls % self.sample_freq == 0:
                 std = self.net.log_std.exp()
-                self.matrices = torch.randn((self.num_envs, *std.shape), dtype=std.dtype,
-                                            device=std.device) * std  # fmt: skip
+                self.matrices = (
+                    torch.randn((self.num_envs, *std.shape), dtype=std.dtype, device=std.device)
+                    * std
+                )
             self.calls += 1
             features = self.net.features(observation)
             loc, scale = self.net.loc_scale(features)
@@ -303,14 +325,22 @@ def load_policy(path: str | Path) -> GaussianPolicyNet:
     try:
         payload = torch.load(Path(path), map_location="cpu", weights_only=True)
     except Exception as error:  # a zip of SB3, a truncated file, ...
-        raise ValueError(f"--model {path}: not a policy saved by bbgym's TorchRL PPO "
-                         f"({error})") from None  # fmt: skip
+        raise ValueError(
+            f"--model {path}: not a policy saved by bbgym's TorchRL PPO ({error})"
+        ) from None
     if not isinstance(payload, dict) or payload.get("format") != POLICY_FORMAT:
-        raise ValueError(f"--model {path}: not a policy saved by bbgym's TorchRL PPO "
-                         f"(format {POLICY_FORMAT})")  # fmt: skip
+        raise ValueError(
+            f"--model {path}: not a policy saved by bbgym's TorchRL PPO (format {POLICY_FORMAT})"
+        )
     # Files written before ``squash_output`` existed hold squashing policies.
-    net = GaussianPolicyNet(payload["obs_dim"], payload["act_dim"], payload["net_arch"], 0.0,
-                            payload["state_dependent"], payload.get("squash", True))  # fmt: skip
+    net = GaussianPolicyNet(
+        payload["obs_dim"],
+        payload["act_dim"],
+        payload["net_arch"],
+        0.0,
+        payload["state_dependent"],
+        payload.get("squash", True),
+    )
     net.load_state_dict(payload["state_dict"])
     return net.eval()
 
@@ -322,8 +352,9 @@ class ReturnScaler:
     scale the value function learns in stays near 1 whatever the env's reward units, and a
     rare large reward (a capsize's) counts for at most ``clip``, as there."""
 
-    def __init__(self, num_envs: int, gamma: float, device: torch.device,
-                 clip: float = 10.0) -> None:  # fmt: skip
+    def __init__(
+        self, num_envs: int, gamma: float, device: torch.device, clip: float = 10.0
+    ) -> None:
         self.gamma, self.clip = gamma, clip
         self.returns = torch.zeros(num_envs, dtype=torch.float64, device=device)
         # stable-baselines3's RunningMeanStd starts at mean 0, variance 1 and a count of
@@ -366,8 +397,7 @@ def evaluate_policy(
     length and success."""
     n = min(episodes, 50)
     targets = np.array([(episodes + i) // n for i in range(n)])
-    env = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point",
-                       **env_kwargs)  # fmt: skip
+    env = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point", **env_kwargs)
     returns, lengths, successes = [], [], []
     try:
         obs, _ = env.reset(seed=seed)
@@ -412,25 +442,42 @@ class PPOLearner:
         self.obs_dim = env.observation_spec["observation"].shape[-1]
         self.act_dim = env.action_spec.shape[-1]
         arch = settings["net_arch"]
-        self.net = GaussianPolicyNet(self.obs_dim, self.act_dim, arch, settings["log_std_init"],
-                                     settings["use_sde"], settings["squash_output"])  # fmt: skip
+        self.net = GaussianPolicyNet(
+            self.obs_dim,
+            self.act_dim,
+            arch,
+            settings["log_std_init"],
+            settings["use_sde"],
+            settings["squash_output"],
+        )
         self.net.to(device=env.device, dtype=env._float)
         self.actor = ProbabilisticActor(
             TensorDictModule(self.net, in_keys=["observation"], out_keys=["loc", "scale"]),
-            in_keys=["loc", "scale"], spec=env.action_spec,
+            in_keys=["loc", "scale"],
+            spec=env.action_spec,
             distribution_class=self.net.distribution_class,
             return_log_prob=True,
-        )  # fmt: skip
+        )
         value_net = mlp(self.obs_dim, 1, arch, final_gain=1.0)
-        critic = ValueOperator(value_net.to(device=env.device, dtype=env._float),
-                               in_keys=["observation"])  # fmt: skip
-        self.advantage = GAE(gamma=settings["gamma"], lmbda=settings["gae_lambda"],
-                             value_network=critic, average_gae=False)  # fmt: skip
+        critic = ValueOperator(
+            value_net.to(device=env.device, dtype=env._float), in_keys=["observation"]
+        )
+        self.advantage = GAE(
+            gamma=settings["gamma"],
+            lmbda=settings["gae_lambda"],
+            value_network=critic,
+            average_gae=False,
+        )
         self.loss = ClipPPOLoss(
-            self.actor, critic, clip_epsilon=settings["clip_range"],
-            entropy_bonus=settings["ent_coef"] > 0.0, entropy_coeff=settings["ent_coef"],
-            critic_coeff=settings["vf_coef"], loss_critic_type="l2", normalize_advantage=True,
-        )  # fmt: skip
+            self.actor,
+            critic,
+            clip_epsilon=settings["clip_range"],
+            entropy_bonus=settings["ent_coef"] > 0.0,
+            entropy_coeff=settings["ent_coef"],
+            critic_coeff=settings["vf_coef"],
+            loss_critic_type="l2",
+            normalize_advantage=True,
+        )
         rate = settings["learning_rate"]
         self.rate = rate if callable(rate) else None  # a schedule over the budget
         initial = rate.initial if callable(rate) else float(rate)
@@ -444,10 +491,14 @@ class PPOLearner:
             return self.actor
         from tensordict.nn import TensorDictModule
 
-        self.exploration = CorrelatedExploration(self.net, num_envs,
-                                                 self.settings["sde_sample_freq"])  # fmt: skip
-        return TensorDictModule(self.exploration, in_keys=["observation"],
-                                out_keys=["loc", "scale", "action", "action_log_prob"])  # fmt: skip
+        self.exploration = CorrelatedExploration(
+            self.net, num_envs, self.settings["sde_sample_freq"]
+        )
+        return TensorDictModule(
+            self.exploration,
+            in_keys=["observation"],
+            out_keys=["loc", "scale", "action", "action_log_prob"],
+        )
 
     exploration: CorrelatedExploration | None = None
 
@@ -490,8 +541,14 @@ class PPOLearner:
     def cpu_policy(self) -> GaussianPolicyNet:
         """A float32 copy of the policy on the CPU (the evaluation's)."""
         settings = self.settings
-        copy = GaussianPolicyNet(self.obs_dim, self.act_dim, settings["net_arch"], 0.0,
-                                 settings["use_sde"], settings["squash_output"])  # fmt: skip
+        copy = GaussianPolicyNet(
+            self.obs_dim,
+            self.act_dim,
+            settings["net_arch"],
+            0.0,
+            settings["use_sde"],
+            settings["squash_output"],
+        )
         copy.load_state_dict({k: v.cpu().float() for k, v in self.net.state_dict().items()})
         return copy
 
@@ -502,12 +559,23 @@ class EvaluationLog:
     ``<out>/eval/evaluations.npz`` in stable-baselines3's layout, the best mean return's
     policy saved as ``<out>/best_model.pt``."""
 
-    def __init__(self, out: Path, env_id: str, seed: int, settings: dict[str, Any],
-                 env_kwargs: dict[str, Any], log: Any) -> None:  # fmt: skip
+    def __init__(
+        self,
+        out: Path,
+        env_id: str,
+        seed: int,
+        settings: dict[str, Any],
+        env_kwargs: dict[str, Any],
+        log: Any,
+    ) -> None:
         self.out, self.env_id, self.seed = out, env_id, seed
         self.settings, self.env_kwargs, self.log = settings, env_kwargs, log
-        self.entries: dict[str, list] = {"timesteps": [], "results": [], "ep_lengths": [],
-                                         "successes": []}  # fmt: skip
+        self.entries: dict[str, list] = {
+            "timesteps": [],
+            "results": [],
+            "ep_lengths": [],
+            "successes": [],
+        }
         self.best_mean_return, self.best_timesteps = -float("inf"), None
         self.time_s = 0.0
         (out / "eval").mkdir(parents=True, exist_ok=True)
@@ -519,9 +587,12 @@ class EvaluationLog:
 
         began = time.perf_counter()
         returns, lengths, successes = evaluate_policy(
-            self.env_id, learner.cpu_policy(), self.settings["eval_episodes"],
-            self.seed + 10_000, self.env_kwargs,
-        )  # fmt: skip
+            self.env_id,
+            learner.cpu_policy(),
+            self.settings["eval_episodes"],
+            self.seed + 10_000,
+            self.env_kwargs,
+        )
         new = ([timesteps], [returns], [lengths], [successes])
         for key, values in zip(self.entries, new, strict=True):
             self.entries[key] += values
@@ -532,8 +603,10 @@ class EvaluationLog:
             meta = {"env_id": self.env_id, "seed": self.seed, "timesteps": timesteps}
             save_policy(self.out / "best_model.pt", learner.net, self.settings, meta)
         self.time_s += time.perf_counter() - began
-        self.log(f"{timesteps} timesteps: success {successes.mean():.0%}, mean return "
-                 f"{mean_return:.2f} over {len(returns)} episodes")  # fmt: skip
+        self.log(
+            f"{timesteps} timesteps: success {successes.mean():.0%}, mean return "
+            f"{mean_return:.2f} over {len(returns)} episodes"
+        )
 
     def _save(self, path: Path) -> None:
         with open(path, "wb") as f:
@@ -579,12 +652,20 @@ def train_ppo(
     budget = timesteps or settings["total_timesteps"]
     batches = -(-budget // frames_per_batch)  # whole batches: rounded up
     if batches * frames_per_batch != budget:
-        log(f"{budget} timesteps round up to {batches * frames_per_batch}: whole batches of "
-            f"num_envs {n} x n_steps {n_steps}")  # fmt: skip
+        log(
+            f"{budget} timesteps round up to {batches * frames_per_batch}: whole batches of "
+            f"num_envs {n} x n_steps {n_steps}"
+        )
     start = time.perf_counter()
-    env = BbgymTorchRLEnv(env_id, n, device=device, dtype=settings["dtype"],
-                          compile_step=settings["compile_step"], seed=seed,
-                          **env_kwargs)  # fmt: skip
+    env = BbgymTorchRLEnv(
+        env_id,
+        n,
+        device=device,
+        dtype=settings["dtype"],
+        compile_step=settings["compile_step"],
+        seed=seed,
+        **env_kwargs,
+    )
     torch.manual_seed(seed)  # the policy's weights (drawn first) and its samples
     order = torch.Generator().manual_seed(seed)  # the minibatches' order
     learner = PPOLearner(env, settings)
@@ -593,9 +674,14 @@ def train_ppo(
     )
     # A feed-forward policy needs no env transform (the collector asks whether to add
     # InitTracker, which marks episode starts for recurrent policies).
-    collector = Collector(env, learner.explorer(n), frames_per_batch=frames_per_batch,
-                          total_frames=batches * frames_per_batch, device=env.device,
-                          auto_register_policy_transforms=False)  # fmt: skip
+    collector = Collector(
+        env,
+        learner.explorer(n),
+        frames_per_batch=frames_per_batch,
+        total_frames=batches * frames_per_batch,
+        device=env.device,
+        auto_register_policy_transforms=False,
+    )
     learner.new_rollout()
     evaluation = EvaluationLog(out, env_id, seed, settings, env_kwargs, log)
     every = settings["eval_every_timesteps"]
@@ -615,8 +701,12 @@ def train_ppo(
             evaluation.evaluate(learner, frames)
     collector.shutdown()
     evaluation.evaluate(learner, frames)
-    save_policy(out / "model.pt", learner.net, settings,
-                {"env_id": env_id, "seed": seed, "timesteps": frames})  # fmt: skip
+    save_policy(
+        out / "model.pt",
+        learner.net,
+        settings,
+        {"env_id": env_id, "seed": seed, "timesteps": frames},
+    )
     wall = time.perf_counter() - start
     env.close()
     train_time = max(wall - evaluation.time_s, 1e-9)

@@ -136,11 +136,15 @@ def zoo_train_flags(env_id: str) -> list[str]:
     _, train = load_training(env_id)
     n_eval_envs = eval_env_count(train)
     return [
-        "--eval-freq", str(train["eval_every_timesteps"]),
-        "--eval-episodes", str(train["eval_episodes"]),
-        "--n-eval-envs", str(n_eval_envs),
-        "--save-freq", str(train["checkpoint_every_timesteps"]),
-    ]  # fmt: skip
+        "--eval-freq",
+        str(train["eval_every_timesteps"]),
+        "--eval-episodes",
+        str(train["eval_episodes"]),
+        "--n-eval-envs",
+        str(n_eval_envs),
+        "--save-freq",
+        str(train["checkpoint_every_timesteps"]),
+    ]
 
 
 class _Dumper(yaml.SafeDumper):
@@ -190,10 +194,18 @@ def __getattr__(name: str) -> Any:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Write RL Zoo's files from the presets.")
-    parser.add_argument("--algo", choices=ALGORITHMS, default=None,
-                        help="one algorithm's file (default: every one; --path: ppo)")  # fmt: skip
-    parser.add_argument("--out", type=Path, default=None,
-                        help="file to write (with --algo; default: the shipped file)")  # fmt: skip
+    parser.add_argument(
+        "--algo",
+        choices=ALGORITHMS,
+        default=None,
+        help="one algorithm's file (default: every one; --path: ppo)",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="file to write (with --algo; default: the shipped file)",
+    )
     parser.add_argument("--check", action="store_true", help="exit 1 if a file is stale")
     parser.add_argument("--path", action="store_true", help="print the shipped file's path")
     args = parser.parse_args(argv)

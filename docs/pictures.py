@@ -80,11 +80,17 @@ SCENE_ENERGY = {
     "scene-aeroplane-altitude": ("aeroplane", {}, False, "altitude_m"),
 }
 """Scenes pictured by a measure of each body over the run."""
-LABELS = {"tilt_deg": "tilt of the normal (deg)", "altitude_m": "altitude (m)",
-          "energy_jpkg": "energy per kg (J/kg)", "energy_j": "energy (J)",
-          "velocity_mps": "velocity (m/s)", "height_m": "height (m)",
-          "fall_speed_mps": "fall speed (m/s)", "drift_speed_mps": "drift along the wind (m/s)",
-          "speed_mps": "speed (m/s)"}  # fmt: skip
+LABELS = {
+    "tilt_deg": "tilt of the normal (deg)",
+    "altitude_m": "altitude (m)",
+    "energy_jpkg": "energy per kg (J/kg)",
+    "energy_j": "energy (J)",
+    "velocity_mps": "velocity (m/s)",
+    "height_m": "height (m)",
+    "fall_speed_mps": "fall speed (m/s)",
+    "drift_speed_mps": "drift along the wind (m/s)",
+    "speed_mps": "speed (m/s)",
+}
 
 
 def scene_frame(name: str, step: int):
@@ -119,8 +125,9 @@ def scene_energy(name: str, params: dict, log: bool, key: str, path: Path) -> No
     if log:
         ax.set_yscale("log")
     settings = ", ".join(f"{k} {v:g}" for k, v in params.items())
-    ax.set_title(f"{scene.section} {scene.title}" + (f" ({settings})" if settings else ""),
-                 fontsize=10)  # fmt: skip
+    ax.set_title(
+        f"{scene.section} {scene.title}" + (f" ({settings})" if settings else ""), fontsize=10
+    )
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()

@@ -171,9 +171,11 @@ def baseline_row(path: Path) -> tuple[str, str]:
         low, high = r["success_ci95"]
         seeds = r["success_by_seed"]
         if len(seeds) > 1:
-            mean = (f"{100 * r['success_rate']:.1f}% ({100 * low:.0f}-{100 * high:.0f}%), "
-                    f"worst {pct(r['worst_seed_success_rate'])} (seed {r['worst_seed']}); "
-                    f"seeds {', '.join(f'{100 * s:.0f}' for s in seeds)}%")  # fmt: skip
+            mean = (
+                f"{100 * r['success_rate']:.1f}% ({100 * low:.0f}-{100 * high:.0f}%), "
+                f"worst {pct(r['worst_seed_success_rate'])} (seed {r['worst_seed']}); "
+                f"seeds {', '.join(f'{100 * s:.0f}' for s in seeds)}%"
+            )
         else:
             mean = f"{rate_cell(r)} (seed {r['training_seeds'][0]})"
         ratio = r.get("time_vs_oracle")
@@ -388,10 +390,12 @@ def _bench(path: Path) -> tuple[dict, str]:
 
 def _machine(data: dict) -> str:
     m = data.get("machine") or {}
-    return (f"Machine: {m.get('platform', '?')}, {m.get('cpu_count', '?')} CPUs, Python "
-            f"{m.get('python', '?')}, NumPy {m.get('numpy', '?')}, Gymnasium "
-            f"{m.get('gymnasium', '?')}, torch {m.get('torch', '-')} on "
-            f"{m.get('torch_threads', '-')} threads.")  # fmt: skip
+    return (
+        f"Machine: {m.get('platform', '?')}, {m.get('cpu_count', '?')} CPUs, Python "
+        f"{m.get('python', '?')}, NumPy {m.get('numpy', '?')}, Gymnasium "
+        f"{m.get('gymnasium', '?')}, torch {m.get('torch', '-')} on "
+        f"{m.get('torch_threads', '-')} threads."
+    )
 
 
 def _unit(row: dict, ppo_is_steps: bool = True) -> str:
@@ -409,10 +413,14 @@ def speed_table(path: Path | None = None) -> str:
     rows = field(data, "rows", path, list)
     memory = field(data, "memory_mb", path, dict)
     try:
-        lines = ["| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
-                 "|---|---|---:|---:|"]  # fmt: skip
-        lines += [f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{_unit(r)} | {r['ratio']:.4f} |"
-                  for r in rows]  # fmt: skip
+        lines = [
+            "| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
+            "|---|---|---:|---:|",
+        ]
+        lines += [
+            f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{_unit(r)} | {r['ratio']:.4f} |"
+            for r in rows
+        ]
         lines += ["", "| env | peak memory of the vector env, N=4096 |", "|---|---:|"]
         lines += [f"| {env} | {mb:.1f} MB |" for env, mb in memory.items()]
     except (KeyError, TypeError, ValueError) as err:
@@ -538,8 +546,10 @@ def backends_table(path: Path | None = None) -> str:
     try:
         for r in rows:
             extra = f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r else " | "
-            lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{_unit(r)} | "
-                         f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
+            lines.append(
+                f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{_unit(r)} | "
+                f"{r['ratio']:.4f} | {extra} |"
+            )
     except (KeyError, TypeError, ValueError) as err:
         raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
     return "\n".join([*lines, "", note, _machine(data)])
@@ -560,9 +570,11 @@ def sph_speed_table(path: Path | None = None) -> str:
     try:
         smallest = min(r["particles"] for r in rows)
         for r in rows:
-            lines.append(f"| {r['particles']:,} | {r['neighbours']} | {r['steps_per_s']:,.2f} | "
-                         f"{r['rate']:,.0f} | {r['cost']:.1f} | "
-                         f"{r['particles'] / smallest:g} | {r['warmup_s']:.1f} s |")  # fmt: skip
+            lines.append(
+                f"| {r['particles']:,} | {r['neighbours']} | {r['steps_per_s']:,.2f} | "
+                f"{r['rate']:,.0f} | {r['cost']:.1f} | "
+                f"{r['particles'] / smallest:g} | {r['warmup_s']:.1f} s |"
+            )
     except (KeyError, TypeError, ValueError) as err:
         raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
     return "\n".join([*lines, "", note, _machine(data)])
@@ -603,9 +615,13 @@ def polar_table(path: Path | None = None) -> str:
         f"{best['heel_deg']:.0f} deg) | a few degrees | 2-8 deg |",
     ]
     return "\n".join(
-        [*lines, "", f"True wind {wind:g} m/s. Generated from `{_name(csv_path)}`, written by "
-         f"`{command}`: {source}."]
-    )  # fmt: skip
+        [
+            *lines,
+            "",
+            f"True wind {wind:g} m/s. Generated from `{_name(csv_path)}`, written by "
+            f"`{command}`: {source}.",
+        ]
+    )
 
 
 COMPARE_FILE = "polar/compare.csv"
@@ -640,9 +656,13 @@ def polar_compare_table(path: Path | None = None) -> str:
     if len(lines) == 2:
         raise ResultsError(f"{_name(path)}: no rows")
     return "\n".join(
-        [*lines, "", f"Generated from `{_name(path)}`, written by "
-         "`bbgym polar --compare --out docs/results/polar`."]
-    )  # fmt: skip
+        [
+            *lines,
+            "",
+            f"Generated from `{_name(path)}`, written by "
+            "`bbgym polar --compare --out docs/results/polar`.",
+        ]
+    )
 
 
 def families() -> dict[str, Any]:
@@ -732,15 +752,19 @@ def race_selfplay_table(results: Path = RESULTS) -> str:
     """Learned boats against scripted racers: per results file a row of the learned boats
     (mean, worst seed and interval over training seeds) and the reference row (the racer
     in the learners' places, the same races; once where files share it)."""
-    lines = ["| boats in the learners' places | training | pairings ahead of a scripted boat "
-             "(mean, worst seed, 95% interval over seeds) | fouls a boat, learned / scripted "
-             "| finished, learned / scripted | return of a learning boat |",
-             "|---|---|---|---|---|---:|"]  # fmt: skip
+    lines = [
+        "| boats in the learners' places | training | pairings ahead of a scripted boat "
+        "(mean, worst seed, 95% interval over seeds) | fouls a boat, learned / scripted "
+        "| finished, learned / scripted | return of a learning boat |",
+        "|---|---|---|---|---|---:|",
+    ]
 
     def cells(row: dict) -> str:
-        return (f"{row['learned_fouls']:.2f} / {row['scripted_fouls']:.2f} | "
-                f"{pct(row['learned_finished'])} / {pct(row['scripted_finished'])} | "
-                f"{row['learned_return']:.1f} |")  # fmt: skip
+        return (
+            f"{row['learned_fouls']:.2f} / {row['scripted_fouls']:.2f} | "
+            f"{pct(row['learned_finished'])} / {pct(row['scripted_finished'])} | "
+            f"{row['learned_return']:.1f} |"
+        )
 
     notes = []
     for name in RACE_SELFPLAY_FILES:
@@ -750,24 +774,38 @@ def race_selfplay_table(results: Path = RESULTS) -> str:
             seeds, ref = data["seeds"], data["reference"]
             spread = data["ahead_share_interval"]  # null for one seed
             span = f"{pct(spread[0])}-{pct(spread[1])}" if spread else "no interval: one seed"
-            mean = {key: sum(s[key] for s in seeds) / len(seeds)
-                    for key in ("learned_fouls", "scripted_fouls", "learned_finished",
-                                "scripted_finished", "learned_return")}  # fmt: skip
-            training = (f"{len(seeds)} seeds x {budget(data['timesteps'], 'steps')}, "
-                        f"{data['races_trained_at_once']} races at once")  # fmt: skip
+            mean = {
+                key: sum(s[key] for s in seeds) / len(seeds)
+                for key in (
+                    "learned_fouls",
+                    "scripted_fouls",
+                    "learned_finished",
+                    "scripted_finished",
+                    "learned_return",
+                )
+            }
+            training = (
+                f"{len(seeds)} seeds x {budget(data['timesteps'], 'steps')}, "
+                f"{data['races_trained_at_once']} races at once"
+            )
             reward = "relative reward" if data["relative_reward"] else "the race's reward"
             training = f"{training}, {reward}"
-            lines.append(f"| {data['policy']} | {training} | {pct(data['ahead_share_mean'])} "
-                         f"({pct(data['ahead_share_worst'])}, {span}) | "
-                         f"{cells(mean)}")  # fmt: skip
-            reference = (f"| the scripted racer (reference) | - | {pct(ref['ahead_share'])} | "
-                         f"{cells(ref)}")  # fmt: skip
+            lines.append(
+                f"| {data['policy']} | {training} | {pct(data['ahead_share_mean'])} "
+                f"({pct(data['ahead_share_worst'])}, {span}) | "
+                f"{cells(mean)}"
+            )
+            reference = (
+                f"| the scripted racer (reference) | - | {pct(ref['ahead_share'])} | {cells(ref)}"
+            )
             if reference not in lines:  # the same races scored: one row serves both
                 lines.append(reference)
             source = f", {data['source']}" if "source" in data else ""
-            notes.append(f"`{_name(path)}`, written by `{data['command']} --results` "
-                         f"({data['eval_races']} races seeded from {data['eval_seed']}, "
-                         f"torch on {data['torch_threads']} threads{source})")  # fmt: skip
+            notes.append(
+                f"`{_name(path)}`, written by `{data['command']} --results` "
+                f"({data['eval_races']} races seeded from {data['eval_seed']}, "
+                f"torch on {data['torch_threads']} threads{source})"
+            )
         except (KeyError, TypeError, ValueError, ZeroDivisionError) as err:
             raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
     return "\n".join([*lines, "", "Generated from " + "; ".join(notes) + "."])
@@ -779,13 +817,20 @@ def scenes_table() -> str:
     from bbgym.scenes import SCENES
 
     tests = Path(__file__).resolve().parents[1] / "tests"
-    lines = ["| scene | section | what the text shows, as the test checks it | test |",
-             "|---|---|---|---|"]  # fmt: skip
+    lines = [
+        "| scene | section | what the text shows, as the test checks it | test |",
+        "|---|---|---|---|",
+    ]
     for scene in SCENES.values():
-        file = next(path.name for path in sorted(tests.glob("test_scenes*.py"))
-                    if f"\ndef {scene.test}(" in path.read_text())  # fmt: skip
-        lines.append(f"| `{scene.name}`: {scene.title} | {scene.section} | {scene.claim} | "
-                     f"`tests/{file}::{scene.test}` |")  # fmt: skip
+        file = next(
+            path.name
+            for path in sorted(tests.glob("test_scenes*.py"))
+            if f"\ndef {scene.test}(" in path.read_text()
+        )
+        lines.append(
+            f"| `{scene.name}`: {scene.title} | {scene.section} | {scene.claim} | "
+            f"`tests/{file}::{scene.test}` |"
+        )
     return "\n".join(lines)
 
 
@@ -801,8 +846,10 @@ def scene_table(name: str) -> str:
     lines = ["| measure | body | start | end | least | greatest |", "|---|---|---:|---:|---:|---:|"]
     for measure, body, *numbers in summary_rows(run, scene.names(run.params)):
         lines.append(f"| {measure} | {body} | " + " | ".join(f"{v:.4g}" for v in numbers) + " |")
-    note = (f"Generated by `bbgym scene {name}` ({steps} steps of {run.params.dt_s:.4g} s, "
-            "the scene's defaults).")  # fmt: skip
+    note = (
+        f"Generated by `bbgym scene {name}` ({steps} steps of {run.params.dt_s:.4g} s, "
+        "the scene's defaults)."
+    )
     return "\n".join([*lines, "", note])
 
 
@@ -982,9 +1029,23 @@ def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
     return markdown
 
 
-SUMMARY_KEYS = ("env", "config", "algo", "engine", "evaluated_model", "training_seeds", "jobs",
-                "torch_threads", "timesteps", "n_envs", "eval_episodes", "eval_seeds",
-                "versions", "machine", "train_wall_time_s_per_seed")  # fmt: skip
+SUMMARY_KEYS = (
+    "env",
+    "config",
+    "algo",
+    "engine",
+    "evaluated_model",
+    "training_seeds",
+    "jobs",
+    "torch_threads",
+    "timesteps",
+    "n_envs",
+    "eval_episodes",
+    "eval_seeds",
+    "versions",
+    "machine",
+    "train_wall_time_s_per_seed",
+)
 """What a baselines results file keeps of a run folder's ``summary.json``."""
 
 
@@ -1034,8 +1095,13 @@ def baseline_results(run: Path, command: str | None = None, note: str = "") -> d
     return data
 
 
-def record_baseline(run: Path, command: str | None = None, note: str = "",
-                    results: Path = RESULTS, name: str | None = None) -> Path:  # fmt: skip
+def record_baseline(
+    run: Path,
+    command: str | None = None,
+    note: str = "",
+    results: Path = RESULTS,
+    name: str | None = None,
+) -> Path:
     """Write :func:`baseline_results` to ``results/baselines/<env>-<algo>.json`` (a run of
     ``--engine torchrl``: ``<env>-torchrl-<algo>.json``; ``name``, where given, is the
     file's name without ``.json``: a second preset's row beside the env's own, or

@@ -53,8 +53,9 @@ def own_code(fn: object) -> object:
     code = func.__code__
     if code not in _COPIES:
         _COPIES[code] = code.replace(co_name=f"{code.co_name}_dynamic")
-    copy = types.FunctionType(_COPIES[code], func.__globals__, func.__name__,
-                              func.__defaults__, func.__closure__)  # fmt: skip
+    copy = types.FunctionType(
+        _COPIES[code], func.__globals__, func.__name__, func.__defaults__, func.__closure__
+    )
     return types.MethodType(copy, fn.__self__) if hasattr(fn, "__self__") else copy
 
 
@@ -62,8 +63,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--env", default="BeachballSail-v0")
     parser.add_argument("--dtype", default="float64", choices=("float64", "float32"))
-    parser.add_argument("--modes", nargs="+", default=["static", "dynamic"],
-                        choices=("static", "dynamic"))  # fmt: skip
+    parser.add_argument(
+        "--modes", nargs="+", default=["static", "dynamic"], choices=("static", "dynamic")
+    )
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 1024])
     parser.add_argument("--numpy", action="store_true", help="time the NumPy backend too")
     parser.add_argument("--repeats", type=int, default=3, help="timed loops, the best kept")
@@ -95,17 +97,21 @@ def main() -> None:
             result["max_diff"][name] = max(
                 float(np.max(np.abs(c - e))) for c, e in zip(compiled, eager, strict=True)
             )
-            print(f"{name}: first step {result['first_step_s'][name]} s, "
-                  f"{result['graphs'][name]} graphs, "
-                  f"max |compiled - eager| {result['max_diff'][name]}", flush=True)  # fmt: skip
+            print(
+                f"{name}: first step {result['first_step_s'][name]} s, "
+                f"{result['graphs'][name]} graphs, "
+                f"max |compiled - eager| {result['max_diff'][name]}",
+                flush=True,
+            )
             if not name.endswith("(second env)"):
                 envs[name] = (env, actions[n])
     torch.compile = real_compile
     if len(args.modes) == 2:
         result["modes_bit_identical"] = all(
             np.array_equal(saved[k], saved[k.replace("static", "dynamic", 1)])
-            for k in saved if k.startswith("static")
-        )  # fmt: skip
+            for k in saved
+            if k.startswith("static")
+        )
     if args.numpy:
         envs.update({f"numpy N={n}": (make(args.env, n), actions[n]) for n in args.sizes})
     rates: dict[str, float] = {}

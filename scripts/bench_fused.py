@@ -27,11 +27,19 @@ import torch  # noqa: E402
 import bbgym  # noqa: E402, F401  (registers the envs)
 
 
-def make(env_id: str, n: int, dtype: str, info_keys: list[str] | None,
-         step_graph: str) -> gym.vector.VectorEnv:  # fmt: skip
-    return gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point",
-                        backend="torch", dtype=dtype, output="torch", info_keys=info_keys,
-                        step_graph=step_graph)  # fmt: skip
+def make(
+    env_id: str, n: int, dtype: str, info_keys: list[str] | None, step_graph: str
+) -> gym.vector.VectorEnv:
+    return gym.make_vec(
+        env_id,
+        num_envs=n,
+        vectorization_mode="vector_entry_point",
+        backend="torch",
+        dtype=dtype,
+        output="torch",
+        info_keys=info_keys,
+        step_graph=step_graph,
+    )
 
 
 def main() -> None:
@@ -44,8 +52,10 @@ def main() -> None:
     parser.add_argument("--torch-threads", type=int, default=2)
     args = parser.parse_args()
     torch.set_num_threads(args.torch_threads)
-    print(f"torch {torch.__version__}, {args.torch_threads} threads, {args.dtype}, "
-          f"cache {os.environ['TORCHINDUCTOR_CACHE_DIR']}")  # fmt: skip
+    print(
+        f"torch {torch.__version__}, {args.torch_threads} threads, {args.dtype}, "
+        f"cache {os.environ['TORCHINDUCTOR_CACHE_DIR']}"
+    )
     for env_id in args.envs:
         for n in args.sizes:
             variants = {
@@ -57,8 +67,10 @@ def main() -> None:
             envs = {name: make(env_id, n, args.dtype, *v) for name, v in variants.items()}
             shape = (n, *envs["parts"].single_action_space.shape)
             rng = np.random.default_rng(0)
-            actions = [torch.as_tensor(rng.uniform(-1, 1, shape), dtype=getattr(torch, args.dtype))
-                       for _ in range(16)]  # fmt: skip
+            actions = [
+                torch.as_tensor(rng.uniform(-1, 1, shape), dtype=getattr(torch, args.dtype))
+                for _ in range(16)
+            ]
             first, outs = {}, {}
             for name, env in envs.items():
                 env.reset(seed=0)
@@ -68,11 +80,15 @@ def main() -> None:
                 out += [env.step(a) for a in actions[1:]]
                 outs[name] = out
             for name in list(envs)[1:]:
-                worst = max(float((a[k] - b[k]).abs().max())
-                            for a, b in zip(outs["parts"], outs[name], strict=True)
-                            for k in (0, 1))  # fmt: skip
-                print(f"{env_id} N={n} {name}: max |difference| from parts {worst:.1e} "
-                      "(observations, rewards)")  # fmt: skip
+                worst = max(
+                    float((a[k] - b[k]).abs().max())
+                    for a, b in zip(outs["parts"], outs[name], strict=True)
+                    for k in (0, 1)
+                )
+                print(
+                    f"{env_id} N={n} {name}: max |difference| from parts {worst:.1e} "
+                    "(observations, rewards)"
+                )
                 assert worst < 1e-4, name
             rates = {name: 0.0 for name in envs}
             for _ in range(args.repeats):

@@ -79,11 +79,21 @@ def main() -> None:
             for option in args.options:
                 with tempfile.TemporaryDirectory() as cache:  # a cold compile each time
                     done = subprocess.run(
-                        [sys.executable, "-c", RUN, env_id, option, str(args.num_envs),
-                         str(args.torch_threads), str(args.seconds)],
-                        capture_output=True, text=True, check=True,
+                        [
+                            sys.executable,
+                            "-c",
+                            RUN,
+                            env_id,
+                            option,
+                            str(args.num_envs),
+                            str(args.torch_threads),
+                            str(args.seconds),
+                        ],
+                        capture_output=True,
+                        text=True,
+                        check=True,
                         env={**os.environ, "TORCHINDUCTOR_CACHE_DIR": cache},
-                    )  # fmt: skip
+                    )
                 row = json.loads(done.stdout.strip().splitlines()[-1])
                 print(json.dumps(row), flush=True)
                 kept = rows.setdefault((env_id, option), {"rate": 0, "first_step_s": []})

@@ -129,18 +129,27 @@ def main(argv: list[str] | None = None) -> int:
                 )
     finally:
         ray.shutdown()
-    best = {r: max((x for x in runs if x["runners"] == r), key=lambda x: x["env_steps_per_s"])
-            for r in args.runners}  # fmt: skip
+    best = {
+        r: max((x for x in runs if x["runners"] == r), key=lambda x: x["env_steps_per_s"])
+        for r in args.runners
+    }
     base = best[args.runners[0]]["env_steps_per_s"]
     print(f"\n{args.env}, best of {args.repeats}, {cpus} CPUs:")
     for r, run in best.items():
         speedup = run["env_steps_per_s"] / base
-        print(f"  {r} env runner(s) x {run['envs_per_runner']} envs, batch "
-              f"{run['train_batch_size']}: {run['env_steps_per_s']:8.0f} env steps/s "
-              f"(x{speedup:.2f})")  # fmt: skip
+        print(
+            f"  {r} env runner(s) x {run['envs_per_runner']} envs, batch "
+            f"{run['train_batch_size']}: {run['env_steps_per_s']:8.0f} env steps/s "
+            f"(x{speedup:.2f})"
+        )
     if args.out is not None:
-        report = {"env": args.env, "num_cpus": cpus, "ray_version": ray.__version__,
-                  "best": list(best.values()), "runs": runs}  # fmt: skip
+        report = {
+            "env": args.env,
+            "num_cpus": cpus,
+            "ray_version": ray.__version__,
+            "best": list(best.values()),
+            "runs": runs,
+        }
         args.out.write_text(json.dumps(report, indent=2) + "\n")
     return 0
 

@@ -16,8 +16,12 @@ from stable_baselines3.common.env_util import make_vec_env
 import bbgym  # noqa: F401  (registers the envs)
 from bbgym.sb3 import make_sb3_vec_env
 
-CASES = (("BeachballSail-v0", 8, 1000), ("BeachballSail-v0", 64, 200),
-         ("BeachballThrow-v0", 8, 60), ("BeachballThrow-v0", 64, 20))  # fmt: skip
+CASES = (
+    ("BeachballSail-v0", 8, 1000),
+    ("BeachballSail-v0", 64, 200),
+    ("BeachballThrow-v0", 8, 60),
+    ("BeachballThrow-v0", 64, 20),
+)
 """(env id, number of envs, vector steps timed)."""
 
 
@@ -44,8 +48,11 @@ def main() -> None:
                 best[name] = max(best[name], rate(env, steps))
                 env.close()
         ratio = best["bbgym.sb3"] / best["make_vec_env"]
-        print(f"{env_id} {n} envs: " + ", ".join(f"{k} {v:.0f}/s" for k, v in best.items())
-              + f", ratio {ratio:.1f}")  # fmt: skip
+        print(
+            f"{env_id} {n} envs: "
+            + ", ".join(f"{k} {v:.0f}/s" for k, v in best.items())
+            + f", ratio {ratio:.1f}"
+        )
 
 
 if __name__ == "__main__":

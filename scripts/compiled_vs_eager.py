@@ -27,9 +27,14 @@ import bbgym  # noqa: F401  (registers the envs)
 def episode(env_id: str, graph: str, compile: bool, steps: int, num_envs: int) -> list:
     """Reset (seed 3) and ``steps`` seeded random actions: every output, as NumPy."""
     env = gym.make_vec(
-        env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
-        backend="torch", dtype="float64", compile=compile, step_graph=graph,
-    )  # fmt: skip
+        env_id,
+        num_envs=num_envs,
+        vectorization_mode="vector_entry_point",
+        backend="torch",
+        dtype="float64",
+        compile=compile,
+        step_graph=graph,
+    )
     env.action_space.seed(1)
     out = [env.reset(seed=3)[0]]
     for _ in range(steps):
@@ -55,8 +60,11 @@ def main() -> None:
             compiled = episode(env_id, graph, True, args.steps, args.num_envs)
             diff = max(float(np.max(np.abs(a - b))) for a, b in zip(eager, compiled, strict=True))
             took = time.perf_counter() - start
-            print(f"{env_id} {graph}: max |compiled - eager| {diff:.1e} over {args.steps} "
-                  f"steps ({took:.0f} s with the compile)", flush=True)  # fmt: skip
+            print(
+                f"{env_id} {graph}: max |compiled - eager| {diff:.1e} over {args.steps} "
+                f"steps ({took:.0f} s with the compile)",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -122,8 +122,9 @@ def match(races: int, seed: int, **racer: float | None) -> dict:
     places against standard racers."""
     from bbgym.envs.race.match import BeachballRaceMatchEnv, play_matches
 
-    result = play_matches(RaceRacer.for_env(BeachballRaceMatchEnv(1).fleet, **racer),
-                          num_races=races, seed=seed)  # fmt: skip
+    result = play_matches(
+        RaceRacer.for_env(BeachballRaceMatchEnv(1).fleet, **racer), num_races=races, seed=seed
+    )
     return result._asdict() | {"ahead_share": result.ahead_share} | racer
 
 
@@ -134,8 +135,9 @@ def main() -> None:
     parser.add_argument("--policy", choices=["racer", "autopilot"], default="racer")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--starts", action="store_true", help="how the racers start")
-    parser.add_argument("--match", action="store_true",
-                        help="racers of other settings against standard racers")  # fmt: skip
+    parser.add_argument(
+        "--match", action="store_true", help="racers of other settings against standard racers"
+    )
     parser.add_argument("--start-margin", type=float, default=4.0)
     parser.add_argument("--avoid", type=float, default=10.0, help="the racer's avoid_m")
     parser.add_argument(
@@ -145,8 +147,13 @@ def main() -> None:
     if args.starts:
         result = starts(args.races, args.seed)
     elif args.match:
-        result = match(args.races, args.seed, start_margin_s=args.start_margin,
-                       avoid_m=args.avoid, tack_cone_deg=args.tack_cone)  # fmt: skip
+        result = match(
+            args.races,
+            args.seed,
+            start_margin_s=args.start_margin,
+            avoid_m=args.avoid,
+            tack_cone_deg=args.tack_cone,
+        )
     else:
         result = run(args.races, args.boats, args.policy, args.seed)
     print(json.dumps(result, indent=2))

@@ -66,8 +66,16 @@ def interval(values: list[float]) -> list[float]:
     return list(mean_interval(values))
 
 
-def train(seed: int, timesteps: int, residual: bool, relative: bool, threads: int, out: Path,
-          reward: dict[str, float] | None = None, curve: int = 0) -> Path:  # fmt: skip
+def train(
+    seed: int,
+    timesteps: int,
+    residual: bool,
+    relative: bool,
+    threads: int,
+    out: Path,
+    reward: dict[str, float] | None = None,
+    curve: int = 0,
+) -> Path:
     """Train one seed; with ``curve`` > 0 also save the model every ``curve`` steps (as
     ``OUT/curve_seed{seed}/ck_{steps}_steps.zip``)."""
     import torch
@@ -158,8 +166,16 @@ def main() -> None:
     seeds = []
     for seed in range(args.seeds) if args.only_seed is None else [args.only_seed]:
         start = time.perf_counter()
-        path = train(seed, args.timesteps, residual, not args.absolute, args.torch_threads,
-                     args.out, reward, args.curve)  # fmt: skip
+        path = train(
+            seed,
+            args.timesteps,
+            residual,
+            not args.absolute,
+            args.torch_threads,
+            args.out,
+            reward,
+            args.curve,
+        )
         trained = time.perf_counter() - start
         row = score(path, args.eval_races, residual)
         curve = []
@@ -168,8 +184,11 @@ def main() -> None:
             point = score(checkpoint, args.eval_races, residual)
             curve.append({"steps": int(checkpoint.stem.split("_")[1])} | point)
             print(f"  at {curve[-1]['steps']} steps: {point['ahead_share']:.1%}", flush=True)
-        seeds.append(row | {"seed": seed, "train_s": round(trained, 1)}
-                     | ({"curve": curve} if args.curve else {}))  # fmt: skip
+        seeds.append(
+            row
+            | {"seed": seed, "train_s": round(trained, 1)}
+            | ({"curve": curve} if args.curve else {})
+        )
         print(
             f"seed {seed}: {row['ahead_share']:.1%} ahead, fouls {row['learned_fouls']:.2f} "
             f"vs {row['scripted_fouls']:.2f}, trained in {trained:.0f} s",
@@ -178,10 +197,13 @@ def main() -> None:
     shares = [s["ahead_share"] for s in seeds]
     results = {
         "command": "python scripts/race_selfplay.py --seeds {} --timesteps {}{}{}{}{}".format(
-            args.seeds, args.timesteps, " --plain" if args.plain else "",
+            args.seeds,
+            args.timesteps,
+            " --plain" if args.plain else "",
             " --absolute" if args.absolute else "",
             "".join(f" --reward {item}" for item in args.reward),
-            "" if args.only_seed is None else f" --only-seed {args.only_seed}")
+            "" if args.only_seed is None else f" --only-seed {args.only_seed}",
+        )
         + (f" --curve {args.curve}" if args.curve else ""),
         "training_reward": reward,
         "relative_reward": not args.absolute,
@@ -201,12 +223,13 @@ def main() -> None:
         "learned_fouls_mean": float(np.mean([s["learned_fouls"] for s in seeds])),
         "scripted_fouls_mean": float(np.mean([s["scripted_fouls"] for s in seeds])),
         "wall_s": round(time.perf_counter() - began, 1),
-    }  # fmt: skip
+    }
     (args.out / "selfplay.json").write_text(json.dumps(results, indent=2) + "\n")
     print(json.dumps({k: v for k, v in results.items() if k not in ("seeds", "ppo")}, indent=2))
     if args.results:
-        name = "selfplay{}{}.json".format("_plain" if args.plain else "",
-                                         "_absolute" if args.absolute else "")  # fmt: skip
+        name = "selfplay{}{}.json".format(
+            "_plain" if args.plain else "", "_absolute" if args.absolute else ""
+        )
         RESULTS.mkdir(parents=True, exist_ok=True)
         shutil.copy(args.out / "selfplay.json", RESULTS / name)
 

@@ -94,9 +94,18 @@ def main(argv: list[str] | None = None) -> int:
 
     out = work / "eval"
     done = run(
-        bbgym_command, "evaluate", "--env", "BeachballThrow-v0", "--policies",
-        "random,scripted", "--episodes", "2", "--out", str(out), cwd=work,
-    )  # fmt: skip
+        bbgym_command,
+        "evaluate",
+        "--env",
+        "BeachballThrow-v0",
+        "--policies",
+        "random,scripted",
+        "--episodes",
+        "2",
+        "--out",
+        str(out),
+        cwd=work,
+    )
     failure = "" if done.returncode == 0 else ": " + done.stderr[-2000:]
     check(done.returncode == 0, f"bbgym evaluate runs{failure}")
     results = json.loads((out / "BeachballThrow-v0.json").read_text())

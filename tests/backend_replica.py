@@ -20,9 +20,14 @@ def make_torch(
 ) -> gym.vector.VectorEnv:
     """The env's native vector env on the torch backend (CPU)."""
     return gym.make_vec(
-        env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", backend="torch",
-        dtype=dtype, compile=compile, **kwargs,
-    )  # fmt: skip
+        env_id,
+        num_envs=num_envs,
+        vectorization_mode="vector_entry_point",
+        backend="torch",
+        dtype=dtype,
+        compile=compile,
+        **kwargs,
+    )
 
 
 def replica_run(

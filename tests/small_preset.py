@@ -46,6 +46,11 @@ def write_tiny_sail_preset(path: Path, name: str = "beachball_sail.yaml") -> Pat
         path,
         name,
         **{algo: TINY[algo]},
-        train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
-               "eval_envs": 2, "checkpoint_every_timesteps": 100_000},
-    )  # fmt: skip
+        train={
+            "n_envs": 8,
+            "eval_every_timesteps": 1024,
+            "eval_episodes": 2,
+            "eval_envs": 2,
+            "checkpoint_every_timesteps": 100_000,
+        },
+    )

@@ -120,10 +120,13 @@ def test_batch_equals_single_calls(autopilot):
 
 BEAT_WIND_FROM_RAD = 0.3
 BEAT_OPTIONS = {
-    "wind_speed": 5.5, "wind_from": BEAT_WIND_FROM_RAD, "gusts": False, "speed": 1.5,
+    "wind_speed": 5.5,
+    "wind_from": BEAT_WIND_FROM_RAD,
+    "gusts": False,
+    "speed": 1.5,
     "mark": (80.0 * math.cos(BEAT_WIND_FROM_RAD), 80.0 * math.sin(BEAT_WIND_FROM_RAD)),
     "heading": BEAT_WIND_FROM_RAD - math.radians(48.0),
-}  # fmt: skip
+}
 """A beat: the mark 80 m dead upwind in a steady wind, the boat close-hauled at the start."""
 
 
@@ -158,10 +161,13 @@ def test_tack_cone_keeps_the_boat_near_the_line_to_the_mark():
 def test_runs_to_a_downwind_mark_without_needless_jibes(autopilot):
     wind_from = 2.0
     options = {
-        "wind_speed": 6.0, "wind_from": wind_from, "gusts": False, "speed": 1.5,
+        "wind_speed": 6.0,
+        "wind_from": wind_from,
+        "gusts": False,
+        "speed": 1.5,
         "mark": (-70.0 * math.cos(wind_from), -70.0 * math.sin(wind_from)),
         "heading": wind_from + math.pi - math.radians(20.0),
-    }  # fmt: skip
+    }
     info = sail_one(autopilot, options)
     assert info["is_success"] and not info["capsized"]
     assert info["jibes"] <= 1

@@ -35,8 +35,9 @@ def test_throw_solver_agent_hits_and_corrects_from_its_miss():
     # With a windsock that lies (a big bias) the first throw misses, and aiming off by the
     # miss it saw brings a later throw into the ring.
     biased = gym.make("BeachballThrow-v0", windsock_noise=0.0)
-    obs, _ = biased.reset(seed=0, options={"target": (7.0, 0.0), "wind": (0.0, 1.5),
-                                          "gusts": False})  # fmt: skip
+    obs, _ = biased.reset(
+        seed=0, options={"target": (7.0, 0.0), "wind": (0.0, 1.5), "gusts": False}
+    )
     agent = ThrowSolverAgent(biased.unwrapped.task)
     agent.reset()
     obs = obs.copy()
@@ -55,8 +56,7 @@ def test_topple_agent_waits_for_a_tailwind_and_then_brings_the_wall_down():
     agent = ToppleAgent()
     obs, _ = env.reset(seed=0, options={"wind": (-1.5, 0.0), "gusts": False})
     assert not np.any(agent(obs))  # headwind, plenty of throws: wait
-    info, _ = run_episode(env, agent, 0, {"wind": (1.5, 0.0), "wall_distance": 6.0,
-                                         "gusts": False})  # fmt: skip
+    info, _ = run_episode(env, agent, 0, {"wind": (1.5, 0.0), "wall_distance": 6.0, "gusts": False})
     assert info["is_success"] and info["throws"] <= 2
     agent.close()
 
@@ -64,10 +64,22 @@ def test_topple_agent_waits_for_a_tailwind_and_then_brings_the_wall_down():
 @pytest.mark.parametrize("env_id", ["BeachballSail-v0", "BeachballThrow-v0", "BeachballTopple-v0"])
 def test_evaluate_script_writes_the_table(tmp_path, env_id):
     done = subprocess.run(
-        [sys.executable, "-m", "bbgym", "evaluate", "--env", env_id,
-         "--episodes", "3", "--out", str(tmp_path)],
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "bbgym",
+            "evaluate",
+            "--env",
+            env_id,
+            "--episodes",
+            "3",
+            "--out",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     results = json.loads((tmp_path / f"{env_id}.json").read_text())
     assert [r["policy"] for r in results] == ["random", "scripted"]

@@ -120,20 +120,30 @@ NAMESPACES = _namespaces()
 def _throw(xp, screen: bool = True, dtype=None, **kwargs):
     d = _launches()
     z = np.zeros(N)
-    start = ball_at(
-        *(_to(xp, a, dtype) for a in (z, z, z + 1.5, *d["v"].T, *d["w"].T)), xp=xp
-    )  # fmt: skip
+    start = ball_at(*(_to(xp, a, dtype) for a in (z, z, z + 1.5, *d["v"].T, *d["w"].T)), xp=xp)
     wall = None
     if screen:
         wall = Screen(
-            _to(xp, z + 4.0, dtype), _to(xp, z + 0.5, dtype), _to(xp, z, dtype),
-            _to(xp, z + 1.0, dtype), 1.5, 2.5, _to(xp, d["screen"]),
-        )  # fmt: skip
+            _to(xp, z + 4.0, dtype),
+            _to(xp, z + 0.5, dtype),
+            _to(xp, z, dtype),
+            _to(xp, z + 1.0, dtype),
+            1.5,
+            2.5,
+            _to(xp, d["screen"]),
+        )
     wind = d["wind"]
     return simulate_throw(
-        BALL, start, _to(xp, wind[:, 0], dtype), _to(xp, wind[:, 1], dtype), wall, xp=xp,
-        max_roll_s=1.0, field_radius_m=FIELD_M, **kwargs,
-    )  # fmt: skip
+        BALL,
+        start,
+        _to(xp, wind[:, 0], dtype),
+        _to(xp, wind[:, 1], dtype),
+        wall,
+        xp=xp,
+        max_roll_s=1.0,
+        field_radius_m=FIELD_M,
+        **kwargs,
+    )
 
 
 @pytest.mark.parametrize("xp", NAMESPACES)
@@ -173,8 +183,15 @@ def test_single_substep_functions_match_numpy(xp):
 
 
 def _result_close(got, want) -> None:
-    for name in ("landing_x", "landing_y", "flight_time_s", "apex_height_m", "spin_parameter",
-                 "hit_screen", "steps"):  # fmt: skip
+    for name in (
+        "landing_x",
+        "landing_y",
+        "flight_time_s",
+        "apex_height_m",
+        "spin_parameter",
+        "hit_screen",
+        "steps",
+    ):
         _close(getattr(got, name), getattr(want, name))
     _close(tuple(got.final), tuple(want.final))
     assert len(got.trajectory) == len(want.trajectory)
@@ -208,9 +225,15 @@ def test_python_floats_fly_like_element_0_of_the_numpy_batch():
     start = ball_at(0.0, 0.0, 1.5, *map(float, d["v"][0]), *map(float, d["w"][0]))
     screen = Screen(4.0, 0.5, 0.0, 1.0, 1.5, 2.5, bool(d["screen"][0]))
     one = simulate_throw(
-        BALL, start, float(d["wind"][0, 0]), float(d["wind"][0, 1]), screen, xp=floats,
-        max_roll_s=1.0, field_radius_m=FIELD_M,
-    )  # fmt: skip
+        BALL,
+        start,
+        float(d["wind"][0, 0]),
+        float(d["wind"][0, 1]),
+        screen,
+        xp=floats,
+        max_roll_s=1.0,
+        field_radius_m=FIELD_M,
+    )
     assert isinstance(one.landing_x, float) and isinstance(one.steps, int)
     assert one.hit_screen is True and batch.hit_screen[0]
     for name in ("landing_x", "landing_y", "flight_time_s", "apex_height_m", "spin_parameter"):

@@ -55,15 +55,28 @@ def same(ref, got, tol: float = 1e-12) -> None:
 def boats(seed: int = 0):
     """Varied boats: fast, at rest, heeled, booms both sides, a capsized one."""
     rng = np.random.default_rng(seed)
-    s = dinghy_at_rest(N, heading_rad=rng.uniform(-3, 3, N), speed_mps=rng.uniform(0, 4, N),
-                       boom_rad=rng.uniform(-1.2, 1.2, N))  # fmt: skip
+    s = dinghy_at_rest(
+        N,
+        heading_rad=rng.uniform(-3, 3, N),
+        speed_mps=rng.uniform(0, 4, N),
+        boom_rad=rng.uniform(-1.2, 1.2, N),
+    )
     capsized = np.zeros(N, dtype=bool)
     capsized[-1] = True
-    s = s._replace(heel_rad=rng.uniform(-0.6, 0.6, N), heel_rate_rps=rng.uniform(-1, 1, N),
-                   yaw_rate_rps=rng.uniform(-0.5, 0.5, N), boom_rate_rps=rng.uniform(-3, 3, N),
-                   crew_out=rng.uniform(-1, 1, N), capsized=capsized)  # fmt: skip
-    controls = (rng.uniform(-0.5, 0.5, N), rng.uniform(0, 1, N), rng.uniform(-9, 9, N),
-                rng.uniform(-9, 9, N))  # fmt: skip
+    s = s._replace(
+        heel_rad=rng.uniform(-0.6, 0.6, N),
+        heel_rate_rps=rng.uniform(-1, 1, N),
+        yaw_rate_rps=rng.uniform(-0.5, 0.5, N),
+        boom_rate_rps=rng.uniform(-3, 3, N),
+        crew_out=rng.uniform(-1, 1, N),
+        capsized=capsized,
+    )
+    controls = (
+        rng.uniform(-0.5, 0.5, N),
+        rng.uniform(0, 1, N),
+        rng.uniform(-9, 9, N),
+        rng.uniform(-9, 9, N),
+    )
     return s, controls
 
 
@@ -79,8 +92,7 @@ def test_sailing_step_and_energy(xp, sail_model: str) -> None:
     same(ref, got)
     same(sailing.mechanical_energy(p, ref[0], np), sailing.mechanical_energy(p, got[0], xp))
     aw = (wx - ref[0].vx_mps, wy - ref[0].vy_mps)
-    same(sailing.sail_force(p, s, *aw, np), sailing.sail_force(p, to_xp(s, xp),
-                                                              *to_xp(aw, xp), xp))  # fmt: skip
+    same(sailing.sail_force(p, s, *aw, np), sailing.sail_force(p, to_xp(s, xp), *to_xp(aw, xp), xp))
 
 
 @pytest.mark.parametrize("xp", namespaces())
@@ -91,24 +103,43 @@ def test_sloop_step(xp) -> None:
     s, controls = boats(6)
     jib = np.random.default_rng(7).uniform(-1, 1, N)
     ref = sailing_step.step(p, s, *controls, 0.05, 5, np, jib_sheet=jib)
-    got = sailing_step.step(p, to_xp(s, xp), *to_xp(controls, xp), 0.05, 5, xp,
-                            jib_sheet=to_xp(jib, xp))  # fmt: skip
+    got = sailing_step.step(
+        p, to_xp(s, xp), *to_xp(controls, xp), 0.05, 5, xp, jib_sheet=to_xp(jib, xp)
+    )
     same(ref, got)
 
 
 @pytest.mark.parametrize("xp", namespaces())
 def test_sailing_step_in_moving_water(xp) -> None:
     """A sheared current and a three-component sea, each env its own draws."""
-    water = WaterParams(current_variation=0.4, current_variation_length_m=80.0,
-                        wave_amplitude_m=0.4, wave_components=3, wave_spread_rad=0.5)  # fmt: skip
+    water = WaterParams(
+        current_variation=0.4,
+        current_variation_length_m=80.0,
+        wave_amplitude_m=0.4,
+        wave_components=3,
+        wave_spread_rad=0.5,
+    )
     rng = np.random.default_rng(4)
-    sea = sea_at_start(water, rng.uniform(0, 1.5, N), rng.uniform(-3, 3, N),
-                       rng.uniform(-3, 3, N), rng.uniform(size=(3, N)))  # fmt: skip
+    sea = sea_at_start(
+        water,
+        rng.uniform(0, 1.5, N),
+        rng.uniform(-3, 3, N),
+        rng.uniform(-3, 3, N),
+        rng.uniform(size=(3, N)),
+    )
     sea = sea._replace(time_s=rng.uniform(0, 100, N))
     s, controls = boats(5)
     ref = sailing_step.step(DinghyParams(), s, *controls, 0.05, 5, np, water, sea)
-    got = sailing_step.step(DinghyParams(), to_xp(s, xp), *to_xp(controls, xp), 0.05, 5, xp,
-                            water, Sea(*to_xp(tuple(sea), xp)))  # fmt: skip
+    got = sailing_step.step(
+        DinghyParams(),
+        to_xp(s, xp),
+        *to_xp(controls, xp),
+        0.05,
+        5,
+        xp,
+        water,
+        Sea(*to_xp(tuple(sea), xp)),
+    )
     same(ref, got)
 
 
@@ -149,16 +180,18 @@ def test_sail_task_core(xp) -> None:
     same(m_ref, m_got)
     same(task.observation(ref1, m_ref, np), task.observation(got1, m_got, xp))
     same(task.info(ref1, m_ref, np), task.info(got1, m_got, xp))
-    same((task.reward(ref1, np), task.terminal(ref1, np)),
-         (task.reward(got1, xp), task.terminal(got1, xp)))  # fmt: skip
+    same(
+        (task.reward(ref1, np), task.terminal(ref1, np)),
+        (task.reward(got1, xp), task.terminal(got1, xp)),
+    )
 
     keys = backends.env_keys(0, N, np)
     counter = np.arange(N, dtype=np.int64)
     steps = np.arange(N, dtype=np.int64) * 100
     restarting = rng.uniform(size=N) < 0.3
     dtype = xp.float64
-    ref_out = VectorStep(task, 1000, np, np.float64)(ref1, action, keys, counter, steps,
-                                                     restarting)  # fmt: skip
-    got_out = VectorStep(task, 1000, xp, dtype)(got1, *to_xp((action, keys, counter, steps,
-                                                             restarting), xp))  # fmt: skip
+    ref_out = VectorStep(task, 1000, np, np.float64)(ref1, action, keys, counter, steps, restarting)
+    got_out = VectorStep(task, 1000, xp, dtype)(
+        got1, *to_xp((action, keys, counter, steps, restarting), xp)
+    )
     same(ref_out, got_out)

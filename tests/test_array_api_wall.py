@@ -125,12 +125,15 @@ def walls() -> WallState:
     about to touch down), loose and landed (11)."""
     base = np.array([6.0, 5.0, 4.5, 7.0, 6.0, 5.5, 6.0, 6.0, 6.0, 8.0, 4.0, 5.0])
     s = wall_at(base)
-    angle = np.array([0.0, 0.0, 0.2, -0.15, 1.4, 0.02, 0.5 * math.pi, -0.5 * math.pi,
-                      0.0, 0.0, 0.0, 0.0])  # fmt: skip
+    angle = np.array(
+        [0.0, 0.0, 0.2, -0.15, 1.4, 0.02, 0.5 * math.pi, -0.5 * math.pi, 0.0, 0.0, 0.0, 0.0]
+    )
     rate = np.array([0.0, 0.0, 0.6, -0.5, 2.0, -0.8, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
     pivot = np.array([0.0, 0.0, 1.0, -1.0, 1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 0.0, 1.0])
-    status = np.array([STANDING] * 6 + [FALLEN_AWAY, FALLEN_TOWARD, LOOSE, LOOSE, STANDING,
-                                        LOOSE], dtype=np.float64)  # fmt: skip
+    status = np.array(
+        [STANDING] * 6 + [FALLEN_AWAY, FALLEN_TOWARD, LOOSE, LOOSE, STANDING, LOOSE],
+        dtype=np.float64,
+    )
     loose_x = np.array([0.0] * 8 + [6.5, 9.0, 0.0, 7.0])
     loose_z = np.array([0.0] * 8 + [1.5, 1.21, 0.0, 0.015])
     loose_angle = np.array([0.0] * 8 + [0.3, -0.1, 0.0, 0.5 * math.pi])
@@ -140,10 +143,19 @@ def walls() -> WallState:
     landed = np.array([False] * 11 + [True])
     stress = np.array([0.0, 0.3, 0.5, 0.1, 0.2, 0.0, 0.9, 0.4, 1.1, 1.2, 0.0, 1.3])
     return s._replace(
-        angle=angle, rate=rate, pivot=pivot, status=status, stress=stress, loose_x=loose_x,
-        loose_z=loose_z, loose_angle=loose_angle, loose_vx=loose_vx, loose_vz=loose_vz,
-        loose_rate=loose_rate, landed=landed,
-    )  # fmt: skip
+        angle=angle,
+        rate=rate,
+        pivot=pivot,
+        status=status,
+        stress=stress,
+        loose_x=loose_x,
+        loose_z=loose_z,
+        loose_angle=loose_angle,
+        loose_vx=loose_vx,
+        loose_vz=loose_vz,
+        loose_rate=loose_rate,
+        landed=landed,
+    )
 
 
 WIND = np.array([0.0, 3.5, -2.0, 4.0, 1.0, 0.0, 5.0, -5.0, 8.0, 3.0, 12.0, 2.0])
@@ -197,9 +209,15 @@ def test_wall_functions_on_every_namespace_match_numpy_to_1e12():
 
 
 INTERVAL = IntervalParams(
-    wall=P, ball=BALL, gust=GustParams(speed_std=0.4, shift_std_rad=0.3, time_constant_s=2.0),
-    sim_dt=DT, gust_dt=0.1, n_substeps=150, gust_every=10, record_every=5,
-)  # fmt: skip
+    wall=P,
+    ball=BALL,
+    gust=GustParams(speed_std=0.4, shift_std_rad=0.3, time_constant_s=2.0),
+    sim_dt=DT,
+    gust_dt=0.1,
+    n_substeps=150,
+    gust_every=10,
+    record_every=5,
+)
 
 
 def interval_inputs() -> tuple:
@@ -207,11 +225,22 @@ def interval_inputs() -> tuple:
     on for some, two envs stopped from the start (10, 11)."""
     s = walls()
     rng = np.random.default_rng(5)
-    launch = np.array([
-        [9.0, 0.0, 4.0], [7.0, 0.5, 3.0], [8.0, -0.3, 5.0], [6.0, 0.0, 4.0],
-        [10.0, 0.0, 2.0], [0.0, 0.0, 0.0], [6.0, 0.0, 3.0], [5.0, 0.0, 3.0],
-        [8.0, 0.0, 4.0], [0.0, 0.0, 0.0], [12.0, 0.0, 1.0], [4.0, 0.0, 2.0],
-    ]).T  # fmt: skip
+    launch = np.array(
+        [
+            [9.0, 0.0, 4.0],
+            [7.0, 0.5, 3.0],
+            [8.0, -0.3, 5.0],
+            [6.0, 0.0, 4.0],
+            [10.0, 0.0, 2.0],
+            [0.0, 0.0, 0.0],
+            [6.0, 0.0, 3.0],
+            [5.0, 0.0, 3.0],
+            [8.0, 0.0, 4.0],
+            [0.0, 0.0, 0.0],
+            [12.0, 0.0, 1.0],
+            [4.0, 0.0, 2.0],
+        ]
+    ).T
     spin = rng.normal(0.0, 20.0, (3, N))
     zero = np.zeros(N)
     ball = ball_at(zero, zero, zero + 1.5, *launch, *spin)
@@ -261,8 +290,7 @@ def test_interval_numpy_batch_is_what_it_claims():
     other, other_samples = interval(np, interval_inputs(), False)
     assert np.all(other.substep == INTERVAL.n_chunks * INTERVAL.chunk_substeps)
     assert_same(other._replace(substep=carry.substep), carry, "stop_early")
-    for a, b in zip(_cut(other_samples, other.samples), _cut(samples, carry.samples),
-                    strict=True):  # fmt: skip
+    for a, b in zip(_cut(other_samples, other.samples), _cut(samples, carry.samples), strict=True):
         np.testing.assert_array_equal(a, b)
 
 
@@ -285,9 +313,11 @@ def test_interval_on_floats_matches_element_0_of_numpy():
     assert got.samples == n0 and len(got_samples) >= n0
     assert_same(got._replace(substep=0), to_float(want._replace(substep=0)), "floats")
     np.testing.assert_allclose(
-        np.array(got_samples[:n0], dtype=np.float64), _cut(want_samples, want.samples)[0],
-        rtol=TOL, atol=TOL,
-    )  # fmt: skip
+        np.array(got_samples[:n0], dtype=np.float64),
+        _cut(want_samples, want.samples)[0],
+        rtol=TOL,
+        atol=TOL,
+    )
 
 
 def _float_dtypes(tree: Any) -> set:

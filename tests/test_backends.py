@@ -106,10 +106,12 @@ def test_compiled_equals_eager(caplog) -> None:
         results.append(np.array(out))
         if compile:
             assert len(first) == 2, first
-            assert first[0].startswith(f"compiling the {env_id} step for torch (cpu, float64, "
-                                       f"batch {N})"), first  # fmt: skip
-            assert re.fullmatch(r"compiled the .* step in [0-9.]+ s \([1-9][0-9]* new graphs\)",
-                                first[1]), first  # fmt: skip
+            assert first[0].startswith(
+                f"compiling the {env_id} step for torch (cpu, float64, batch {N})"
+            ), first
+            assert re.fullmatch(
+                r"compiled the .* step in [0-9.]+ s \([1-9][0-9]* new graphs\)", first[1]
+            ), first
         else:
             assert first == []  # eager torch compiles nothing, so says nothing
         assert compile_lines(caplog) == []  # later steps reuse the graphs
@@ -172,15 +174,17 @@ def test_torch_runs_are_deterministic_under_a_seed() -> None:
 
 def test_backend_arguments_are_checked() -> None:
     with pytest.raises(ValueError, match="backend"):
-        gym.make_vec("BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point",
-                     backend="jax")  # fmt: skip
+        gym.make_vec(
+            "BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point", backend="jax"
+        )
     with pytest.raises(ValueError, match="dtype"):
         make_torch("BeachballSail-v0", dtype="float16")
     with pytest.raises(ValueError, match="device"):
         make_torch("BeachballSail-v0", device="tpu")
     with pytest.raises(ValueError, match="dtype"):
-        gym.make_vec("BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point",
-                     dtype="float32")  # fmt: skip
+        gym.make_vec(
+            "BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point", dtype="float32"
+        )
 
 
 @pytest.mark.skipif(not torch.cuda.is_available(), reason="needs CUDA")
@@ -200,26 +204,31 @@ def test_counter_rng_agrees_on_numpy_torch_and_strict() -> None:
     keys = backends.env_keys(123, 64, np)
     counter = np.arange(64, dtype=np.int64) * 7
     ref = backends.normals(keys, counter, 2, 4, np.float64, np)
-    got_t = backends.normals(torch.as_tensor(keys), torch.as_tensor(counter), 2, 4,
-                             torch.float64, tx)  # fmt: skip
-    got_s = backends.normals(strict.asarray(keys), strict.asarray(counter), 2, 4,
-                             strict.float64, strict)  # fmt: skip
+    got_t = backends.normals(
+        torch.as_tensor(keys), torch.as_tensor(counter), 2, 4, torch.float64, tx
+    )
+    got_s = backends.normals(
+        strict.asarray(keys), strict.asarray(counter), 2, 4, strict.float64, strict
+    )
     for r, t, s in zip(ref, got_t, got_s, strict=True):  # log and cos may round differently
         np.testing.assert_allclose(t.numpy(), r, rtol=1e-15, atol=1e-15)
         np.testing.assert_array_equal(r, np.asarray(s))  # strict wraps NumPy itself
     ref_u = backends.uniforms(keys, counter, 2, 4, np.float64, np)
-    got_u = backends.uniforms(torch.as_tensor(keys), torch.as_tensor(counter), 2, 4,
-                              torch.float64, tx)  # fmt: skip
+    got_u = backends.uniforms(
+        torch.as_tensor(keys), torch.as_tensor(counter), 2, 4, torch.float64, tx
+    )
     for r, t in zip(ref_u, got_u, strict=True):  # integer hashing: the same bits
         np.testing.assert_array_equal(r, t.numpy())
     # and they are standard normals
-    big = backends.normals(backends.env_keys(0, 100_000, np), np.zeros(100_000, dtype=np.int64),
-                           0, 2, np.float64, np)  # fmt: skip
+    big = backends.normals(
+        backends.env_keys(0, 100_000, np), np.zeros(100_000, dtype=np.int64), 0, 2, np.float64, np
+    )
     for z in big:
         assert abs(np.mean(z)) < 0.02 and abs(np.std(z) - 1.0) < 0.02
     assert abs(np.corrcoef(big[0], big[1])[0, 1]) < 0.02
-    u = backends.uniforms(backends.env_keys(1, 100_000, np), np.zeros(100_000, dtype=np.int64),
-                          0, 1, np.float64, np)[0]  # fmt: skip
+    u = backends.uniforms(
+        backends.env_keys(1, 100_000, np), np.zeros(100_000, dtype=np.int64), 0, 1, np.float64, np
+    )[0]
     assert 0.0 < u.min() and u.max() < 1.0
     hist, _ = np.histogram(u, 10, (0.0, 1.0))
     assert np.all(np.abs(hist - 10_000) < 5 * math.sqrt(10_000))
@@ -246,10 +255,12 @@ def test_replaced_is_replace_spelled_as_a_constructor() -> None:
     )
     assert type(mixed) is StepCarry and all(list(field) == [1, 2] for field in mixed)
     package = Path(bbgym.__file__).parent
-    calls = [f"{path.relative_to(package)}:{number}"
-             for path in sorted(package.rglob("*.py"))
-             for number, line in enumerate(path.read_text().splitlines(), 1)
-             if "._replace(" in line or "._make(" in line]  # fmt: skip
+    calls = [
+        f"{path.relative_to(package)}:{number}"
+        for path in sorted(package.rglob("*.py"))
+        for number, line in enumerate(path.read_text().splitlines(), 1)
+        if "._replace(" in line or "._make(" in line
+    ]
     assert calls == [], calls
 
 
@@ -258,16 +269,24 @@ def test_replaced_is_replace_spelled_as_a_constructor() -> None:
 def test_info_keys_keeps_those_infos_with_the_same_values(env_id: str, backend: str) -> None:
     """``info_keys`` keeps the named infos (each with its ``_key`` mask), their values
     those of an env that computes them all; observations and rewards are unchanged."""
-    other = {"BeachballSail-v1": "distance_to_mark", "BeachballThrow-v0": "miss_distance",
-             "BeachballTopple-v1": "wall_angle"}[env_id]  # fmt: skip
+    other = {
+        "BeachballSail-v1": "distance_to_mark",
+        "BeachballThrow-v0": "miss_distance",
+        "BeachballTopple-v1": "wall_angle",
+    }[env_id]
     keep = ["is_success", other]
     kwargs = {"backend": backend, "max_episode_steps": 3}
     if backend == "torch":
         kwargs["compile"] = False
     runs = []
     for info_keys in (None, keep):
-        venv = gym.make_vec(env_id, num_envs=4, vectorization_mode="vector_entry_point",
-                            info_keys=info_keys, **kwargs)  # fmt: skip
+        venv = gym.make_vec(
+            env_id,
+            num_envs=4,
+            vectorization_mode="vector_entry_point",
+            info_keys=info_keys,
+            **kwargs,
+        )
         out = [venv.reset(seed=1)]
         actions = np.random.default_rng(0).uniform(-1, 1, (5, *venv.action_space.shape))
         out += [venv.step(a.astype(np.float32)) for a in actions]
@@ -288,8 +307,9 @@ def test_info_keys_keeps_those_infos_with_the_same_values(env_id: str, backend: 
 
 def test_info_keys_that_are_no_infos_are_named() -> None:
     def make(keys):
-        return gym.make_vec("BeachballSail-v1", num_envs=2,
-                            vectorization_mode="vector_entry_point", info_keys=keys)  # fmt: skip
+        return gym.make_vec(
+            "BeachballSail-v1", num_envs=2, vectorization_mode="vector_entry_point", info_keys=keys
+        )
 
     with pytest.raises(ValueError, match=r"info_keys: \['speed'\] are not infos .*is_success"):
         make(["is_success", "speed"])
@@ -343,5 +363,9 @@ def test_step_graph_is_checked() -> None:
     with pytest.raises(ValueError, match="step_graph must be one of"):
         make_torch("BeachballSail-v1", step_graph="fused")
     with pytest.raises(ValueError, match="step_graph='one' needs backend='torch'"):
-        gym.make_vec("BeachballSail-v1", num_envs=2, vectorization_mode="vector_entry_point",
-                     step_graph="one")  # fmt: skip
+        gym.make_vec(
+            "BeachballSail-v1",
+            num_envs=2,
+            vectorization_mode="vector_entry_point",
+            step_graph="one",
+        )

@@ -21,28 +21,50 @@ pytest.importorskip("array_api_compat")
 
 N = 4
 PINNED = {
-    "BeachballThrow-v0": ({"windsock_noise": 0.0},
-                          {"wind": (1.0, -0.5), "target": (7.0, 1.0), "gusts": False}),
-    "BeachballCurve-v1": ({"windsock_noise": 0.0},
-                          {"wind": (1.0, -0.5), "target": (7.0, 1.0), "gusts": False,
-                           "screen": True}),
-    "BeachballCurve-v2": ({"windsock_noise": 0.0},
-                          {"wind": (1.0, -0.5), "target": (7.0, 1.0), "gusts": False,
-                           "screen": True}),
-    "BeachballTopple-v1": ({"windsock_noise": 0.0},
-                           {"wind": (1.5, 0.5), "wall_distance": 6.0, "gusts": False}),
-    "BeachballTopple-v2": ({"windsock_noise": 0.0},
-                           {"wind": (1.5, 0.5), "wall_distance": 4.0, "gusts": False}),
-    "BeachballSail-v1": ({"max_episode_steps": 40},
-                         {"wind_speed": 5.0, "wind_from": 1.0, "speed": 1.0, "heading": 0.3,
-                          "mark": (30.0, 10.0), "gusts": False}),
-}  # fmt: skip
+    "BeachballThrow-v0": (
+        {"windsock_noise": 0.0},
+        {"wind": (1.0, -0.5), "target": (7.0, 1.0), "gusts": False},
+    ),
+    "BeachballCurve-v1": (
+        {"windsock_noise": 0.0},
+        {"wind": (1.0, -0.5), "target": (7.0, 1.0), "gusts": False, "screen": True},
+    ),
+    "BeachballCurve-v2": (
+        {"windsock_noise": 0.0},
+        {"wind": (1.0, -0.5), "target": (7.0, 1.0), "gusts": False, "screen": True},
+    ),
+    "BeachballTopple-v1": (
+        {"windsock_noise": 0.0},
+        {"wind": (1.5, 0.5), "wall_distance": 6.0, "gusts": False},
+    ),
+    "BeachballTopple-v2": (
+        {"windsock_noise": 0.0},
+        {"wind": (1.5, 0.5), "wall_distance": 4.0, "gusts": False},
+    ),
+    "BeachballSail-v1": (
+        {"max_episode_steps": 40},
+        {
+            "wind_speed": 5.0,
+            "wind_from": 1.0,
+            "speed": 1.0,
+            "heading": 0.3,
+            "mark": (30.0, 10.0),
+            "gusts": False,
+        },
+    ),
+}
 
 
 def make(env_id: str, backend: str, **kwargs) -> gym.vector.VectorEnv:
     extra = {"dtype": "float64", "compile": False} if backend == "torch" else {}
-    return gym.make_vec(env_id, num_envs=N, vectorization_mode="vector_entry_point",
-                        backend=backend, **extra, **kwargs)  # fmt: skip
+    return gym.make_vec(
+        env_id,
+        num_envs=N,
+        vectorization_mode="vector_entry_point",
+        backend=backend,
+        **extra,
+        **kwargs,
+    )
 
 
 @pytest.mark.parametrize("env_id", sorted(PINNED))
@@ -51,9 +73,11 @@ def test_a_pinned_episode_is_the_same_on_numpy_and_torch(env_id: str) -> None:
     envs = {b: make(env_id, b, **kwargs) for b in ("numpy", "torch")}
     first = {b: e.reset(seed=5, options=options)[0] for b, e in envs.items()}
     np.testing.assert_allclose(first["torch"], first["numpy"], rtol=0, atol=1e-6)
-    actions = np.random.default_rng(3).uniform(
-        -1, 1, (200, *envs["numpy"].action_space.shape)
-    ).astype(np.float32)  # fmt: skip
+    actions = (
+        np.random.default_rng(3)
+        .uniform(-1, 1, (200, *envs["numpy"].action_space.shape))
+        .astype(np.float32)
+    )
     steps = 0
     for a in actions:
         got = {b: e.step(a) for b, e in envs.items()}

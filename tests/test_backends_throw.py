@@ -71,8 +71,12 @@ def test_torch_float32_lands_where_float64_does(env_id: str) -> None:
     the float32 draws cannot move the wind) land within 2 cm of float64's, over 10 throws
     per env of the default flight (sim_dt 0.01 s, up to 6 s)."""
     actions = actions_for(10)
-    kwargs = {"gusts": False, "throws_per_episode": 100, "target_radius": 0.01,
-              "wind_speed_range": (0.0, 0.0)}  # fmt: skip
+    kwargs = {
+        "gusts": False,
+        "throws_per_episode": 100,
+        "target_radius": 0.01,
+        "wind_speed_range": (0.0, 0.0),
+    }
     runs = {}
     for dtype in ("float64", "float32"):
         venv = make_torch(env_id, dtype=dtype, **kwargs)

@@ -39,9 +39,13 @@ def throws(rng: np.random.Generator, steps: int, num_envs: int) -> np.ndarray:
     elevation = np.radians(rng.uniform(3.0, 20.0, n))
     azimuth = rng.uniform(-0.04, 0.04, n)
     velocity = speed[..., None] * np.stack(
-        [np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
-         np.sin(elevation)], axis=-1,
-    )  # fmt: skip
+        [
+            np.cos(elevation) * np.cos(azimuth),
+            np.cos(elevation) * np.sin(azimuth),
+            np.sin(elevation),
+        ],
+        axis=-1,
+    )
     actions = np.concatenate([velocity, rng.uniform(-0.3, 0.3, (*n, 3))], axis=-1)
     kind = rng.random(n)
     actions[kind < 0.25] = rng.uniform(-0.015, 0.015, (int((kind < 0.25).sum()), 6))
@@ -161,8 +165,9 @@ def test_compiled_equals_eager_and_compiles_each_graph_once(env_id: str, step_gr
     results = []
     for compile in (False, True):
         with backend_replica.compiles() if compile else contextlib.nullcontext() as counters:
-            venv = make_torch(compile=compile, throws_per_episode=2, step_graph=step_graph,
-                              env_id=env_id, **FAST)  # fmt: skip
+            venv = make_torch(
+                compile=compile, throws_per_episode=2, step_graph=step_graph, env_id=env_id, **FAST
+            )
             out = [venv.reset(seed=2)[0]]
             out += [venv.step(a)[0] for a in actions]
         results.append(np.array(out))

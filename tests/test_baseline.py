@@ -18,12 +18,25 @@ def test_main_job_writes_the_run_folder(tmp_path):
 
     config = write_tiny_sail_preset(tmp_path / "sail.yaml")
     out = tmp_path / "run"
-    argv = ["--env", "BeachballSail-v0", "--preset", str(config), "--timesteps", "2048",
-            "--episodes", "3", "--seeds", "2", "--jobs", "2", "--out", str(out)]  # fmt: skip
+    argv = [
+        "--env",
+        "BeachballSail-v0",
+        "--preset",
+        str(config),
+        "--timesteps",
+        "2048",
+        "--episodes",
+        "3",
+        "--seeds",
+        "2",
+        "--jobs",
+        "2",
+        "--out",
+        str(out),
+    ]
     assert cli.main(["baseline", *argv]) == 0
 
-    for name in ("results.md", "results.json", "learning_curve.png", "episode.gif",
-                 "summary.json"):  # fmt: skip
+    for name in ("results.md", "results.json", "learning_curve.png", "episode.gif", "summary.json"):
         assert (out / name).stat().st_size > 0, name
     for seed in (0, 1):
         for name in ("model.zip", "best_model.zip", "train.json", "learning_curve.png"):
@@ -56,10 +69,18 @@ def test_main_job_writes_the_run_folder(tmp_path):
     from bbgym.cli.train import train_sb3
 
     alone = tmp_path / "alone"
-    train_sb3("BeachballSail-v0", preset=config, timesteps=2048, seed=1, out=alone,
-              progress=False, torch_threads=1)  # fmt: skip
-    a, b = (PPO.load(f / "model.zip", device="cpu").policy.state_dict()
-            for f in (alone, out / "seed1"))  # fmt: skip
+    train_sb3(
+        "BeachballSail-v0",
+        preset=config,
+        timesteps=2048,
+        seed=1,
+        out=alone,
+        progress=False,
+        torch_threads=1,
+    )
+    a, b = (
+        PPO.load(f / "model.zip", device="cpu").policy.state_dict() for f in (alone, out / "seed1")
+    )
     assert all(torch.equal(a[k], b[k]) for k in a)
     with Image.open(out / "learning_curve.png") as png:
         assert png.size[0] > 600

@@ -39,10 +39,25 @@ def test_bench_quick_backend_rows(tmp_path):
 
     pytest.importorskip("torch")
     done = subprocess.run(
-        [sys.executable, "-m", "bbgym", "bench", "--quick", "--backends", "--envs",
-         "BeachballSail-v0", "--step-graph", "auto", "one", "--out", str(tmp_path)],
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "bbgym",
+            "bench",
+            "--quick",
+            "--backends",
+            "--envs",
+            "BeachballSail-v0",
+            "--step-graph",
+            "auto",
+            "one",
+            "--out",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     result = json.loads((tmp_path / "bench.json").read_text())
     kinds = {(row["env"], row["kind"]) for row in result["backend_rows"]}
@@ -72,10 +87,22 @@ def test_bench_quick_training_rows(tmp_path):
 
 def run_bench(tmp_path, *argv: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-m", "bbgym", "bench", "--quick", "--envs", "BeachballSail-v0",
-         "--out", str(tmp_path), *argv],
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "bbgym",
+            "bench",
+            "--quick",
+            "--envs",
+            "BeachballSail-v0",
+            "--out",
+            str(tmp_path),
+            *argv,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 def test_bench_dtypes_picks_the_torch_rows(tmp_path):
@@ -120,8 +147,11 @@ def test_bench_device_cuda_runs_the_torch_rows_alone(tmp_path):
     assert [row["kind"] for row in training] == ["TorchRL PPO N=8"] and training[0]["rate"] > 0
     kinds = {row["kind"] for row in result["backend_rows"] if row["env"] != "CartPole-v1"}
     # both ways of compiling the step, no NumPy row (it lives on the CPU)
-    assert kinds == {f"N=8 torch {dtype} cuda, {graph}" for dtype in ("float64", "float32")
-                     for graph in ("parts", "one graph")}  # fmt: skip
+    assert kinds == {
+        f"N=8 torch {dtype} cuda, {graph}"
+        for dtype in ("float64", "float32")
+        for graph in ("parts", "one graph")
+    }
     assert all(row["rate"] > 0 for row in result["backend_rows"])
     assert result["machine"]["gpu"]
 
@@ -133,8 +163,17 @@ def test_bench_times_tensors_in_and_out():
     pytest.importorskip("torch")
     from bbgym.cli.bench import time_backend
 
-    row = time_backend("BeachballSail-v0", 8, 4, 1.0, 0, backend="torch", dtype="float32",
-                       compile=False, output="torch")  # fmt: skip
+    row = time_backend(
+        "BeachballSail-v0",
+        8,
+        4,
+        1.0,
+        0,
+        backend="torch",
+        dtype="float32",
+        compile=False,
+        output="torch",
+    )
     assert row["rate"] > 0 and row["state_mb"] > 0
 
 
@@ -142,15 +181,33 @@ def test_bench_quick_race_rows(tmp_path):
     """``--race``: the PettingZoo race beside CartPole's single env, the fleet vector env
     beside CartPole's vector env at the same N, in boat-steps."""
     done = subprocess.run(
-        [sys.executable, "-m", "bbgym", "bench", "--quick", "--race", "--envs",
-         "BeachballSail-v0", "--out", str(tmp_path)],
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "bbgym",
+            "bench",
+            "--quick",
+            "--race",
+            "--envs",
+            "BeachballSail-v0",
+            "--out",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
-    rows = [r for r in json.loads((tmp_path / "bench.json").read_text())["rows"]
-            if r["env"] == "bbgym/BeachballRace-v0"]  # fmt: skip
-    assert [r["kind"] for r in rows] == ["PettingZoo, 4 boats", "fleet N=4 (1 race)",
-                                         "fleet N=8 (2 races)"]  # fmt: skip
+    rows = [
+        r
+        for r in json.loads((tmp_path / "bench.json").read_text())["rows"]
+        if r["env"] == "bbgym/BeachballRace-v0"
+    ]
+    assert [r["kind"] for r in rows] == [
+        "PettingZoo, 4 boats",
+        "fleet N=4 (1 race)",
+        "fleet N=8 (2 races)",
+    ]
     assert all(r["rate"] > 0 and r["ratio"] > 0 for r in rows)
     assert "boat-steps/s" in (tmp_path / "bench.md").read_text()
 
@@ -162,11 +219,21 @@ def test_race_backend_rows_time_the_fleet_on_torch():
     pytest.importorskip("torch")
     from bbgym.cli.bench import race_backend_rows
 
-    args = argparse.Namespace(device="cpu", backend_envs=(8,), steps=6, seconds=0.2, seed=0,
-                              dtypes=["float64", "float32"], compile=False, repeats=1)  # fmt: skip
+    args = argparse.Namespace(
+        device="cpu",
+        backend_envs=(8,),
+        steps=6,
+        seconds=0.2,
+        seed=0,
+        dtypes=["float64", "float32"],
+        compile=False,
+        repeats=1,
+    )
     rows = race_backend_rows(args)
-    assert [r["kind"] for r in rows] == ["fleet N=8 (2 races) torch float64",
-                                         "fleet N=8 (2 races) torch float32"]  # fmt: skip
+    assert [r["kind"] for r in rows] == [
+        "fleet N=8 (2 races) torch float64",
+        "fleet N=8 (2 races) torch float32",
+    ]
     assert all(r["rate"] > 0 and r["ratio"] > 0 and r["warmup_s"] > 0 for r in rows)
 
 
@@ -204,9 +271,10 @@ def test_bench_scenes_times_the_spring_and_sph_scenes_alone(tmp_path):
     # each row's cost of a step against its kind's at the smallest size
     sph = result["sph_rows"]
     assert [row["kind"] for row in sph] == [
-        f"{n} particles, {kind}" for n in (64, 256)
+        f"{n} particles, {kind}"
+        for n in (64, 256)
         for kind in ("grid, numpy", "grid, torch float64", "all, numpy")
-    ]  # fmt: skip
+    ]
     for row in sph:
         assert row["steps_per_s"] > 0 and row["rate"] == row["steps_per_s"] * row["particles"]
     assert [row["cost"] for row in sph[:3]] == [1.0, 1.0, 1.0]

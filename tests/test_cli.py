@@ -15,8 +15,9 @@ from bbgym.config import CONFIG_DIR, env_preset, load_preset, preset_files, pres
 
 
 def test_python_m_bbgym_lists_every_command():
-    done = subprocess.run([sys.executable, "-m", "bbgym", "--help"], capture_output=True,
-                          text=True, timeout=120)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-m", "bbgym", "--help"], capture_output=True, text=True, timeout=120
+    )
     assert done.returncode == 0
     for command in cli.COMMANDS:
         assert command in done.stdout
@@ -26,26 +27,38 @@ def test_python_m_bbgym_lists_every_command():
     ("argv", "message"),
     [
         (["evaluate", "--env", "NoSuchEnv-v0"], "unknown env id 'NoSuchEnv-v0'"),
-        (["evaluate", "--env", "BeachballSail-v0", "--policies", "ppo,bogus"],
-         "unknown policies ['bogus']"),
+        (
+            ["evaluate", "--env", "BeachballSail-v0", "--policies", "ppo,bogus"],
+            "unknown policies ['bogus']",
+        ),
         (["evaluate", "--env", "BeachballSail-v0", "--episodes", "0"], "--episodes: must be >= 1"),
         (["evaluate", "--env", "BeachballSail-v0", "--policies", "ppo"], "needs --model"),
-        (["evaluate", "--env", "BeachballSail-v1", "--policies", "random,sac"],
-         "--policies sac needs --model"),
-        (["train", "--env", "BeachballSail-v1", "--engine", "rllib"],
-         "--engine rllib trains PPO presets; beachball_sail_v1.yaml trains sac"),
-        (["train", "--env", "BeachballSail-v0", "--preset", "no_such_preset"],
-         "preset 'no_such_preset' is neither"),
-        (["train", "--env", "BeachballSail-v0", "--preset", "BeachballTopple-v0"],
-         "is a preset of BeachballTopple-v0, not BeachballSail-v0"),
+        (
+            ["evaluate", "--env", "BeachballSail-v1", "--policies", "random,sac"],
+            "--policies sac needs --model",
+        ),
+        (
+            ["train", "--env", "BeachballSail-v1", "--engine", "rllib"],
+            "--engine rllib trains PPO presets; beachball_sail_v1.yaml trains sac",
+        ),
+        (
+            ["train", "--env", "BeachballSail-v0", "--preset", "no_such_preset"],
+            "preset 'no_such_preset' is neither",
+        ),
+        (
+            ["train", "--env", "BeachballSail-v0", "--preset", "BeachballTopple-v0"],
+            "is a preset of BeachballTopple-v0, not BeachballSail-v0",
+        ),
         (["train", "--env", "BeachballSail-v0", "--engine", "tf"], "invalid choice: 'tf'"),
         (["polar", "--wind-speed", "-1"], "--wind-speed: must be finite and > 0"),
         (["polar", "--step-deg", "120"], "--step-deg must be in (0, 90]"),
-        (["record", "--env", "BeachballSail-v0", "--policy", "random", "--fps", "nan"],
-         "--fps: must be finite and > 0"),
+        (
+            ["record", "--env", "BeachballSail-v0", "--policy", "random", "--fps", "nan"],
+            "--fps: must be finite and > 0",
+        ),
         (["fuzz", "--num-envs", "2.5"], "--num-envs: expected an integer, got '2.5'"),
     ],
-)  # fmt: skip
+)
 def test_bad_arguments_say_what_is_wrong(capsys, argv, message):
     with pytest.raises(SystemExit) as exit_info:
         cli.main(argv)
@@ -105,9 +118,10 @@ def test_a_missing_extra_names_it(capsys, monkeypatch):
 
     find_spec = importlib.util.find_spec
     monkeypatch.setattr(
-        importlib.util, "find_spec",
+        importlib.util,
+        "find_spec",
         lambda name, *a: None if name == "stable_baselines3" else find_spec(name, *a),
-    )  # fmt: skip
+    )
     assert cli.main(["train", "--env", "BeachballSail-v0"]) == 3
     err = capsys.readouterr().err
     from bbgym._extras import install_hint
@@ -144,9 +158,13 @@ def test_a_budget_shorter_than_the_evaluation_period_still_keeps_a_best_model(tm
     config = write_small_preset(
         tmp_path / "sail.yaml",
         ppo={"n_steps": 64, "batch_size": 64, "n_epochs": 1},
-        train={"n_envs": 4, "eval_every_timesteps": 1_000_000, "eval_episodes": 2,
-               "checkpoint_every_timesteps": 1_000_000},
-    )  # fmt: skip
+        train={
+            "n_envs": 4,
+            "eval_every_timesteps": 1_000_000,
+            "eval_episodes": 2,
+            "checkpoint_every_timesteps": 1_000_000,
+        },
+    )
     out = tmp_path / "run"
     summary = train_sb3("BeachballSail-v0", preset=config, timesteps=256, out=out, progress=False)
     assert summary["timesteps"] == 256 and (out / "best_model.zip").is_file()
@@ -161,12 +179,12 @@ def test_a_budget_shorter_than_the_evaluation_period_still_keeps_a_best_model(tm
 @pytest.mark.parametrize(
     ("velocity", "kind"),
     [
-        ((4.0, 0.0, 4.0), "missed short"),   # a lob that lands a few metres out
-        ((12.0, 0.0, 8.0), "missed long"),   # far past the 6 m target
-        ((4.2, 3.5, 5.0), "missed left"),    # 40 deg to the left of the line
+        ((4.0, 0.0, 4.0), "missed short"),  # a lob that lands a few metres out
+        ((12.0, 0.0, 8.0), "missed long"),  # far past the 6 m target
+        ((4.2, 3.5, 5.0), "missed left"),  # 40 deg to the left of the line
         ((4.2, -3.5, 5.0), "missed right"),
     ],
-)  # fmt: skip
+)
 def test_the_failure_breakdown_names_where_a_throw_missed(velocity, kind):
     """The target straight ahead at 6 m, no wind: the breakdown of an episode of one throw
     says which way it missed, from the landing point against the line to the target."""
@@ -199,10 +217,19 @@ def test_the_interval_over_seeds():
 def test_one_seed_keeps_its_own_interval():
     from bbgym.cli.evaluate import format_over_seeds, over_seeds
 
-    seed = {"env": "E", "episodes": 100, "seeds": [0, 99], "success_rate": 0.98,
-            "success_ci95": [0.93, 0.99], "mean_return": 1.0, "mean_length": 2.0,
-            "mean_time_to_mark_s": None, "outcomes": {"success": 98, "timed out": 2},
-            "wall_time_s": 1.0, "training_seed": 0}  # fmt: skip
+    seed = {
+        "env": "E",
+        "episodes": 100,
+        "seeds": [0, 99],
+        "success_rate": 0.98,
+        "success_ci95": [0.93, 0.99],
+        "mean_return": 1.0,
+        "mean_length": 2.0,
+        "mean_time_to_mark_s": None,
+        "outcomes": {"success": 98, "timed out": 2},
+        "wall_time_s": 1.0,
+        "training_seed": 0,
+    }
     one = over_seeds([seed])
     assert one["policy"] == "ppo, 1 seed" and one["success_ci95"] == [0.93, 0.99]
     assert "95% Wilson interval 93-99%" in format_over_seeds(one)
@@ -212,8 +239,17 @@ def test_one_seed_keeps_its_own_interval():
 
 
 def test_evaluate_refuses_to_replace_its_results_without_overwrite(tmp_path, capsys):
-    argv = ["evaluate", "--env", "BeachballThrow-v0", "--policies", "random", "--episodes", "1",
-            "--out", str(tmp_path)]  # fmt: skip
+    argv = [
+        "evaluate",
+        "--env",
+        "BeachballThrow-v0",
+        "--policies",
+        "random",
+        "--episodes",
+        "1",
+        "--out",
+        str(tmp_path),
+    ]
     assert cli.main(argv) == 0
     first = (tmp_path / "BeachballThrow-v0.json").read_text()
     with pytest.raises(SystemExit) as exit_info:
@@ -227,17 +263,27 @@ def test_evaluate_refuses_to_replace_its_results_without_overwrite(tmp_path, cap
 
 
 def _row(env: str, policy: str, **fields) -> dict:
-    return {"env": env, "policy": policy, "episodes": 100, "success_rate": 0.5,
-            "success_ci95": [0.4, 0.6], "mean_return": 1.0, "mean_length": 2.0,
-            "mean_time_to_mark_s": None, "outcomes": {"success": 50, "missed long": 50},
-            "wall_time_s": 3.0, **fields}  # fmt: skip
+    return {
+        "env": env,
+        "policy": policy,
+        "episodes": 100,
+        "success_rate": 0.5,
+        "success_ci95": [0.4, 0.6],
+        "mean_return": 1.0,
+        "mean_length": 2.0,
+        "mean_time_to_mark_s": None,
+        "outcomes": {"success": 50, "missed long": 50},
+        "wall_time_s": 3.0,
+        **fields,
+    }
 
 
 def test_a_throw_table_has_no_time_columns():
     from bbgym.cli.evaluate import format_table
 
-    table = format_table([_row("BeachballThrow-v0", "random"),
-                          _row("BeachballThrow-v0", "scripted")])  # fmt: skip
+    table = format_table(
+        [_row("BeachballThrow-v0", "random"), _row("BeachballThrow-v0", "scripted")]
+    )
     header = table.splitlines()[0]
     assert "time to mark" not in header and "time / oracle" not in header
     assert all(line.count("|") == header.count("|") for line in table.splitlines())
@@ -247,12 +293,22 @@ def test_a_throw_table_has_no_time_columns():
 def test_a_mean_over_few_finished_episodes_shows_their_count():
     from bbgym.cli.evaluate import add_time_vs_oracle, format_table
 
-    oracle = _row("BeachballSail-v1", "scripted", mean_time_to_mark_s=40.0,
-                  time_to_mark_episodes=100, episode_time_to_mark_s=[40.0] * 100)  # fmt: skip
+    oracle = _row(
+        "BeachballSail-v1",
+        "scripted",
+        mean_time_to_mark_s=40.0,
+        time_to_mark_episodes=100,
+        episode_time_to_mark_s=[40.0] * 100,
+    )
     lucky = [None] * 100
     lucky[3], lucky[7] = 80.0, 64.0
-    random = _row("BeachballSail-v1", "random", mean_time_to_mark_s=72.0,
-                  time_to_mark_episodes=2, episode_time_to_mark_s=lucky)  # fmt: skip
+    random = _row(
+        "BeachballSail-v1",
+        "random",
+        mean_time_to_mark_s=72.0,
+        time_to_mark_episodes=2,
+        episode_time_to_mark_s=lucky,
+    )
     for row in (oracle, random):
         add_time_vs_oracle(row, oracle)
     assert random["time_vs_oracle"] == pytest.approx(1.8)

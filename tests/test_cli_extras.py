@@ -20,9 +20,10 @@ def hide(monkeypatch: pytest.MonkeyPatch, *modules: str) -> None:
     """Make ``modules`` look uninstalled to ``importlib.util.find_spec``."""
     find_spec = importlib.util.find_spec
     monkeypatch.setattr(
-        importlib.util, "find_spec",
+        importlib.util,
+        "find_spec",
         lambda name, *a: None if name in modules else find_spec(name, *a),
-    )  # fmt: skip
+    )
 
 
 def test_baseline_fails_at_once_without_pygame(monkeypatch, capsys, tmp_path):
@@ -49,14 +50,20 @@ def test_baseline_fails_at_once_without_pygame(monkeypatch, capsys, tmp_path):
         (["train", "--env", "BeachballSail-v1"], {"train"}),
         (["train", "--env", "BeachballSail-v0", "--engine", "rllib"], {"rllib"}),
         (["evaluate", "--env", "BeachballSail-v1"], set()),
-        (["evaluate", "--env", "BeachballSail-v1", "--policies", "sac", "--model", "m.zip"],
-         {"train"}),
+        (
+            ["evaluate", "--env", "BeachballSail-v1", "--policies", "sac", "--model", "m.zip"],
+            {"train"},
+        ),
         (["baseline", "--env", "BeachballSail-v1"], {"train", "plots", "render"}),
         (["record", "--env", "BeachballSail-v1", "--policy", "scripted"], {"render", "plots"}),
-        (["record", "--env", "BeachballSail-v1", "--policy", "ppo", "--model", "m.zip"],
-         {"render", "plots", "train"}),
-        (["record", "--env", "bbgym/BeachballRace-v0", "--policy", "scripted"],
-         {"race", "render", "plots"}),
+        (
+            ["record", "--env", "BeachballSail-v1", "--policy", "ppo", "--model", "m.zip"],
+            {"render", "plots", "train"},
+        ),
+        (
+            ["record", "--env", "bbgym/BeachballRace-v0", "--policy", "scripted"],
+            {"race", "render", "plots"},
+        ),
         (["play", "--env", "BeachballSail-v1"], {"render"}),
         (["polar"], {"plots"}),
         (["demo"], {"render", "plots"}),
@@ -64,7 +71,7 @@ def test_baseline_fails_at_once_without_pygame(monkeypatch, capsys, tmp_path):
         (["bench", "--backends"], {"torch"}),
         (["fuzz"], set()),
     ],
-)  # fmt: skip
+)
 def test_each_command_names_the_extras_it_needs(argv, extras):
     args = cli.build_parser().parse_args(argv)
     needs = args._needs(args) if args._needs is not None else []
@@ -73,8 +80,10 @@ def test_each_command_names_the_extras_it_needs(argv, extras):
 
 def test_a_missing_extra_lists_every_one_with_one_install_command(monkeypatch, capsys):
     hide(monkeypatch, "pygame", "stable_baselines3", "tensorboard")
-    assert cli.main(["record", "--env", "BeachballSail-v1", "--policy", "sac",
-                     "--model", "m.zip"]) == 3  # fmt: skip
+    assert (
+        cli.main(["record", "--env", "BeachballSail-v1", "--policy", "sac", "--model", "m.zip"])
+        == 3
+    )
     err = capsys.readouterr().err
     assert "'pygame' (the 'render' extra)" in err
     assert "'stable_baselines3', 'tensorboard' (the 'train' extra)" in err
@@ -93,14 +102,18 @@ class FakeDistribution:
 @pytest.mark.parametrize(
     ("direct_url", "hint"),
     [
-        ({"url": "file:///src/bb%20gym", "dir_info": {"editable": True}},
-         'pip install -e "/src/bb gym[train,render]"'),
+        (
+            {"url": "file:///src/bb%20gym", "dir_info": {"editable": True}},
+            'pip install -e "/src/bb gym[train,render]"',
+        ),
         ({"url": "file:///src/bbgym", "dir_info": {}}, 'pip install "/src/bbgym[train,render]"'),
-        ({"url": "file:///tmp/dist/bbgym-0.8.0-py3-none-any.whl", "archive_info": {}},
-         'pip install "/tmp/dist/bbgym-0.8.0-py3-none-any.whl[train,render]"'),
+        (
+            {"url": "file:///tmp/dist/bbgym-0.8.0-py3-none-any.whl", "archive_info": {}},
+            'pip install "/tmp/dist/bbgym-0.8.0-py3-none-any.whl[train,render]"',
+        ),
         (None, 'pip install "bbgym[train,render]"'),
     ],
-)  # fmt: skip
+)
 def test_the_install_hint_follows_how_bbgym_was_installed(monkeypatch, direct_url, hint):
     monkeypatch.setattr(metadata, "distribution", lambda name: FakeDistribution(direct_url))
     assert _extras.install_hint("train", "render") == hint

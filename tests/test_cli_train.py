@@ -20,12 +20,26 @@ def test_a_short_run_says_what_it_rounded_and_reports_training_apart(tmp_path, c
     config = write_small_preset(
         tmp_path / "sail.yaml",
         ppo={"n_steps": 16, "batch_size": 64, "n_epochs": 1},
-        train={"n_envs": 4, "eval_every_timesteps": 1_000_000, "eval_episodes": 10,
-               "checkpoint_every_timesteps": 1_000_000},
-    )  # fmt: skip
+        train={
+            "n_envs": 4,
+            "eval_every_timesteps": 1_000_000,
+            "eval_episodes": 10,
+            "checkpoint_every_timesteps": 1_000_000,
+        },
+    )
     out = tmp_path / "run"
-    argv = ["train", "--env", "BeachballSail-v0", "--preset", str(config), "--timesteps", "100",
-            "--out", str(out), "--no-progress"]  # fmt: skip
+    argv = [
+        "train",
+        "--env",
+        "BeachballSail-v0",
+        "--preset",
+        str(config),
+        "--timesteps",
+        "100",
+        "--out",
+        str(out),
+        "--no-progress",
+    ]
     assert cli.main(argv) == 0
     stdout = capsys.readouterr().out
     assert "100 timesteps round up to 128" in stdout

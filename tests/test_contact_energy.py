@@ -185,11 +185,22 @@ def test_friction_zero_is_ice():
     w=st.tuples(*[st.floats(-500.0, 500.0)] * 3),
 )
 @example(  # a spin far below TINY: braked in proportion, not stopped
-    p=BallParams(radius_m=1.0, shell_areal_density_kgm2=1.0, density_kgm3=10.0,
-                 drag_coefficient=0.0, lift_coefficient_max=0.0, spin_decay_s=1.0,
-                 restitution=0.0, friction=0.0, rolling_resistance=1.0, rest_speed_mps=1.0),
-    depth=0.0, v=(0.0, 0.0, -4.772778792939452e-18), w=(4.772778792939452e-18, 0.0, 0.0),
-)  # fmt: skip
+    p=BallParams(
+        radius_m=1.0,
+        shell_areal_density_kgm2=1.0,
+        density_kgm3=10.0,
+        drag_coefficient=0.0,
+        lift_coefficient_max=0.0,
+        spin_decay_s=1.0,
+        restitution=0.0,
+        friction=0.0,
+        rolling_resistance=1.0,
+        rest_speed_mps=1.0,
+    ),
+    depth=0.0,
+    v=(0.0, 0.0, -4.772778792939452e-18),
+    w=(4.772778792939452e-18, 0.0, 0.0),
+)
 def test_one_ground_contact_never_adds_energy_and_keeps_contact_angular_momentum(p, depth, v, w):
     r, m, inertia = p.radius_m, p.mass_kg, p.inertia_kgm2
     s = ball_at(0.0, 0.0, r * (1.0 - depth), *v, *w)
@@ -231,8 +242,7 @@ def test_one_ground_contact_never_adds_energy_and_keeps_contact_angular_momentum
     assert end[0] * mid[0] + end[1] * mid[1] >= -1e-9 * scale / m * math.hypot(*mid)
     # The batched (NumPy) contact is the same computation.
     batch, _ = ground_contact(p, BallState(*(np.array([x]) for x in s)), DT)
-    np.testing.assert_allclose([x[0] for x in batch], values,
-                               rtol=1e-12, atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose([x[0] for x in batch], values, rtol=1e-12, atol=1e-12)
 
 
 @FAST
@@ -299,13 +309,17 @@ def test_ball_hitting_the_wall_keeps_angular_momentum_and_never_adds_energy(
     assert after.status == STANDING and after.pivot == side
     assert all(math.isfinite(x) for x in (after.rate, vx, vz))
     inertia = p.inertia_kgm2
-    energy = (0.5 * m * (v[0] ** 2 + v[1] ** 2) + 0.5 * inertia * s.rate**2,
-              0.5 * m * (vx * vx + vz * vz) + 0.5 * inertia * after.rate**2)  # fmt: skip
+    energy = (
+        0.5 * m * (v[0] ** 2 + v[1] ** 2) + 0.5 * inertia * s.rate**2,
+        0.5 * m * (vx * vx + vz * vz) + 0.5 * inertia * after.rate**2,
+    )
     assert energy[1] <= energy[0] * (1.0 + 1e-9)
     # About the pivot edge: I rate + m (v_x r_z - v_z r_x), r from the edge to the ball.
     rx, rz = bx - pivot_x, bz
-    momentum = (inertia * s.rate + m * (v[0] * rz - v[1] * rx),
-                inertia * after.rate + m * (vx * rz - vz * rx))  # fmt: skip
+    momentum = (
+        inertia * s.rate + m * (v[0] * rz - v[1] * rx),
+        inertia * after.rate + m * (vx * rz - vz * rx),
+    )
     # (rounding: the terms' sizes, with the wall's whole extent as the lever)
     lever = p.height_m + p.base_depth_m + ball.radius_m
     speeds = math.hypot(*v) + math.hypot(vx, vz)
@@ -337,8 +351,10 @@ def test_ball_collisions_keep_momentum_and_never_add_energy(m, p2, v1, v2, resti
         before = m[0] * v1[k] + m[1] * v2[k]
         after = m[0] * a1[k] + m[1] * a2[k]
         assert after == pytest.approx(before, abs=1e-9 * (m[0] + m[1]) * 40.0)
-    energy = (0.5 * (m[0] * np.dot(v1, v1) + m[1] * np.dot(v2, v2)),
-              0.5 * (m[0] * np.dot(a1, a1) + m[1] * np.dot(a2, a2)))  # fmt: skip
+    energy = (
+        0.5 * (m[0] * np.dot(v1, v1) + m[1] * np.dot(v2, v2)),
+        0.5 * (m[0] * np.dot(a1, a1) + m[1] * np.dot(a2, a2)),
+    )
     assert energy[1] <= energy[0] * (1.0 + 1e-9) + 1e-12
     dist = math.sqrt(np.dot(p2, p2))
     if dist == 0.0:  # concentric: no line of centres, nothing happens
@@ -369,9 +385,13 @@ def test_random_throw_with_any_ball_is_finite_on_numpy_and_python_floats(
     start = (0.0, 0.0, p.radius_m + 1.5, *v, *spin)
     one = simulate_throw(p, ball_at(*start), *wind, max_time_s=4.0, max_roll_s=1.0, xp=floats)
     batch = simulate_throw(
-        p, ball_at(*(np.array([x]) for x in start)), np.array([wind[0]]), np.array([wind[1]]),
-        max_time_s=4.0, max_roll_s=1.0,
-    )  # fmt: skip
+        p,
+        ball_at(*(np.array([x]) for x in start)),
+        np.array([wind[0]]),
+        np.array([wind[1]]),
+        max_time_s=4.0,
+        max_roll_s=1.0,
+    )
     got = [one.landing_x, one.landing_y, one.flight_time_s, one.apex_height_m]
     got += list(one.final)
     assert all(math.isfinite(x) for x in got)

@@ -111,21 +111,29 @@ def test_the_race_selfplay_table_gives_seeds_reference_and_command(tmp_path):
         "learned_return": 100.0,
     }
     data = {
-        "command": "python scripts/race_selfplay.py --seeds 2", "policy": "residual PPO",
-        "timesteps": 5_000_000, "races_trained_at_once": 64, "eval_races": 100,
-        "eval_seed": 7, "torch_threads": 2, "ahead_share_mean": 0.375,
-        "ahead_share_worst": 0.25, "ahead_share_interval": [0.1, 0.65],
+        "command": "python scripts/race_selfplay.py --seeds 2",
+        "policy": "residual PPO",
+        "timesteps": 5_000_000,
+        "races_trained_at_once": 64,
+        "eval_races": 100,
+        "eval_seed": 7,
+        "torch_threads": 2,
+        "ahead_share_mean": 0.375,
+        "ahead_share_worst": 0.25,
+        "ahead_share_interval": [0.1, 0.65],
         "seeds": [seed, seed | {"ahead_share": 0.5, "learned_return": 110.0}],
         "reference": seed | {"ahead_share": 0.5, "learned_return": 90.0},
-    }  # fmt: skip
+    }
     path = tmp_path / "race" / "selfplay.json"
     path.parent.mkdir()
     path.write_text(json.dumps(data | {"relative_reward": True}))
     absolute = data | {"relative_reward": False, "source": "renamed"}
     (tmp_path / "race" / "selfplay_absolute.json").write_text(json.dumps(absolute))
     table = tables.race_selfplay_table(tmp_path)
-    assert ("| residual PPO | 2 seeds x 5M steps, 64 races at once, relative reward | 38% (25%, "
-            "10%-65%) | 1.00 / 2.00 | 100% / 50% | 105.0 |") in table  # fmt: skip
+    assert (
+        "| residual PPO | 2 seeds x 5M steps, 64 races at once, relative reward | 38% (25%, "
+        "10%-65%) | 1.00 / 2.00 | 100% / 50% | 105.0 |"
+    ) in table
     assert "| 2 seeds x 5M steps, 64 races at once, the race's reward | 38% (25%" in table
     reference = "| the scripted racer (reference) | - | 50% | 1.00 / 2.00 | 100% / 50% | 90.0 |"
     assert table.count(reference) == 1  # the same races: one reference row for both files
@@ -245,11 +253,23 @@ def built_page(site: Path, name: str) -> Path:
 def test_the_site_builds_strictly(tmp_path):
     site = tmp_path / "site"
     build = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(DOCS / "mkdocs.yml"),
-         "--site-dir", str(site)],
-        cwd=ROOT, capture_output=True, text=True, timeout=120,
+        [
+            sys.executable,
+            "-m",
+            "mkdocs",
+            "build",
+            "--strict",
+            "-f",
+            str(DOCS / "mkdocs.yml"),
+            "--site-dir",
+            str(site),
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
         env={"NO_MKDOCS_2_WARNING": "1", "PATH": "", "HOME": str(tmp_path)},
-    )  # fmt: skip
+    )
     assert build.returncode == 0, build.stderr[-3000:]
     baselines = built_page(site, "baselines-all").read_text(encoding="utf-8")
     assert "bbgym baseline --env BeachballSail-v1 --seeds 5 --jobs 1 --torch-threads 2" in baselines

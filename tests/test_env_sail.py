@@ -17,10 +17,24 @@ from bbgym.envs.sail import BeachballSailEnv, BeachballSailVectorEnv
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 
 INFO_KEYS = {
-    "position", "velocity", "boat_speed", "heading", "true_wind_angle", "apparent_wind_angle",
-    "apparent_wind_speed", "heel", "leeway", "boom_angle", "vmg_to_mark", "distance_to_mark",
-    "jibes", "tacks", "capsized", "is_success", "reward_terms",
-}  # fmt: skip
+    "position",
+    "velocity",
+    "boat_speed",
+    "heading",
+    "true_wind_angle",
+    "apparent_wind_angle",
+    "apparent_wind_speed",
+    "heel",
+    "leeway",
+    "boom_angle",
+    "vmg_to_mark",
+    "distance_to_mark",
+    "jibes",
+    "tacks",
+    "capsized",
+    "is_success",
+    "reward_terms",
+}
 
 
 def rollout(env, seed, actions):
@@ -117,8 +131,14 @@ def test_pickle_round_trip_continues_identically():
 
 def test_reset_options_pin_the_scenario():
     env = gym.make("BeachballSail-v0")
-    options = dict(wind_speed=6.0, wind_from=math.pi / 2, mark=(30.0, -20.0), heading=math.pi,
-                   speed=1.0, gusts=False)  # fmt: skip
+    options = dict(
+        wind_speed=6.0,
+        wind_from=math.pi / 2,
+        mark=(30.0, -20.0),
+        heading=math.pi,
+        speed=1.0,
+        gusts=False,
+    )
     obs, info = env.reset(seed=0, options=options)
     assert info["true_wind_speed"] == pytest.approx(6.0)
     # Heading west, wind from the north: from the boat's right (starboard), TWA = -90 deg.
@@ -196,8 +216,17 @@ def test_rewards_bounded_and_terms_add_up():
 
 def test_arrival_terminates_with_success_and_bonus():
     env = gym.make("BeachballSail-v0")
-    env.reset(seed=0, options=dict(wind_speed=5.0, wind_from=math.pi / 2, mark=(12.0, 0.0),
-                                   heading=0.0, speed=2.5, gusts=False))  # fmt: skip
+    env.reset(
+        seed=0,
+        options=dict(
+            wind_speed=5.0,
+            wind_from=math.pi / 2,
+            mark=(12.0, 0.0),
+            heading=0.0,
+            speed=2.5,
+            gusts=False,
+        ),
+    )
     for _ in range(100):
         _, reward, terminated, truncated, info = env.step(np.array([0.0, 0.0], np.float32))
         if terminated:
@@ -209,8 +238,17 @@ def test_arrival_terminates_with_success_and_bonus():
 
 def test_capsize_terminates_with_penalty():
     env = gym.make("BeachballSail-v0")
-    env.reset(seed=0, options=dict(wind_speed=9.5, wind_from=math.pi / 2, mark=(-90.0, 0.0),
-                                   heading=0.0, speed=2.0, gusts=False))  # fmt: skip
+    env.reset(
+        seed=0,
+        options=dict(
+            wind_speed=9.5,
+            wind_from=math.pi / 2,
+            mark=(-90.0, 0.0),
+            heading=0.0,
+            speed=2.0,
+            gusts=False,
+        ),
+    )
     for _ in range(100):
         _, reward, terminated, _, info = env.step(np.array([0.0, -1.0], np.float32))
         if terminated:

@@ -19,8 +19,12 @@ from bbgym.envs.sail.task import OBS_SIZE, SEA_OBS_SIZE
 from bbgym.physics.calibration import calibrated_sloop
 from bbgym.physics.water import WaterParams
 
-WATER = {"wave_amplitude_m": 0.12, "wavelength_m": 10.0, "wave_components": 3,
-         "wave_spread_rad": 0.5}  # fmt: skip
+WATER = {
+    "wave_amplitude_m": 0.12,
+    "wavelength_m": 10.0,
+    "wave_components": 3,
+    "wave_spread_rad": 0.5,
+}
 SEA = {
     "sail_model": "cambered",
     "dinghy": calibrated_sloop(),
@@ -127,8 +131,13 @@ def test_a_pinned_current_is_what_the_boat_senses_and_drifts_with() -> None:
     current is carried a few degrees off the set, so this one points along it.)"""
     env = sea_env(water=None, current_speed_range=(0.0, 1.0), gusts=False)
     set_rad = math.pi / 4
-    options = {"wind_speed": 0.0, "speed": 0.0, "heading": 0.3, "current_speed": 0.6,
-               "current_set": set_rad}  # fmt: skip
+    options = {
+        "wind_speed": 0.0,
+        "speed": 0.0,
+        "heading": 0.3,
+        "current_speed": 0.6,
+        "current_set": set_rad,
+    }
     obs, info = env.reset(seed=0, options=options)
     np.testing.assert_allclose(info["water_velocity"], 0.6 * np.array([1, 1]) / math.sqrt(2))
     # body frame, heading 0.3 rad: along the hull and to port, over 6 m/s

@@ -18,9 +18,18 @@ from bbgym.envs.throw import BeachballThrowEnv, BeachballThrowVectorEnv
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 
 INFO_KEYS = {
-    "landing_point", "miss_distance", "flight_time", "apex_height", "spin_parameter",
-    "trajectory", "is_success", "reward_terms", "wind", "windsock", "throws_left",
-}  # fmt: skip
+    "landing_point",
+    "miss_distance",
+    "flight_time",
+    "apex_height",
+    "spin_parameter",
+    "trajectory",
+    "is_success",
+    "reward_terms",
+    "wind",
+    "windsock",
+    "throws_left",
+}
 CALM = dict(wind=(0.0, 0.0), gusts=False)
 
 

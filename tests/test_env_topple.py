@@ -18,9 +18,17 @@ from bbgym.envs.topple import BeachballToppleEnv, BeachballToppleVectorEnv
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 
 INFO_KEYS = {
-    "wall_angle", "wall_angular_velocity", "wall_state", "hits", "throws", "is_success",
-    "reward_terms", "windsock", "ball_trajectory", "wall_angle_samples",
-}  # fmt: skip
+    "wall_angle",
+    "wall_angular_velocity",
+    "wall_state",
+    "hits",
+    "throws",
+    "is_success",
+    "reward_terms",
+    "windsock",
+    "ball_trajectory",
+    "wall_angle_samples",
+}
 WAIT = np.zeros(6, np.float32)
 
 
@@ -55,8 +63,9 @@ def test_v2_is_v1_in_rk4_steps():
     }
     v1, v2 = gym.make("BeachballTopple-v1"), gym.make("BeachballTopple-v2")
     pinned = {"wind": (-1.0, 0.5), "wall_distance": 4.0}
-    np.testing.assert_array_equal(v1.reset(seed=3, options=pinned)[0],
-                                  v2.reset(seed=3, options=pinned)[0])  # fmt: skip
+    np.testing.assert_array_equal(
+        v1.reset(seed=3, options=pinned)[0], v2.reset(seed=3, options=pinned)[0]
+    )
     throw = np.array([0.6, 0.0, 0.15, 0.0, 0.0, 0.0], np.float32)
     info1, info2 = v1.step(throw)[4], v2.step(throw)[4]
     assert info1["hits"] == info2["hits"] == 1
@@ -67,8 +76,9 @@ def test_v1_puts_the_wall_near_in_an_onshore_breeze():
     """v1's registered kwargs: walls 3-5 m away, the mean wind never against the throw
     (from the half-turn behind the thrower), its speed and the physics as in v0."""
     assert gym.spec("BeachballTopple-v1").kwargs == {
-        "wall_distance_range": (3.0, 5.0), "wind_from_range": (0.5 * math.pi, 1.5 * math.pi)
-    }  # fmt: skip
+        "wall_distance_range": (3.0, 5.0),
+        "wind_from_range": (0.5 * math.pi, 1.5 * math.pi),
+    }
     vec = gym.make_vec("BeachballTopple-v1", num_envs=400)
     vec.reset(seed=0)
     scenario = vec.unwrapped.state.scenario
@@ -80,8 +90,9 @@ def test_v1_puts_the_wall_near_in_an_onshore_breeze():
     assert 0.0 <= speed.min() and speed.max() <= 3.0
     v0, v1 = gym.make("BeachballTopple-v0"), gym.make("BeachballTopple-v1")
     pinned = {"wind": (1.0, -0.5), "wall_distance": 4.0}
-    np.testing.assert_array_equal(v0.reset(seed=2, options=pinned)[0],
-                                  v1.reset(seed=2, options=pinned)[0])  # fmt: skip
+    np.testing.assert_array_equal(
+        v0.reset(seed=2, options=pinned)[0], v1.reset(seed=2, options=pinned)[0]
+    )
     throw = np.array([0.7, 0.0, 0.4, 0.0, 0.0, 0.0], np.float32)
     assert v0.step(throw)[4]["wall_angle"] == v1.step(throw)[4]["wall_angle"]
 

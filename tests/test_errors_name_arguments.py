@@ -19,17 +19,23 @@ import bbgym  # noqa: F401  (registers the ids)
     ("env_id", "kwargs", "named"),
     [
         ("BeachballTopple-v0", {"interval": 0.015}, ("interval = 0.015", "gust_dt")),
-        ("BeachballTopple-v0", {"max_speed": 1.0, "wait_speed": 2.0},
-         ("max_speed = 1", "wait_speed")),
-        ("BeachballTopple-v1", {"wall": {"base_depth_m": 5.0}},
-         ("wall.base_depth_m = 5", "wall_distance_range")),
+        (
+            "BeachballTopple-v0",
+            {"max_speed": 1.0, "wait_speed": 2.0},
+            ("max_speed = 1", "wait_speed"),
+        ),
+        (
+            "BeachballTopple-v1",
+            {"wall": {"base_depth_m": 5.0}},
+            ("wall.base_depth_m = 5", "wall_distance_range"),
+        ),
         ("BeachballTopple-v0", {"ball": {"radius_m": 2.0}}, ("ball.radius_m = 2", "launch_height")),
         ("BeachballThrow-v0", {"ball": {"radius_m": 2.0}}, ("ball.radius_m = 2", "launch_height")),
         ("BeachballSail-v0", {"mark_radius": 50.0}, ("mark_radius = 50", "mark_distance_range")),
         ("BeachballThrow-v0", {"target_radius": 5.0}, ("target_radius = 5", "field_radius")),
         ("BeachballThrow-v0", {"field_radius": 6.0}, ("field_radius = 6", "target_radius")),
     ],
-)  # fmt: skip
+)
 def test_a_derived_limit_names_the_argument_passed(env_id, kwargs, named):
     with pytest.raises(ValueError) as raised:
         gym.make(env_id, **kwargs)

@@ -39,9 +39,13 @@ def test_a_parabola_in_a_vacuum_is_exact():
     # (the root of the height's cubic) and the apex are the analytic ones.
     vx, vz, height, r = 6.0, 4.0, 1.5, VACUUM.radius_m
     result = simulate_event_throw(
-        VACUUM, ball_at(0.0, 0.0, height, vx, 0.0, vz, 0.0, 0.0, 0.0), 0.0, 0.0, xp=floats,
+        VACUUM,
+        ball_at(0.0, 0.0, height, vx, 0.0, vz, 0.0, 0.0, 0.0),
+        0.0,
+        0.0,
+        xp=floats,
         record=False,
-    )  # fmt: skip
+    )
     fall = (vz + math.sqrt(vz * vz + 2 * GRAVITY_MPS2 * (height - r))) / GRAVITY_MPS2
     assert result.flight_time_s == pytest.approx(fall, abs=1e-12)
     assert result.landing_x == pytest.approx(vx * fall, abs=1e-11)
@@ -78,9 +82,14 @@ def test_the_screen_bounce_is_exact_in_a_vacuum():
     r, speed, e = VACUUM.radius_m, 10.0, 0.4
     screen = Screen(3.0, 0.0, 0.0, 1.0, 1.0, 8.0, True, e)
     result = simulate_event_throw(
-        VACUUM, ball_at(0.0, 0.0, 1.5, speed, 0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0, screen,
-        xp=floats, record=False,
-    )  # fmt: skip
+        VACUUM,
+        ball_at(0.0, 0.0, 1.5, speed, 0.0, 0.0, 0.0, 0.0, 0.0),
+        0.0,
+        0.0,
+        screen,
+        xp=floats,
+        record=False,
+    )
     hit = (3.0 - r) / speed
     fall = math.sqrt(2 * (1.5 - r) / GRAVITY_MPS2)
     assert result.hit_screen
@@ -93,13 +102,13 @@ def test_screen_hits_agree_with_a_finer_reference():
     # Curve's geometry: a screen 2 m wide, 8 m high, halfway to targets 7-10 m out.
     launch, wind_x, wind_y = random_throws(400, seed=1)
     n = launch.x.shape[0]
-    screen = Screen(np.full(n, 4.0), np.zeros(n), np.zeros(n), np.ones(n), 1.0, 8.0,
-                    np.ones(n, dtype=bool))  # fmt: skip
+    screen = Screen(
+        np.full(n, 4.0), np.zeros(n), np.zeros(n), np.ones(n), 1.0, 8.0, np.ones(n, dtype=bool)
+    )
     launch = launch._replace(vx=np.abs(launch.vx))  # toward the screen
 
     def fly(dt_s: float):
-        return simulate_event_throw(BALL, launch, wind_x, wind_y, screen, dt_s=dt_s,
-                                    record=False)  # fmt: skip
+        return simulate_event_throw(BALL, launch, wind_x, wind_y, screen, dt_s=dt_s, record=False)
 
     result, reference = fly(0.05), fly(0.005)
     assert 20 <= reference.hit_screen.sum() <= n - 20  # the sample has hits and misses
@@ -114,9 +123,13 @@ def test_a_ball_blown_against_the_screen_stays_on_its_side():
     screen = Screen(1.0, 0.0, 0.0, 1.0, 5.0, 8.0, True)
     for gale in (5.0, 20.0):
         result = simulate_event_throw(
-            light, ball_at(0.0, 0.0, 3.0, 4.0, 0.0, 2.0, 0.0, 0.0, 0.0), gale, 0.0, screen,
+            light,
+            ball_at(0.0, 0.0, 3.0, 4.0, 0.0, 2.0, 0.0, 0.0, 0.0),
+            gale,
+            0.0,
+            screen,
             xp=floats,
-        )  # fmt: skip
+        )
         assert result.hit_screen and math.isfinite(result.landing_x)
         assert result.landing_x == pytest.approx(1.0 - light.radius_m, abs=1e-9)
         assert result.flight_time_s <= 6.0
@@ -128,9 +141,13 @@ def test_the_spin_turns_the_ball_exactly():
     # omega tau (1 - exp(-t / tau)) about it when it lands.
     spin, tau = 30.0, BALL.spin_decay_s
     result = simulate_event_throw(
-        BALL, ball_at(0.0, 0.0, 1.5, 5.0, 0.0, 5.0, 0.0, 0.0, spin), 0.0, 0.0, xp=floats,
+        BALL,
+        ball_at(0.0, 0.0, 1.5, 5.0, 0.0, 5.0, 0.0, 0.0, spin),
+        0.0,
+        0.0,
+        xp=floats,
         record=False,
-    )  # fmt: skip
+    )
     angle = spin * tau * (1.0 - math.exp(-result.flight_time_s / tau))
     final = result.final
     assert final.qw == pytest.approx(math.cos(angle / 2), abs=1e-12)
@@ -141,14 +158,19 @@ def test_the_spin_turns_the_ball_exactly():
 def test_one_ball_on_floats_flies_as_a_batch_does():
     launch, wind_x, wind_y = random_throws(6, seed=2)
     n = 6
-    screen = Screen(np.full(n, 4.0), np.zeros(n), np.zeros(n), np.ones(n), 1.0, 8.0,
-                    np.ones(n, dtype=bool))  # fmt: skip
+    screen = Screen(
+        np.full(n, 4.0), np.zeros(n), np.zeros(n), np.ones(n), 1.0, 8.0, np.ones(n, dtype=bool)
+    )
     batch = simulate_event_throw(BALL, launch, wind_x, wind_y, screen)
     for i in range(n):
         one = simulate_event_throw(
-            BALL, type(launch)(*(float(c[i]) for c in launch)), float(wind_x[i]),
-            float(wind_y[i]), Screen(4.0, 0.0, 0.0, 1.0, 1.0, 8.0, True), xp=floats,
-        )  # fmt: skip
+            BALL,
+            type(launch)(*(float(c[i]) for c in launch)),
+            float(wind_x[i]),
+            float(wind_y[i]),
+            Screen(4.0, 0.0, 0.0, 1.0, 1.0, 8.0, True),
+            xp=floats,
+        )
         assert one.landing_x == pytest.approx(batch.landing_x[i], abs=1e-12)
         assert one.hit_screen == batch.hit_screen[i]
         assert one.steps == batch.steps[i]

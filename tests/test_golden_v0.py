@@ -16,8 +16,12 @@ import bbgym  # noqa: F401
 
 GOLDEN = Path(__file__).parent / "data" / "golden_v0.npz"
 ENV_IDS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
-STEPS = {"BeachballSail-v0": 120, "BeachballThrow-v0": 24, "BeachballCurve-v0": 24,
-         "BeachballTopple-v0": 20}  # fmt: skip
+STEPS = {
+    "BeachballSail-v0": 120,
+    "BeachballThrow-v0": 24,
+    "BeachballCurve-v0": 24,
+    "BeachballTopple-v0": 20,
+}
 NUM_ENVS = 3
 
 

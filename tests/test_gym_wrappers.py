@@ -39,20 +39,26 @@ ENV_IDS = [
     "BeachballTopple-v2",
 ]
 BALL_IDS = [e for e in ENV_IDS if not e.startswith("BeachballSail")]
-LENGTH_KEY = {"BeachballThrow-v0": "trajectory_length", "BeachballCurve-v0": "trajectory_length",
-              "BeachballTopple-v0": "samples_length",
-              "BeachballTopple-v1": "samples_length",
-              "BeachballTopple-v2": "samples_length"}  # fmt: skip
+LENGTH_KEY = {
+    "BeachballThrow-v0": "trajectory_length",
+    "BeachballCurve-v0": "trajectory_length",
+    "BeachballTopple-v0": "samples_length",
+    "BeachballTopple-v1": "samples_length",
+    "BeachballTopple-v2": "samples_length",
+}
 """The info counting a step's recorded rows (its flight's frames: one per row)."""
 PADDED = {
     "BeachballSail-v0": {},
     "BeachballThrow-v0": {"trajectory": (121, 3), "orientations": (121, 4)},
     "BeachballCurve-v0": {"trajectory": (121, 3), "orientations": (121, 4)},
     "BeachballTopple-v0": {
-        "ball_trajectory": (60, 3), "ball_orientations": (60, 4), "wall_angle_samples": (60,),
-        "loose_samples": (60, 3), "loose_mask": (60,),
+        "ball_trajectory": (60, 3),
+        "ball_orientations": (60, 4),
+        "wall_angle_samples": (60,),
+        "loose_samples": (60, 3),
+        "loose_mask": (60,),
     },
-}  # fmt: skip
+}
 PADDED["BeachballTopple-v1"] = PADDED["BeachballTopple-v2"] = PADDED["BeachballTopple-v0"]
 PADDED["BeachballSail-v1"] = PADDED["BeachballSail-v0"]
 """The per-step records of each env and their fixed shapes (record_capacity rows)."""
@@ -149,7 +155,7 @@ def test_sync_async_native_and_single_envs_agree(env_id):
             gym.make_vec(env_id, num_envs=n, vectorization_mode=mode, max_episode_steps=limit),
             seed,
             actions,
-        )  # fmt: skip
+        )
         for mode in ("sync", "async", "vector_entry_point")
     }
     singles = run_singles(env_id, n, seed, actions, max_episode_steps=limit)
@@ -339,8 +345,11 @@ def test_check_env_passes_for_every_render_mode(env_id):
         check_env(gym.make(env_id, render_mode="rgb_array_list").unwrapped)
     # (Gymnasium's own notice that a newer version of an id exists is not check_env's.)
     assert [str(w.message) for w in caught if "is out of date" not in str(w.message)] == []
-    assert set(gym.make(env_id).metadata["render_modes"]) == {"human", "rgb_array",
-                                                              "rgb_array_list"}  # fmt: skip
+    assert set(gym.make(env_id).metadata["render_modes"]) == {
+        "human",
+        "rgb_array",
+        "rgb_array_list",
+    }
 
 
 def record_episode(env: RecordVideo, env_id: str, steps: int) -> tuple[list[dict], int]:
@@ -375,8 +384,9 @@ def test_record_video(env_id, tmp_path):
     if env_id.startswith("BeachballSail"):
         return
     # RecordFlightVideo puts every frame of the lists in the video: the flights.
-    env = RecordFlightVideo(gym.make(env_id, render_mode="rgb_array_list"),
-                            str(tmp_path / "c"), **every)  # fmt: skip
+    env = RecordFlightVideo(
+        gym.make(env_id, render_mode="rgb_array_list"), str(tmp_path / "c"), **every
+    )
     infos, recorded = record_episode(env, env_id, steps)
     rows = sum(step_frames(env_id, info) for info in infos)
     assert recorded == 1 + rows and rows > 10 * len(infos)
@@ -476,14 +486,18 @@ def test_vector_wrappers_on_the_native_vector_env(env_id):
     scaled = vector_wrappers.NormalizeReward(gym.make_vec(env_id, num_envs=n), gamma=0.9)
     rewards = run_vector(scaled, 11, actions)
     assert all(np.isfinite(row[1]).all() for row in rewards[1:])
-    np.testing.assert_allclose(rewards[-1][1] * np.sqrt(scaled.return_rms.var + 1e-8),
-                               plain[-1][1], rtol=1e-9, atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(
+        rewards[-1][1] * np.sqrt(scaled.return_rms.var + 1e-8), plain[-1][1], rtol=1e-9, atol=1e-12
+    )
 
     # ClipAction: actions far out of the box step as the clipped ones do.
     clipped = vector_wrappers.ClipAction(gym.make_vec(env_id, num_envs=n))
     wild = run_vector(clipped, 11, actions * 5.0)
-    for got, want in zip(wild, run_vector(gym.make_vec(env_id, num_envs=n), 11,
-                                          np.clip(actions * 5.0, -1, 1)), strict=True):  # fmt: skip
+    for got, want in zip(
+        wild,
+        run_vector(gym.make_vec(env_id, num_envs=n), 11, np.clip(actions * 5.0, -1, 1)),
+        strict=True,
+    ):
         np.testing.assert_array_equal(got[0], want[0])
     # The clipped actions are other actions than the plain run's: other throws.
     assert not all(np.allclose(a[0], b[0]) for a, b in zip(wild, plain, strict=True))

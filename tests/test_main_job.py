@@ -59,13 +59,21 @@ def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
     small = ["--preset", str(preset), "--timesteps", "2048", "--episodes", "3", "--no-progress"]
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
     bbgym = [sys.executable, "-m", "bbgym"]
-    job = subprocess.run([*bbgym, *argv, *small], cwd=tmp_path, env=env,
-                         capture_output=True, text=True, timeout=600)  # fmt: skip
+    job = subprocess.run(
+        [*bbgym, *argv, *small], cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600
+    )
     assert job.returncode == 0, job.stderr[-3000:]
 
-    for name in ("results.md", "results.json", "learning_curve.png", "episode.gif",
-                 "summary.json", "seed0/model.zip", "seed0/best_model.zip",
-                 "seed0/train.json"):  # fmt: skip
+    for name in (
+        "results.md",
+        "results.json",
+        "learning_curve.png",
+        "episode.gif",
+        "summary.json",
+        "seed0/model.zip",
+        "seed0/best_model.zip",
+        "seed0/train.json",
+    ):
         assert (out / name).stat().st_size > 0, name
     rows = json.loads((out / "results.json").read_text())
     assert [r["policy"] for r in rows] == ["random", "scripted", "sac, 1 seed"]
@@ -77,10 +85,26 @@ def test_the_main_job_end_to_end_on_a_small_budget(tmp_path):
 
     # The table's SAC row is what the evaluate command gives the saved final model.
     check = subprocess.run(
-        [*bbgym, "evaluate", "--env", MAIN_ENV, "--policies", "sac", "--model",
-         str(out / "seed0" / "model.zip"), "--episodes", "3", "--out", str(tmp_path / "e")],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
+        [
+            *bbgym,
+            "evaluate",
+            "--env",
+            MAIN_ENV,
+            "--policies",
+            "sac",
+            "--model",
+            str(out / "seed0" / "model.zip"),
+            "--episodes",
+            "3",
+            "--out",
+            str(tmp_path / "e"),
+        ],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert check.returncode == 0, check.stderr[-3000:]
     (again,) = json.loads((tmp_path / "e" / f"{MAIN_ENV}.json").read_text())
     learnt = rows[2]

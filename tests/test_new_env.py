@@ -85,8 +85,19 @@ def test_the_fuzzer_serves_it():
 def test_bbgym_evaluate_runs_its_policies(tmp_path):
     from bbgym.cli import main
 
-    status = main(["evaluate", "--env", ENV_ID, "--policies", "random,scripted",
-                   "--episodes", "5", "--out", str(tmp_path)])  # fmt: skip
+    status = main(
+        [
+            "evaluate",
+            "--env",
+            ENV_ID,
+            "--policies",
+            "random,scripted",
+            "--episodes",
+            "5",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert status == 0
     results = {r["policy"]: r for r in json.loads((tmp_path / f"{ENV_ID}.json").read_text())}
     assert results["scripted"]["success_rate"] == 1.0  # a PD controller always arrives
@@ -98,8 +109,19 @@ def test_bbgym_evaluate_refuses_a_policy_the_family_lacks(tmp_path, capsys):
     from bbgym.cli import main
 
     with pytest.raises(SystemExit):
-        main(["evaluate", "--env", ENV_ID, "--policies", "planner", "--episodes", "1",
-              "--out", str(tmp_path)])  # fmt: skip
+        main(
+            [
+                "evaluate",
+                "--env",
+                ENV_ID,
+                "--policies",
+                "planner",
+                "--episodes",
+                "1",
+                "--out",
+                str(tmp_path),
+            ]
+        )
     assert "has no 'planner' policy" in capsys.readouterr().err
 
 
@@ -118,8 +140,10 @@ def test_rl_zoo_hyperparameters_come_from_its_preset():
     params = zoo_hyperparams("ppo")[ENV_ID]
     assert params["n_envs"] == 4 and params["n_timesteps"] == 256
     assert params["n_steps"] == 32 and params["env_kwargs"] == {
-        "mass_kg": 1.0, "max_force_n": 1.0, "dt": 0.1
-    }  # fmt: skip
+        "mass_kg": 1.0,
+        "max_force_n": 1.0,
+        "dt": 0.1,
+    }
 
 
 def test_no_module_of_the_package_names_an_env_id():

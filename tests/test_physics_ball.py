@@ -49,8 +49,9 @@ def test_mass_of_shell_grows_with_area_and_solid_with_volume():
 def test_no_drag_no_wind_is_the_analytic_parabola():
     p = BallParams(drag_coefficient=0.0)
     h, vx, vz = 1.5, 6.0, 5.0
-    result = simulate_throw(p, ball_at(0.0, 0.0, h, vx, 0.0, vz, 0.0, 0.0, 0.0), 0.0, 0.0,
-                            dt_s=0.0005, xp=floats)  # fmt: skip
+    result = simulate_throw(
+        p, ball_at(0.0, 0.0, h, vx, 0.0, vz, 0.0, 0.0, 0.0), 0.0, 0.0, dt_s=0.0005, xp=floats
+    )
     # The ball touches down when its centre is one radius above the ground.
     drop = h - p.radius_m
     t_land = (vz + math.sqrt(vz * vz + 2 * G * drop)) / G
@@ -131,9 +132,15 @@ def test_bounce_rebound_height_ratio_is_e_squared():
     p = BallParams(drag_coefficient=0.0, restitution=0.8)
     drop = 2.0  # height of the ball's bottom above the ground
     result = simulate_throw(
-        p, ball_at(0.0, 0.0, drop + p.radius_m, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.0, 0.0,
-        dt_s=0.0005, max_time_s=2.0, record_dt_s=0.0005, xp=floats,
-    )  # fmt: skip
+        p,
+        ball_at(0.0, 0.0, drop + p.radius_m, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        0.0,
+        0.0,
+        dt_s=0.0005,
+        max_time_s=2.0,
+        record_dt_s=0.0005,
+        xp=floats,
+    )
     heights = np.array([s.z for s in result.trajectory]) - p.radius_m
     after = heights[int(result.flight_time_s / 0.0005) + 5 :]
     assert after.max() == pytest.approx(0.8**2 * drop, rel=0.01)
@@ -208,16 +215,29 @@ def test_panel_bounces_the_ball_back():
     assert after.vx[0] == pytest.approx(-0.5 * 5.0) and after.vy[0] == pytest.approx(0.5)
     assert after.x[0] == pytest.approx(2.0 - 0.2)
     over, hit_over = panel_contact(
-        ball_at(*one(1.9, 0.0, 3.5, 5.0, 0.0, 0.0, 0.0, 0.0, 0.0)), 0.2, 2.0, 0.0, 0.0, 1.0,
-        1.0, 3.0, 0.5, True,
-    )  # fmt: skip
+        ball_at(*one(1.9, 0.0, 3.5, 5.0, 0.0, 0.0, 0.0, 0.0, 0.0)),
+        0.2,
+        2.0,
+        0.0,
+        0.0,
+        1.0,
+        1.0,
+        3.0,
+        0.5,
+        True,
+    )
     assert not hit_over[0] and over.vx[0] == 5.0
 
 
 def test_ball_drifts_with_the_wind():
     # From rest in a 3 m/s wind the ball is blown downwind toward the wind's speed.
-    states = fly(BALL, ball_at(0.0, 0.0, 500.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 20.0,
-                 dt=0.01, wind=(3.0, -1.0))  # fmt: skip
+    states = fly(
+        BALL,
+        ball_at(0.0, 0.0, 500.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        20.0,
+        dt=0.01,
+        wind=(3.0, -1.0),
+    )
     assert states[-1].vx == pytest.approx(3.0, rel=0.05)
     assert states[-1].vy == pytest.approx(-1.0, rel=0.05)
 
@@ -239,7 +259,7 @@ def test_scalar_and_batched_throws_agree():
                     *zip(*spins, strict=True),
                 )
             )
-        ),  # fmt: skip
+        ),
         np.array([1.0, 0.0, -2.0]),
         np.array([0.5, 0.0, 1.0]),
     )
@@ -248,7 +268,7 @@ def test_scalar_and_batched_throws_agree():
             BALL,
             ball_at(
                 0.0, 0.0, 1.5, [9.0, 12.0, 6.0][i], [1.0, -2.0, 0.0][i], [7.0, 4.0, 9.0][i], *spin
-            ),  # fmt: skip
+            ),
             [1.0, 0.0, -2.0][i],
             [0.5, 0.0, 1.0][i],
             xp=floats,
@@ -291,12 +311,19 @@ def test_default_step_keeps_landings_accurate():
     z = np.zeros(n)
 
     def landings(dt):
-        r = simulate_throw(BALL, ball_at(z, z, z + 1.5, *v.T, *w.T), wind[:, 0], wind[:, 1],
-                           dt_s=dt, max_roll_s=0.1)  # fmt: skip
+        r = simulate_throw(
+            BALL,
+            ball_at(z, z, z + 1.5, *v.T, *w.T),
+            wind[:, 0],
+            wind[:, 1],
+            dt_s=dt,
+            max_roll_s=0.1,
+        )
         return np.hypot(r.landing_x - ref_x, r.landing_y - ref_y)
 
-    fine = simulate_throw(BALL, ball_at(z, z, z + 1.5, *v.T, *w.T), wind[:, 0], wind[:, 1],
-                          dt_s=0.001, max_roll_s=0.1)  # fmt: skip
+    fine = simulate_throw(
+        BALL, ball_at(z, z, z + 1.5, *v.T, *w.T), wind[:, 0], wind[:, 1], dt_s=0.001, max_roll_s=0.1
+    )
     ref_x, ref_y = fine.landing_x, fine.landing_y
     assert np.percentile(landings(0.01), 95) < 0.15
     assert np.percentile(landings(0.02), 95) > 0.15
@@ -321,17 +348,33 @@ def test_no_lift_flies_like_a_ball_without_spin():
         {"restitution": 1.0, "rest_speed_mps": 0.0},
         {"friction": 0.0},
         {"rolling_resistance": 0.0},
-        {"drag_coefficient": 0.0, "lift_coefficient_max": 0.0, "friction": 0.0,
-         "rolling_resistance": 0.0, "restitution": 1.0, "rest_speed_mps": 0.0},
+        {
+            "drag_coefficient": 0.0,
+            "lift_coefficient_max": 0.0,
+            "friction": 0.0,
+            "rolling_resistance": 0.0,
+            "restitution": 1.0,
+            "rest_speed_mps": 0.0,
+        },
     ],
-)  # fmt: skip
+)
 def test_degenerate_settings_run_finite(settings):
     p = BallParams(**settings)
-    assert p.terminal_speed_mps() == (math.inf if p.drag_coefficient == 0.0 else pytest.approx(
-        math.sqrt(2 * p.mass_kg * G / (AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2))
-    ))  # fmt: skip
-    result = simulate_throw(p, ball_at(0.0, 0.0, 1.5, 8.0, 1.0, 5.0, 10.0, -30.0, 20.0), 0.0,
-                            0.0, max_time_s=6.0, xp=floats)  # fmt: skip
+    assert p.terminal_speed_mps() == (
+        math.inf
+        if p.drag_coefficient == 0.0
+        else pytest.approx(
+            math.sqrt(2 * p.mass_kg * G / (AIR_DENSITY_KGM3 * p.drag_coefficient * p.area_m2))
+        )
+    )
+    result = simulate_throw(
+        p,
+        ball_at(0.0, 0.0, 1.5, 8.0, 1.0, 5.0, 10.0, -30.0, 20.0),
+        0.0,
+        0.0,
+        max_time_s=6.0,
+        xp=floats,
+    )
     values = [result.landing_x, result.landing_y, result.flight_time_s, result.apex_height_m]
     values += list(result.final)
     assert all(math.isfinite(v) for v in values)
@@ -359,8 +402,9 @@ def test_magnus_turn_of_a_light_ball_without_drag_never_adds_energy():
     # No drag, full lift, a light 4 m shell: the Magnus force turns the velocity at
     # rho C_L |v| / (8 sigma) = 150 rad/s at 20 m/s (1.5 rad a step); explicit Euler would
     # grow |v| by 80 % a step. Implicit, the specific energy v^2/2 + g z never grows.
-    p = BallParams(radius_m=2.0, shell_areal_density_kgm2=0.02, drag_coefficient=0.0,
-                   lift_coefficient_max=1.0)  # fmt: skip
+    p = BallParams(
+        radius_m=2.0, shell_areal_density_kgm2=0.02, drag_coefficient=0.0, lift_coefficient_max=1.0
+    )
     states = fly(p, ball_at(0.0, 0.0, 500.0, 20.0, 0.0, 0.0, 0.0, 0.0, 100.0), 3.0, dt=0.01)
     energy = np.array([0.5 * (s.vx**2 + s.vy**2 + s.vz**2) + G * s.z for s in states])
     assert np.all(np.isfinite(energy)) and np.all(np.diff(energy) <= 1e-9)

@@ -345,8 +345,9 @@ def test_floats_namespace_matches_numpy():
     jibes = tacks = 0
     for _ in range(400):  # turning circles in a 6.3 m/s wind: tacks and a jibe
         rudder, sheet = 0.35 + rng.uniform(-0.1, 0.1), rng.uniform(0.2, 0.6)
-        s, ev = step(P, s, np.array([rudder]), np.array([sheet]), np.array([-6.0]),
-                     np.array([2.0]), DT, 5)  # fmt: skip
+        s, ev = step(
+            P, s, np.array([rudder]), np.array([sheet]), np.array([-6.0]), np.array([2.0]), DT, 5
+        )
         f, ev_f = step(P, f, rudder, sheet, -6.0, 2.0, DT, 5, floats)
         assert isinstance(f.x_m, float) and ev_f.jibes == ev.jibes[0]
         jibes, tacks = jibes + ev_f.jibes, tacks + ev_f.tacks

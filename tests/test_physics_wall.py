@@ -200,8 +200,9 @@ def test_stiff_loose_panel_air_terms_slow_it_and_never_reverse_it():
     inertia_cm = p.mass_kg * (p.height_m**2 + p.thickness_m**2) / 12.0
     assert dt * face_rate > 100.0 and dt * tumble * 50.0 / inertia_cm > 100.0
     # Upright (face normal along x), high in the air, at rest in a 20 m/s wind, tumbling.
-    x, z, angle, vx, vz, rate, landed = loose_step(p, 0.0, 100.0, 0.0, 0.0, 0.0, 50.0, wind, dt,
-                                                   floats)  # fmt: skip
+    x, z, angle, vx, vz, rate, landed = loose_step(
+        p, 0.0, 100.0, 0.0, 0.0, 0.0, 50.0, wind, dt, floats
+    )
     assert not landed
     # Implicit: w_n' = w_n / (1 + dt c), the panel pulled toward the wind's speed, not past.
     assert vx == pytest.approx(wind * (1.0 - 1.0 / (1.0 + dt * face_rate)), rel=1e-9)

@@ -21,10 +21,15 @@ STEPS = np.array([1000, 2000, 3000, 4000])
 RETURNS = np.array([[1.0, 3.0], [6.0, 8.0], [4.0, 4.0], [5.0, 6.0]])  # means 2, 7, 4, 5.5
 SUCCESSES = np.array([[0.0, 0.0], [1.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
 RESULTS = {
-    name: {"policy": name, "episodes": 10, "seeds": [0, 9], "success_rate": rate,
-           "mean_return": ret}
+    name: {
+        "policy": name,
+        "episodes": 10,
+        "seeds": [0, 9],
+        "success_rate": rate,
+        "mean_return": ret,
+    }
     for name, rate, ret in (("random", 0.1, -3.0), ("scripted", 0.9, 9.0), ("ppo", 0.7, 6.5))
-}  # fmt: skip
+}
 
 
 def make_run(tmp_path: Path, steps=STEPS, returns=RETURNS, successes=SUCCESSES, log=None) -> Path:
@@ -56,8 +61,10 @@ def test_learning_curve_marks_the_best_model_and_the_final_evaluation(tmp_path) 
     fig = learning_curve_figure(make_run(tmp_path), RESULTS, "BeachballSail-v0")
     try:
         ax_success, ax_return = fig.axes[:2]
-        for ax, values in ((ax_return, RETURNS.mean(axis=1)),
-                           (ax_success, 100 * SUCCESSES.mean(axis=1))):  # fmt: skip
+        for ax, values in (
+            (ax_return, RETURNS.mean(axis=1)),
+            (ax_success, 100 * SUCCESSES.mean(axis=1)),
+        ):
             texts = legend_texts(ax)
             assert any("best model" in t for t in texts) and any("final" in t for t in texts)
             best = line_labelled(ax, "best model (best_model.zip)")
@@ -108,8 +115,11 @@ def test_a_final_evaluation_that_is_the_best_model_gets_one_mark(tmp_path) -> No
             both = line_labelled(ax, "final evaluation, also the best model")
             assert list(both.get_xdata()) == [4000]
             # No two marks at one place: each mark's (x, y) differs.
-            marks = [(ln.get_xdata()[0], ln.get_ydata()[0]) for ln in ax.get_lines()
-                     if len(ln.get_xdata()) == 1]  # fmt: skip
+            marks = [
+                (ln.get_xdata()[0], ln.get_ydata()[0])
+                for ln in ax.get_lines()
+                if len(ln.get_xdata()) == 1
+            ]
             assert len(marks) == len(set(marks)) == 2, marks
     finally:
         plt.close(fig)
@@ -139,9 +149,13 @@ def test_learning_curve_of_a_single_evaluation(tmp_path) -> None:
     import matplotlib.pyplot as plt
     from PIL import Image
 
-    run = make_run(tmp_path, steps=np.array([2048]), returns=np.array([[1.0, 3.0]]),
-                   successes=np.array([[1.0, 0.0]]),
-                   log={"seed": 3, "best_model_timesteps": 2048})  # fmt: skip
+    run = make_run(
+        tmp_path,
+        steps=np.array([2048]),
+        returns=np.array([[1.0, 3.0]]),
+        successes=np.array([[1.0, 0.0]]),
+        log={"seed": 3, "best_model_timesteps": 2048},
+    )
     fig = learning_curve_figure(run, RESULTS, "BeachballSail-v0")
     try:
         for ax, value in zip(fig.axes[:2], (50.0, 2.0), strict=True):

@@ -86,9 +86,14 @@ def test_a_boat_alone_sails_exactly_as_the_sail_env() -> None:
     race = parallel_env(num_boats=1, gusts=False)
     race.reset(seed=3, options={"wind_speed": 5.0, "wind_from": 1.0})
     start = race.state_.boats.boat
-    sail = gym.make_vec("BeachballSail-v2", num_envs=1, vectorization_mode="vector_entry_point",
-                        water={"wave_amplitude_m": 0.0}, current_speed_range=(0.0, 0.0),
-                        gusts=False)  # fmt: skip
+    sail = gym.make_vec(
+        "BeachballSail-v2",
+        num_envs=1,
+        vectorization_mode="vector_entry_point",
+        water={"wave_amplitude_m": 0.0},
+        current_speed_range=(0.0, 0.0),
+        gusts=False,
+    )
     sail.reset(seed=0, options={"wind_speed": 5.0, "wind_from": 1.0})
     # the race's boat where the race put it, heading and moving as it drew
     state = sail.unwrapped.state
@@ -117,9 +122,15 @@ def _two_boats_in_line(shadow: bool, gap_m: float):
     env = parallel_env(num_boats=2, gusts=False, shadow=shadow, countdown_s=0.0)
     env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
     flow = np.array([-2.5, -5.0]) / math.hypot(2.5, 5.0)  # the wind (0, -5) less (2.5, 0)
-    place(env, x_m=[0.0, gap_m * flow[0]], y_m=[-30.0, -30.0 + gap_m * flow[1]],
-          heading_rad=[0.0, 0.0], vx_mps=[2.5, 2.5], vy_mps=[0.0, 0.0],
-          yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    place(
+        env,
+        x_m=[0.0, gap_m * flow[0]],
+        y_m=[-30.0, -30.0 + gap_m * flow[1]],
+        heading_rad=[0.0, 0.0],
+        vx_mps=[2.5, 2.5],
+        vy_mps=[0.0, 0.0],
+        yaw_rate_rps=[0.0, 0.0],
+    )
     return env
 
 
@@ -151,15 +162,23 @@ def test_boats_on_collision_course_bounce_and_never_overlap() -> None:
 
     env = parallel_env(num_boats=2, gusts=False, countdown_s=0.0, shadow=False)
     env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
-    place(env, x_m=[-6.0, 6.0], y_m=[-30.0, -30.0], heading_rad=[0.0, math.pi],
-          vx_mps=[3.0, -3.0], vy_mps=[0.0, 0.0], yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    place(
+        env,
+        x_m=[-6.0, 6.0],
+        y_m=[-30.0, -30.0],
+        heading_rad=[0.0, math.pi],
+        vx_mps=[3.0, -3.0],
+        vy_mps=[0.0, 0.0],
+        yaw_rate_rps=[0.0, 0.0],
+    )
     touched = False
     for _ in range(12):
         _, _, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
         touched |= infos["boat_0"]["touched"]
         boat = env.state_.boats.boat
-        gap = hull_contacts(env.task.hulls, boat.x_m[None], boat.y_m[None],
-                            boat.heading_rad[None], np).gap_m[0, 0, 1]  # fmt: skip
+        gap = hull_contacts(
+            env.task.hulls, boat.x_m[None], boat.y_m[None], boat.heading_rad[None], np
+        ).gap_m[0, 0, 1]
         assert gap > -0.01
     assert touched
     assert env.state_.boats.boat.vx_mps[0] < 1.0  # stopped or sent back
@@ -217,8 +236,7 @@ def test_autopilots_finish_the_course_in_order() -> None:
             assert not truncs[agent]
             if terms[agent]:
                 assert info["finished"] and info["leg"] == 3
-                finish[agent] = (info["finish_time"], info["place"],
-                                 info["reward_terms"]["finish"])  # fmt: skip
+                finish[agent] = (info["finish_time"], info["place"], info["reward_terms"]["finish"])
     assert sorted(p for _, p, _ in finish.values()) == [1, 2, 3]
     by_time = sorted(finish.values())
     assert [p for _, p, _ in by_time] == [1, 2, 3]
@@ -230,9 +248,15 @@ def _port_starboard_crossing(**kwargs):
     starboard tack (north-west), their bows touching."""
     env = parallel_env(num_boats=2, gusts=False, countdown_s=0.0, shadow=False, **kwargs)
     env.reset(seed=0, options={"wind_speed": 5.0, "wind_from": math.pi / 2})
-    place(env, x_m=[0.0, 2.5], y_m=[-40.0, -40.0],
-          heading_rad=[math.radians(45.0), math.radians(135.0)], vx_mps=[0.0, 0.0],
-          vy_mps=[0.0, 0.0], yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    place(
+        env,
+        x_m=[0.0, 2.5],
+        y_m=[-40.0, -40.0],
+        heading_rad=[math.radians(45.0), math.radians(135.0)],
+        vx_mps=[0.0, 0.0],
+        vy_mps=[0.0, 0.0],
+        yaw_rate_rps=[0.0, 0.0],
+    )
     return env
 
 
@@ -271,8 +295,15 @@ def test_time_penalty_delays_the_finish() -> None:
     _, _, _, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
     assert infos["boat_0"]["penalty_owed"] == 20.0 and infos["boat_0"]["turns_owed"] == 0
     env.state_ = replaced(env.state_, leg=np.array([[2, 2]]))  # on the way to the finish
-    place(env, x_m=[-10.0, 10.0], y_m=[0.5, 0.5], heading_rad=[-math.pi / 2] * 2,
-          vx_mps=[0.0, 0.0], vy_mps=[-4.0, -4.0], yaw_rate_rps=[0.0, 0.0])  # fmt: skip
+    place(
+        env,
+        x_m=[-10.0, 10.0],
+        y_m=[0.5, 0.5],
+        heading_rad=[-math.pi / 2] * 2,
+        vx_mps=[0.0, 0.0],
+        vy_mps=[-4.0, -4.0],
+        yaw_rate_rps=[0.0, 0.0],
+    )
     finished = {}
     for step in range(200):
         _, _, terms, _, infos = env.step({a: [0.0, 0.0, 0.0] for a in env.agents})
@@ -439,8 +470,9 @@ def test_a_boat_that_finished_sits_out_until_its_race_restarts() -> None:
     both stop (truncated), and the next step starts a new race (reward 0, the clock back)."""
     from bbgym.envs.race import BeachballRaceFleetEnv
 
-    fleet = BeachballRaceFleetEnv(num_races=1, num_boats=2, countdown_s=0.0,
-                                  max_race_time_s=20.0, gusts=False)  # fmt: skip
+    fleet = BeachballRaceFleetEnv(
+        num_races=1, num_boats=2, countdown_s=0.0, max_race_time_s=20.0, gusts=False
+    )
     fleet.reset(seed=0)
     state = fleet.state
     fleet.state = replaced(state, leg=np.array([[2, 0]]))  # boat 0 on its way to the finish
@@ -450,10 +482,14 @@ def test_a_boat_that_finished_sits_out_until_its_race_restarts() -> None:
     across = np.array([-course_up[1], course_up[0]])
     positions = np.stack([0.5 * course_up, 100.0 * across])
     heading0 = math.atan2(-course_up[1], -course_up[0])
-    boat = replaced(fleet.state.boats.boat, x_m=positions[:, 0], y_m=positions[:, 1],
-                    heading_rad=np.array([heading0, 0.0]),
-                    vx_mps=np.array([-4.0 * course_up[0], 0.0]),
-                    vy_mps=np.array([-4.0 * course_up[1], 0.0]))  # fmt: skip
+    boat = replaced(
+        fleet.state.boats.boat,
+        x_m=positions[:, 0],
+        y_m=positions[:, 1],
+        heading_rad=np.array([heading0, 0.0]),
+        vx_mps=np.array([-4.0 * course_up[0], 0.0]),
+        vy_mps=np.array([-4.0 * course_up[1], 0.0]),
+    )
     fleet.state = replaced(fleet.state, boats=replaced(fleet.state.boats, boat=boat))
     obs, rewards, terminated, truncated, info = fleet.step(np.zeros((2, 3), np.float32))
     assert list(terminated) == [True, False] and info["place"][0] == 1
@@ -484,25 +520,41 @@ def _draw_arguments(rng: np.random.Generator) -> dict:
     def pair(interval, top=None):
         return tuple(sorted((within(interval, top), within(interval, top))))
 
-    shadow = {f: within(accepted_interval(ShadowParams, f))
-              for f in ("length_m", "base_width_m", "end_width_m", "acting_time_s",
-                        "air_height_m")}  # fmt: skip
+    shadow = {
+        f: within(accepted_interval(ShadowParams, f))
+        for f in ("length_m", "base_width_m", "end_width_m", "acting_time_s", "air_height_m")
+    }
     kwargs = {
-        "num_boats": int(rng.integers(1, 9)), "laps": int(rng.integers(1, 4)),
-        "neighbours": int(rng.integers(0, 8)), "line_length_m": within(rt.LINE_LENGTH_M),
-        "leg_length_m": within(rt.LEG_LENGTH_M, 300.0), "gate_depth_m": within(rt.GATE_DEPTH_M),
-        "gate_width_m": within(rt.GATE_WIDTH_M), "countdown_s": within(rt.COUNTDOWN_S, 20.0),
+        "num_boats": int(rng.integers(1, 9)),
+        "laps": int(rng.integers(1, 4)),
+        "neighbours": int(rng.integers(0, 8)),
+        "line_length_m": within(rt.LINE_LENGTH_M),
+        "leg_length_m": within(rt.LEG_LENGTH_M, 300.0),
+        "gate_depth_m": within(rt.GATE_DEPTH_M),
+        "gate_width_m": within(rt.GATE_WIDTH_M),
+        "countdown_s": within(rt.COUNTDOWN_S, 20.0),
         "start_depth_range": pair(rt.START_DEPTH_M),
         "max_race_time_s": within(rt.RACE_TIME_S, 40.0),
-        "wind_speed_range": pair(WIND_SPEED_MPS), "gusts": bool(rng.integers(2)),
-        "shadow": bool(rng.integers(2)), "shadow_params": shadow,
-        "collisions": bool(rng.integers(2)), "restitution": within(rt.RESTITUTION),
-        "keep_clear_m": within(rt.KEEP_CLEAR_M), "penalty": str(rng.choice(rt.PENALTIES)),
+        "wind_speed_range": pair(WIND_SPEED_MPS),
+        "gusts": bool(rng.integers(2)),
+        "shadow": bool(rng.integers(2)),
+        "shadow_params": shadow,
+        "collisions": bool(rng.integers(2)),
+        "restitution": within(rt.RESTITUTION),
+        "keep_clear_m": within(rt.KEEP_CLEAR_M),
+        "penalty": str(rng.choice(rt.PENALTIES)),
         "penalty_time_s": within(rt.PENALTY_TIME_S),
         "boat": {"sail_model": str(rng.choice(["lift", "seed", "cambered"]))},
-    }  # fmt: skip
-    for name in ("progress_weight", "waypoint_bonus", "finish_bonus", "ocs_penalty",
-                 "capsize_penalty", "time_penalty", "foul_penalty"):  # fmt: skip
+    }
+    for name in (
+        "progress_weight",
+        "waypoint_bonus",
+        "finish_bonus",
+        "ocs_penalty",
+        "capsize_penalty",
+        "time_penalty",
+        "foul_penalty",
+    ):
         kwargs[name] = within(rt.REWARD_WEIGHT)
     return kwargs
 

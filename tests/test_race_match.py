@@ -75,8 +75,12 @@ def test_a_zero_residual_sails_as_the_racer() -> None:
     assert as_racer.pairings == 6 * 1 * 2 and as_racer.ahead + as_racer.behind <= 12
     assert as_racer.learned_finished == 1.0 and as_racer.scripted_finished == 1.0
     # a residual pushing the rudder hard over sails in circles: it never finishes
-    circling = play_matches(lambda obs: np.tile([2.0, 0.0, 0.0], (len(obs), 1)),
-                            residual=True, max_race_time_s=60.0, **kwargs)  # fmt: skip
+    circling = play_matches(
+        lambda obs: np.tile([2.0, 0.0, 0.0], (len(obs), 1)),
+        residual=True,
+        max_race_time_s=60.0,
+        **kwargs,
+    )
     assert circling.learned_finished == 0.0 and circling.ahead == 0
 
 
@@ -145,8 +149,13 @@ def test_bbgym_record_draws_a_race(tmp_path, capsys) -> None:
         assert gif.n_frames == 7
     assert "6 steps (cut at --max-steps 6)" in capsys.readouterr().out
     model = tmp_path / "seed_0.zip"
-    PPO("MlpPolicy", NativeVecEnvAdapter(BeachballRaceMatchEnv(1, residual=True)),
-        n_steps=8, batch_size=8, seed=0).learn(8).save(model)  # fmt: skip
+    PPO(
+        "MlpPolicy",
+        NativeVecEnvAdapter(BeachballRaceMatchEnv(1, residual=True)),
+        n_steps=8,
+        batch_size=8,
+        seed=0,
+    ).learn(8).save(model)
     with pytest.raises(SystemExit):
         cli.main([*argv, "--policy", "ppo", "--model", str(model)])
     assert "seed_0.json beside it" in capsys.readouterr().err
@@ -154,9 +163,10 @@ def test_bbgym_record_draws_a_race(tmp_path, capsys) -> None:
     assert cli.main([*argv, "--policy", "ppo", "--model", str(model), "--out", str(out)]) == 0
     # 6 steps: nobody finished; boats 0 and 1 are the model's (marked *)
     assert "boat_0*, boat_1*, boat_2, boat_3 did not finish" in capsys.readouterr().out
-    for bad, message in ((["--env", "bbgym/BeachballRace-v9", "--policy", "random"], "v9"),
-                         (["--env", "bbgym/BeachballRace-v0", "--policy", "planner"],
-                          "--policy planner")):  # fmt: skip
+    for bad, message in (
+        (["--env", "bbgym/BeachballRace-v9", "--policy", "random"], "v9"),
+        (["--env", "bbgym/BeachballRace-v0", "--policy", "planner"], "--policy planner"),
+    ):
         with pytest.raises(SystemExit):
             cli.main(["record", *bad])
         assert message in capsys.readouterr().err

@@ -68,8 +68,9 @@ def test_pairwise_shadow_matches_the_profile_and_skips_itself_and_the_upwind_boa
     np.testing.assert_allclose([dvx[0, 1], dvy[0, 1]], [ex, ey], rtol=1e-12)
     assert dvx[0, 1] < 0.0  # slowed: the sail's drag reversed
     assert dvy[0, 1] < 0.0  # bent away from the side the sail pulls to
-    dvx2, _ = shadow_velocity(P, x, y, fx, fy, flow_x, flow_y,
-                              np.array([[False, True, True]]), x, y, np)  # fmt: skip
+    dvx2, _ = shadow_velocity(
+        P, x, y, fx, fy, flow_x, flow_y, np.array([[False, True, True]]), x, y, np
+    )
     assert dvx2[0, 1] == 0.0
 
 
@@ -87,8 +88,7 @@ def test_a_beating_dinghys_shadow_is_a_deficit_of_tens_of_percent_that_fades() -
     third of it just behind the sail, a fifth two boat lengths on, under a tenth four
     boat lengths on."""
     force, flow = np.array([250.0, 0.0]), np.array([1.0, 0.0])  # all drag, downwind
-    deficit = [-_field(force, flow, np.array(u), np.array(0.0))[0] / 5.0
-               for u in (1.0, 8.4, 16.8)]  # fmt: skip
+    deficit = [-_field(force, flow, np.array(u), np.array(0.0))[0] / 5.0 for u in (1.0, 8.4, 16.8)]
     assert 0.28 < deficit[0] < 0.36 and 0.18 < deficit[1] < 0.26 and deficit[2] < 0.1
 
 
@@ -142,8 +142,9 @@ def test_collision_conserves_momentum_and_never_gains_energy(restitution: float)
 
     before = approach(vx, vy, w)
     assert before < 0.0
-    _, _, nvx, nvy, nw, touching = collide(HULLS, restitution, x, y, heading, vx, vy, w,
-                                           np.array([[True, True]]), np)  # fmt: skip
+    _, _, nvx, nvy, nw, touching = collide(
+        HULLS, restitution, x, y, heading, vx, vy, w, np.array([[True, True]]), np
+    )
     assert touching[0, 0, 1] and touching[0, 1, 0]
     np.testing.assert_allclose(nvx.sum(), vx.sum(), atol=1e-9)
     np.testing.assert_allclose(nvy.sum(), vy.sum(), atol=1e-9)
@@ -170,14 +171,25 @@ def test_collision_leaves_no_overlap_even_in_a_heap() -> None:
         heading = rng.uniform(-math.pi, math.pi, (1, 8))
         zero = np.zeros((1, 8))
         for _ in range(5):  # the substeps of one step
-            x, y, *_ = collide(HULLS, 0.3, x, y, heading, zero, zero, zero,
-                               np.ones((1, 8), dtype=bool), np)  # fmt: skip
+            x, y, *_ = collide(
+                HULLS, 0.3, x, y, heading, zero, zero, zero, np.ones((1, 8), dtype=bool), np
+            )
         gap = hull_contacts(HULLS, x, y, heading, np).gap_m[0]
         off = ~np.eye(8, dtype=bool)
         assert gap[off].min() > -0.01, trial
     far_x, far_y = np.array([[0.0, 30.0]]), np.array([[0.0, 0.0]])
-    out = collide(HULLS, 0.3, far_x, far_y, np.zeros((1, 2)), np.ones((1, 2)),
-                  np.zeros((1, 2)), np.zeros((1, 2)), np.ones((1, 2), dtype=bool), np)  # fmt: skip
+    out = collide(
+        HULLS,
+        0.3,
+        far_x,
+        far_y,
+        np.zeros((1, 2)),
+        np.ones((1, 2)),
+        np.zeros((1, 2)),
+        np.zeros((1, 2)),
+        np.ones((1, 2), dtype=bool),
+        np,
+    )
     np.testing.assert_array_equal(out[0], far_x)
     assert not out[5].any()
 
@@ -200,8 +212,9 @@ def _course(wind_from: float = math.pi / 2) -> rc.Course:
 def test_the_course_is_laid_square_to_the_wind() -> None:
     c = _course()
     (cx, cy), (px, py) = c.ends()
-    np.testing.assert_allclose([cx[0, 0], cy[0, 0], px[0, 0], py[0, 0]], [30, 0, -30, 0],
-                               atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(
+        [cx[0, 0], cy[0, 0], px[0, 0], py[0, 0]], [30, 0, -30, 0], atol=1e-12
+    )
     np.testing.assert_allclose([c.windward_x_m[0, 0], c.windward_y_m[0, 0]], [0, 120], atol=1e-12)
     np.testing.assert_allclose([c.gate_x_m[0, 0], c.gate_y_m[0, 0]], [0, -15], atol=1e-12)
 
@@ -224,8 +237,9 @@ def test_the_course_is_laid_square_to_the_wind() -> None:
 def test_waypoints_are_passed_only_the_right_way(kind, start, end, passed) -> None:
     c = _course()
     a = lambda v: np.array([[float(v)]])  # noqa: E731
-    got, _ = rc.passed_waypoint(c, np.array([[kind]]), a(start[0]), a(start[1]), a(end[0]),
-                                a(end[1]), np)  # fmt: skip
+    got, _ = rc.passed_waypoint(
+        c, np.array([[kind]]), a(start[0]), a(start[1]), a(end[0]), a(end[1]), np
+    )
     assert bool(got[0, 0]) is passed
 
 
@@ -278,8 +292,16 @@ def test_steering_for_the_start_target_starts(x, y, most) -> None:
 def _must(x, y, heading, kind=rc.START, wind_from=math.pi / 2) -> np.ndarray:
     x, y, heading = (np.array([v], dtype=float) for v in (x, y, heading))
     k = x.shape[1]
-    return rules.keeps_clear(4.2, _course(wind_from), np.full((1, k), wind_from),
-                             np.full((1, k), kind), x, y, heading, np)[0]  # fmt: skip
+    return rules.keeps_clear(
+        4.2,
+        _course(wind_from),
+        np.full((1, k), wind_from),
+        np.full((1, k), kind),
+        x,
+        y,
+        heading,
+        np,
+    )[0]
 
 
 def test_port_gives_way_to_starboard() -> None:
@@ -339,7 +361,8 @@ def test_races_resolve_alone_as_in_a_batch() -> None:
     assert batch[5][0::2].any() and not batch[5][1::2].any()
     for r in range(6):
         one = slice(r, r + 1)
-        alone = collide(HULLS, 0.3, x[one], y[one], heading[one], vx[one], vy[one], w[one],
-                        active[one], np)  # fmt: skip
+        alone = collide(
+            HULLS, 0.3, x[one], y[one], heading[one], vx[one], vy[one], w[one], active[one], np
+        )
         for got, want in zip(batch, alone, strict=True):
             np.testing.assert_array_equal(got[r], want[0])

@@ -45,8 +45,9 @@ def test_float32_stays_finite_and_near_float64() -> None:
     """float32 on torch: finite and in bounds throughout; the first second of racing within
     1e-3 of float64 (later the races drift apart, as chaotic dynamics do in any precision)."""
     reference = _run(BeachballRaceFleetEnv(2, **SHORT), steps=40)
-    got = _run(BeachballRaceFleetEnv(2, backend="torch", dtype="float32", compile=False,
-                                     **SHORT), steps=40)  # fmt: skip
+    got = _run(
+        BeachballRaceFleetEnv(2, backend="torch", dtype="float32", compile=False, **SHORT), steps=40
+    )
     for step, (want, have) in enumerate(zip(reference, got, strict=True)):
         assert np.isfinite(have[0]).all() and np.abs(have[0]).max() <= 1.0
         if step <= 4:
@@ -76,8 +77,10 @@ def test_the_race_step_is_one_graph() -> None:
     fleet.reset(seed=0)
     action = torch.zeros((fleet.num_envs, 3), dtype=torch.float64)
     noise = torch.zeros((2, 2), dtype=torch.float64)
-    for fn, args in ((fleet._advance_races, (fleet.state, action, noise)),
-                     (fleet._observation_of, (fleet.state,))):  # fmt: skip
+    for fn, args in (
+        (fleet._advance_races, (fleet.state, action, noise)),
+        (fleet._observation_of, (fleet.state,)),
+    ):
         explained = torch._dynamo.explain(fn)(*args)
         assert (explained.graph_count, explained.graph_break_count) == (1, 0), (
             explained.break_reasons
@@ -88,8 +91,9 @@ def test_a_match_on_torch_equals_one_on_numpy() -> None:
     """The learning boats against racers, the races stepped on torch: the same
     observations and rewards as on NumPy."""
     reference = _run(BeachballRaceMatchEnv(2, learners=1, **SHORT), steps=30)
-    got = _run(BeachballRaceMatchEnv(2, learners=1, backend="torch", compile=False, **SHORT),
-               steps=30)  # fmt: skip
+    got = _run(
+        BeachballRaceMatchEnv(2, learners=1, backend="torch", compile=False, **SHORT), steps=30
+    )
     for want, have in zip(reference, got, strict=True):
         np.testing.assert_allclose(have[0], want[0], rtol=0, atol=1e-9)
 

@@ -47,28 +47,88 @@ def test_fit_text_cuts_long_text() -> None:
 @pytest.mark.parametrize(
     ("env_id", "info", "terminated", "truncated", "outcome", "success"),
     [
-        ("BeachballSail-v0", {"is_success": True, "capsized": False}, True, False,
-         "success: reached the mark", True),
-        ("BeachballSail-v0", {"is_success": False, "capsized": True}, True, False, "capsized",
-         False),
-        ("BeachballSail-v0", {"is_success": False, "capsized": False}, False, True, "timed out",
-         False),
-        ("BeachballThrow-v0", {"is_success": True, "throws_left": 1}, True, False,
-         "success: hit", True),
-        ("BeachballThrow-v0", {"is_success": False, "throws_left": 0, "hit_screen": True}, True,
-         False, "missed screen", False),
-        ("BeachballTopple-v0", {"is_success": True, "wall_state": "fallen_away"}, True, False,
-         "success: wall down", True),
-        ("BeachballTopple-v0", {"is_success": True, "wall_state": "loose"}, True, False,
-         "success: wall down (broke loose)", True),
-        ("BeachballTopple-v0", {"is_success": False, "wall_state": "fallen_toward"}, True, False,
-         "failed: wall fell toward you", False),
-        ("BeachballTopple-v0", {"is_success": False, "wall_state": "standing", "throws_left": 0},
-         True, False, "failed: out of throws, wall standing", False),
-        ("BeachballSail-v0", {"is_success": False, "capsized": False}, False, False,
-         "cut short (--max-steps)", None),
+        (
+            "BeachballSail-v0",
+            {"is_success": True, "capsized": False},
+            True,
+            False,
+            "success: reached the mark",
+            True,
+        ),
+        (
+            "BeachballSail-v0",
+            {"is_success": False, "capsized": True},
+            True,
+            False,
+            "capsized",
+            False,
+        ),
+        (
+            "BeachballSail-v0",
+            {"is_success": False, "capsized": False},
+            False,
+            True,
+            "timed out",
+            False,
+        ),
+        (
+            "BeachballThrow-v0",
+            {"is_success": True, "throws_left": 1},
+            True,
+            False,
+            "success: hit",
+            True,
+        ),
+        (
+            "BeachballThrow-v0",
+            {"is_success": False, "throws_left": 0, "hit_screen": True},
+            True,
+            False,
+            "missed screen",
+            False,
+        ),
+        (
+            "BeachballTopple-v0",
+            {"is_success": True, "wall_state": "fallen_away"},
+            True,
+            False,
+            "success: wall down",
+            True,
+        ),
+        (
+            "BeachballTopple-v0",
+            {"is_success": True, "wall_state": "loose"},
+            True,
+            False,
+            "success: wall down (broke loose)",
+            True,
+        ),
+        (
+            "BeachballTopple-v0",
+            {"is_success": False, "wall_state": "fallen_toward"},
+            True,
+            False,
+            "failed: wall fell toward you",
+            False,
+        ),
+        (
+            "BeachballTopple-v0",
+            {"is_success": False, "wall_state": "standing", "throws_left": 0},
+            True,
+            False,
+            "failed: out of throws, wall standing",
+            False,
+        ),
+        (
+            "BeachballSail-v0",
+            {"is_success": False, "capsized": False},
+            False,
+            False,
+            "cut short (--max-steps)",
+            None,
+        ),
     ],
-)  # fmt: skip
+)
 def test_episode_outcome(env_id, info, terminated, truncated, outcome, success) -> None:
     """Each family's spec says how an episode ended (the caption of a recording's end)."""
     from bbgym.spec import spec_of
@@ -85,9 +145,15 @@ def run_episode(env_id: str, title: bool, max_steps: int) -> tuple[ListSink, dic
         policy = record.make_policy("random", env, None, 5)
         sink = ListSink()
         stats = record.record_episode(
-            env, policy, 5, sink, max_steps=max_steps, hold_periods=3, title=title,
+            env,
+            policy,
+            5,
+            sink,
+            max_steps=max_steps,
+            hold_periods=3,
+            title=title,
             policy_name="random",
-        )  # fmt: skip
+        )
     finally:
         env.close()
     return sink, stats

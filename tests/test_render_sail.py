@@ -224,9 +224,16 @@ def test_scale_bar_is_a_round_number_of_metres_as_long_as_it_should_be(ppm: floa
 
 @pytest.mark.parametrize(
     ("ppm", "metres", "label"),
-    [(12.0, 10.0, "10 m"), (16.0, 5.0, "5 m"), (3.0, 20.0, "20 m"), (0.1, 1000.0, "1 km"),
-     (0.01, 10000.0, "10 km"), (400.0, 0.2, "20 cm"), (1e5, 0.001, "1 mm")],
-)  # fmt: skip
+    [
+        (12.0, 10.0, "10 m"),
+        (16.0, 5.0, "5 m"),
+        (3.0, 20.0, "20 m"),
+        (0.1, 1000.0, "1 km"),
+        (0.01, 10000.0, "10 km"),
+        (400.0, 0.2, "20 cm"),
+        (1e5, 0.001, "1 mm"),
+    ],
+)
 def test_scale_bar_choice_and_label(ppm: float, metres: float, label: str) -> None:
     from bbgym.render.annotations import scale_bar
 

@@ -309,8 +309,12 @@ def failed_scene(**overrides: object) -> ToppleScene:
 
 
 def fallen_away_scene(**overrides: object) -> ToppleScene:
-    fields: dict[str, object] = {"wall_angle_rad": math.pi / 2, "pivot_side": 1,
-                                 "wall_state": "fallen_away", "throws_left": 3}  # fmt: skip
+    fields: dict[str, object] = {
+        "wall_angle_rad": math.pi / 2,
+        "pivot_side": 1,
+        "wall_state": "fallen_away",
+        "throws_left": 3,
+    }
     return make_scene(**{**fields, **overrides})
 
 
@@ -334,8 +338,11 @@ def test_banner_for_each_way_the_episode_ends() -> None:
     away = banner(fallen_away_scene())
     assert away is not None and away.success and away.text == "WALL DOWN!"
     assert away.detail == "it fell away after 5 throws"
-    toward = banner(make_scene(wall_angle_rad=-math.pi / 2, pivot_side=-1,
-                               wall_state="fallen_toward", throws_left=7))  # fmt: skip
+    toward = banner(
+        make_scene(
+            wall_angle_rad=-math.pi / 2, pivot_side=-1, wall_state="fallen_toward", throws_left=7
+        )
+    )
     assert toward is not None and not toward.success
     assert toward.text.startswith("FAILED") and toward.detail == "after 1 throw"
     loose = banner(loose_scene())
@@ -355,10 +362,14 @@ def test_failed_final_frame_has_a_red_banner_where_a_success_has_a_green_one(
     failed = renderer.render(failed_scene())
     going_on = renderer.render(make_scene(throws_left=1))
     success = renderer.render(fallen_away_scene())
-    red = [np.count_nonzero(color_mask(banner_band(f), FAILURE_BANNER_COLOR))
-           for f in (failed, going_on, success)]  # fmt: skip
-    green = [np.count_nonzero(color_mask(banner_band(f), SUCCESS_BANNER_COLOR))
-             for f in (failed, going_on, success)]  # fmt: skip
+    red = [
+        np.count_nonzero(color_mask(banner_band(f), FAILURE_BANNER_COLOR))
+        for f in (failed, going_on, success)
+    ]
+    green = [
+        np.count_nonzero(color_mask(banner_band(f), SUCCESS_BANNER_COLOR))
+        for f in (failed, going_on, success)
+    ]
     assert red[0] > 3000 and red[1] == 0 and red[2] == 0
     assert green[2] > 3000 and green[0] == 0 and green[1] == 0
     # The failed frame differs from the one that goes on where the banner is.

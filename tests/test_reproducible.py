@@ -20,9 +20,13 @@ def small_preset(tmp_path):
     return write_small_preset(
         tmp_path / "sail.yaml",
         ppo={"n_steps": 64, "batch_size": 128, "n_epochs": 2},
-        train={"n_envs": 8, "eval_every_timesteps": 1024, "eval_episodes": 2,
-               "checkpoint_every_timesteps": 1_000_000},
-    )  # fmt: skip
+        train={
+            "n_envs": 8,
+            "eval_every_timesteps": 1024,
+            "eval_episodes": 2,
+            "checkpoint_every_timesteps": 1_000_000,
+        },
+    )
 
 
 def parameters(run, algo="ppo"):
@@ -38,8 +42,15 @@ def train_twice_and_once_more(tmp_path, env_id, preset, seed, timesteps, algo="p
     runs = {}
     for name, run_seed in (("a", seed), ("b", seed), ("c", seed + 1)):
         runs[name] = tmp_path / name
-        train_sb3(env_id, preset=preset, timesteps=timesteps, seed=run_seed, out=runs[name],
-                  progress=False, torch_threads=1)  # fmt: skip
+        train_sb3(
+            env_id,
+            preset=preset,
+            timesteps=timesteps,
+            seed=run_seed,
+            out=runs[name],
+            progress=False,
+            torch_threads=1,
+        )
     assert torch.get_num_threads() == 1  # pinned by the run
     torch.set_num_threads(threads)
     a, b, c = (parameters(runs[k], algo) for k in "abc")
@@ -90,12 +101,24 @@ def test_the_model_does_not_depend_on_how_many_envs_evaluate_it(tmp_path):
             tmp_path / f"quick{eval_envs}.yaml",
             "beachball_sail_v1_quick.yaml",
             sac={"learning_starts": 256, "buffer_size": 4096},
-            train={"n_envs": 8, "eval_every_timesteps": 512, "eval_episodes": 2,
-                   "eval_envs": eval_envs, "checkpoint_every_timesteps": 1_000_000},
-        )  # fmt: skip
+            train={
+                "n_envs": 8,
+                "eval_every_timesteps": 512,
+                "eval_episodes": 2,
+                "eval_envs": eval_envs,
+                "checkpoint_every_timesteps": 1_000_000,
+            },
+        )
         out = tmp_path / f"run{eval_envs}"
-        train_sb3("BeachballSail-v1", preset=preset, timesteps=1536, seed=2, out=out,
-                  progress=False, torch_threads=1)  # fmt: skip
+        train_sb3(
+            "BeachballSail-v1",
+            preset=preset,
+            timesteps=1536,
+            seed=2,
+            out=out,
+            progress=False,
+            torch_threads=1,
+        )
         nets.append(parameters(out, "sac"))
         logs.append(np.load(out / "eval" / "evaluations.npz")["ep_lengths"])
     assert all(torch.equal(nets[0][k], nets[1][k]) for k in nets[0])

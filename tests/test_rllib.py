@@ -171,11 +171,30 @@ def test_the_train_command_on_rllib(tmp_path):
 
     out = tmp_path / "run"
     done = subprocess.run(
-        [sys.executable, "-m", "bbgym", "train", "--env", "BeachballSail-v0", "--engine", "rllib",
-         "--num-env-runners", "2", "--num-envs-per-env-runner", "8", "--iterations", "2",
-         "--num-cpus", "2", "--out", str(out)],
-        capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "bbgym",
+            "train",
+            "--env",
+            "BeachballSail-v0",
+            "--engine",
+            "rllib",
+            "--num-env-runners",
+            "2",
+            "--num-envs-per-env-runner",
+            "8",
+            "--iterations",
+            "2",
+            "--num-cpus",
+            "2",
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     summary = json.loads((out / "rllib.json").read_text())
     assert summary["iterations"] == 2 and summary["num_env_runners"] == 2

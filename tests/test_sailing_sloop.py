@@ -36,8 +36,18 @@ def sail(boat: DinghyState, seconds: float, policy: Policy, p: DinghyParams = SL
     track = [boat]
     for k in range(round(seconds / 0.25)):
         rudder, main, jib = policy(0.25 * k, boat)
-        boat, _ = step(p, boat, np.array([rudder]), np.array([main]), np.array([-WIND_MPS]),
-                       np.array([0.0]), 0.05, 5, np, jib_sheet=np.array([jib]))  # fmt: skip
+        boat, _ = step(
+            p,
+            boat,
+            np.array([rudder]),
+            np.array([main]),
+            np.array([-WIND_MPS]),
+            np.array([0.0]),
+            0.05,
+            5,
+            np,
+            jib_sheet=np.array([jib]),
+        )
         track.append(boat)
     return track
 
@@ -57,8 +67,12 @@ def steer_to(twa_deg: float, main: float = 0.15, jib: float = 0.9) -> Policy:
 def test_a_cat_rig_keeps_its_bits_whatever_the_jib_sheet() -> None:
     rng = np.random.default_rng(0)
     boat = dinghy_at_rest(5, heading_rad=rng.uniform(-3, 3, 5), speed_mps=rng.uniform(0, 3, 5))
-    controls = (rng.uniform(-0.5, 0.5, 5), rng.uniform(0, 1, 5), rng.uniform(-8, 8, 5),
-                rng.uniform(-8, 8, 5))  # fmt: skip
+    controls = (
+        rng.uniform(-0.5, 0.5, 5),
+        rng.uniform(0, 1, 5),
+        rng.uniform(-8, 8, 5),
+        rng.uniform(-8, 8, 5),
+    )
     plain = step(DinghyParams(), boat, *controls, 0.05, 5)
     with_jib = step(DinghyParams(), boat, *controls, 0.05, 5, jib_sheet=rng.uniform(-1, 1, 5))
     for a, b in zip(plain[0], with_jib[0], strict=True):
@@ -88,14 +102,29 @@ def test_sails_steer_a_trimmed_main_gives_weather_helm_and_the_jib_lee_helm() ->
     port, drive ahead): the main, its centre of effort aft of the centreboard, turns the
     bow to starboard, into the wind; the jib, ahead of it, turns it to port, away."""
     drive, side = 40.0, 120.0  # N: forces of a sail close-hauled, side force to port
-    main = sail_yaw_moment(SLOOP.mast_ahead_m, SLOOP.sail_ce_aft_m, SLOOP.sail_ce_height_m,
-                           10 * DEG, 0.0, drive, side)  # fmt: skip
-    jib = sail_yaw_moment(SLOOP.jib_tack_ahead_m, SLOOP.jib_ce_aft_m, SLOOP.jib_ce_height_m,
-                          10 * DEG, 0.0, drive, side)  # fmt: skip
+    main = sail_yaw_moment(
+        SLOOP.mast_ahead_m, SLOOP.sail_ce_aft_m, SLOOP.sail_ce_height_m, 10 * DEG, 0.0, drive, side
+    )
+    jib = sail_yaw_moment(
+        SLOOP.jib_tack_ahead_m,
+        SLOOP.jib_ce_aft_m,
+        SLOOP.jib_ce_height_m,
+        10 * DEG,
+        0.0,
+        drive,
+        side,
+    )
     assert main < 0.0 < jib  # clockwise (bow to starboard, to windward) and the other way
     # heeled to port (the low side), the centre of effort moves to leeward: more weather helm
-    heeled = sail_yaw_moment(SLOOP.mast_ahead_m, SLOOP.sail_ce_aft_m, SLOOP.sail_ce_height_m,
-                             10 * DEG, math.sin(20 * DEG), drive, side)  # fmt: skip
+    heeled = sail_yaw_moment(
+        SLOOP.mast_ahead_m,
+        SLOOP.sail_ce_aft_m,
+        SLOOP.sail_ce_height_m,
+        10 * DEG,
+        math.sin(20 * DEG),
+        drive,
+        side,
+    )
     assert heeled < main
 
     # Sailing: close-hauled at 50 deg on port tack, then the rudder let go. Trimmed, the

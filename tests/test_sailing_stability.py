@@ -99,8 +99,16 @@ def test_floats_and_batch_agree_for_the_regression_boats():
         f = DinghyState(**{k: getattr(s, k)[0].item() for k in s._fields})
         for k in range(120):
             rudder, sheet = 0.35 * math.sin(0.1 * k), 0.2 + 0.4 * (k % 7) / 7
-            s, _ = step(p, s, np.array([rudder]), np.array([sheet]), np.array([-7.0]),
-                        np.array([2.0]), 0.05, 5)  # fmt: skip
+            s, _ = step(
+                p,
+                s,
+                np.array([rudder]),
+                np.array([sheet]),
+                np.array([-7.0]),
+                np.array([2.0]),
+                0.05,
+                5,
+            )
             f, _ = step(p, f, rudder, sheet, -7.0, 2.0, 0.05, 5, floats)
         assert f.x_m == pytest.approx(s.x_m[0], rel=1e-9, abs=1e-9)
         assert f.heel_rad == pytest.approx(s.heel_rad[0], rel=1e-9, abs=1e-9)
@@ -274,8 +282,9 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
     for t in range(200):
         rudder = rng.uniform(-1.0, 1.0, n) * p.rudder_max_rad
         jib = rng.uniform(-1.0, 1.0, n)
-        s, events = step(p, s, rudder, rng.uniform(0.0, 1.0, n), wx, wy, dt, round(0.25 / dt),
-                         jib_sheet=jib)  # fmt: skip
+        s, events = step(
+            p, s, rudder, rng.uniform(0.0, 1.0, n), wx, wy, dt, round(0.25 / dt), jib_sheet=jib
+        )
         state = np.stack([np.asarray(getattr(s, f), dtype=float) for f in s._fields])
         assert np.isfinite(state).all(), t
         assert np.isfinite(events.jibe_severity_rps).all(), t
@@ -287,8 +296,18 @@ def test_every_accepted_boat_stays_finite(p, dt, seed):
     f = DinghyState(**{k: getattr(s, k)[0].item() for k in s._fields})
     f = f._replace(capsized=False, heel_rad=0.0, heel_rate_rps=0.0)
     for _ in range(50):
-        f, _ = step(p, f, 0.5 * p.rudder_max_rad, 0.5, float(wx[0]), float(wy[0]), dt,
-                    round(0.25 / dt), floats, jib_sheet=-0.5)  # fmt: skip
+        f, _ = step(
+            p,
+            f,
+            0.5 * p.rudder_max_rad,
+            0.5,
+            float(wx[0]),
+            float(wy[0]),
+            dt,
+            round(0.25 / dt),
+            floats,
+            jib_sheet=-0.5,
+        )
         assert all(math.isfinite(getattr(f, k)) for k in f._fields)
 
 
@@ -368,8 +387,9 @@ def test_values_outside_an_interval_raise_naming_the_field(name):
         with pytest.raises(ValueError, match=rf"^DinghyParams\.{name} "):
             DinghyParams(**{name: outside})
     for end, is_open in ((accepted.low, accepted.low_open), (accepted.high, accepted.high_open)):
-        if is_open or any(name == small and end >= getattr(DinghyParams, large)
-                          for small, large in SHEET_PAIRS):  # fmt: skip
+        if is_open or any(
+            name == small and end >= getattr(DinghyParams, large) for small, large in SHEET_PAIRS
+        ):
             continue
         changes = {name: end}
         for small, large in SHEET_PAIRS:

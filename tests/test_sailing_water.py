@@ -19,8 +19,14 @@ P = DinghyParams()
 N = 6
 
 
-def _sea(p: WaterParams, batch: int, current_mps: float = 0.0, current_set_rad: float = 0.0,
-         wave_direction_rad: float = 0.3, seed: int = 0) -> Sea:  # fmt: skip
+def _sea(
+    p: WaterParams,
+    batch: int,
+    current_mps: float = 0.0,
+    current_set_rad: float = 0.0,
+    wave_direction_rad: float = 0.3,
+    seed: int = 0,
+) -> Sea:
     full = np.ones(batch)
     uniform = np.random.default_rng(seed).random((len(p.components), batch))
     return sea_at_start(
@@ -29,10 +35,16 @@ def _sea(p: WaterParams, batch: int, current_mps: float = 0.0, current_set_rad: 
 
 
 def _sail(
-    p: DinghyParams, boat: DinghyState, water: WaterParams | None, sea: Sea | None,
-    seconds: float, dt_s: float = 0.05, rudder_rad: float = 0.0, wind: tuple = (0.0, 0.0),
+    p: DinghyParams,
+    boat: DinghyState,
+    water: WaterParams | None,
+    sea: Sea | None,
+    seconds: float,
+    dt_s: float = 0.05,
+    rudder_rad: float = 0.0,
+    wind: tuple = (0.0, 0.0),
     substeps: int = 5,
-) -> tuple[DinghyState, list[DinghyState]]:  # fmt: skip
+) -> tuple[DinghyState, list[DinghyState]]:
     """Steps of ``substeps`` substeps with the controls held, the sea's clock running."""
     n = boat.x_m.shape[0]
     zero = np.zeros(n)
@@ -40,8 +52,19 @@ def _sail(
     for k in range(round(seconds / (dt_s * substeps))):
         if sea is not None:
             sea = sea._replace(time_s=zero + k * dt_s * substeps)
-        boat, _ = step(p, boat, zero + rudder_rad, zero + 1.0, zero + wind[0], zero + wind[1],
-                       dt_s, substeps, np, water, sea)  # fmt: skip
+        boat, _ = step(
+            p,
+            boat,
+            zero + rudder_rad,
+            zero + 1.0,
+            zero + wind[0],
+            zero + wind[1],
+            dt_s,
+            substeps,
+            np,
+            water,
+            sea,
+        )
         track.append(boat)
     return boat, track
 
@@ -49,11 +72,19 @@ def _sail(
 def test_still_water_keeps_the_bits_of_no_water() -> None:
     """A sea with no current and no waves changes no bit of the first versions' step."""
     rng = np.random.default_rng(0)
-    boat = dinghy_at_rest(N, heading_rad=rng.uniform(-3, 3, N), speed_mps=rng.uniform(0, 4, N),
-                          boom_rad=rng.uniform(-1, 1, N))  # fmt: skip
+    boat = dinghy_at_rest(
+        N,
+        heading_rad=rng.uniform(-3, 3, N),
+        speed_mps=rng.uniform(0, 4, N),
+        boom_rad=rng.uniform(-1, 1, N),
+    )
     boat = boat._replace(x_m=rng.uniform(-50, 50, N), heel_rad=rng.uniform(-0.5, 0.5, N))
-    controls = (rng.uniform(-0.5, 0.5, N), rng.uniform(0, 1, N), rng.uniform(-8, 8, N),
-                rng.uniform(-8, 8, N))  # fmt: skip
+    controls = (
+        rng.uniform(-0.5, 0.5, N),
+        rng.uniform(0, 1, N),
+        rng.uniform(-8, 8, N),
+        rng.uniform(-8, 8, N),
+    )
     still = WaterParams()
     plain = step(P, boat, *controls, 0.05, 5, np)
     watered = step(P, boat, *controls, 0.05, 5, np, still, _sea(still, N))
@@ -110,8 +141,19 @@ def test_a_floating_boat_rides_a_closed_gerstner_orbit() -> None:
     ten_periods = [hull_only]
     for k in range(10):
         now = sea._replace(time_s=sea.time_s + k * period)
-        after, _ = step(P.replace(windage=0.0), ten_periods[-1], 0 * vx, 0 * vx + 1, 0 * vx,
-                        0 * vx, dt, substeps, np, water, now)  # fmt: skip
+        after, _ = step(
+            P.replace(windage=0.0),
+            ten_periods[-1],
+            0 * vx,
+            0 * vx + 1,
+            0 * vx,
+            0 * vx,
+            dt,
+            substeps,
+            np,
+            water,
+            now,
+        )
         ten_periods.append(after)
     # within the accuracy of the particle labels: less than a micrometre a period (the
     # water's flow held over each substep instead strayed by 0.1 m a period at 0.05 s)

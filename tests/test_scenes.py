@@ -19,8 +19,9 @@ from bbgym.scenes import SCENES, get_scene, simulate
 def test_push_gives_each_ball_impulse_over_mass_and_keeps_momentum_zero() -> None:
     """§2: the same impulse each way; the speeds are J / m (the lighter ball faster, by
     the mass ratio), the total momentum is zero and nothing changes after the push."""
-    run = simulate(get_scene("push"), {"mass_left_kg": 0.5, "mass_right_kg": 2.0,
-                                       "impulse_ns": 3.0})  # fmt: skip
+    run = simulate(
+        get_scene("push"), {"mass_left_kg": 0.5, "mass_right_kg": 2.0, "impulse_ns": 3.0}
+    )
     speed = run.measures["speed_mps"]
     np.testing.assert_allclose(speed[0], [3.0 / 0.5, 3.0 / 2.0], rtol=1e-15)
     assert speed[0, 0] / speed[0, 1] == pytest.approx(2.0 / 0.5)
@@ -41,8 +42,9 @@ def test_a_level_arrow_falls_below_its_aim_and_an_aimed_one_hits() -> None:
     run = simulate(scene)
     dt, g = params.dt_s, GRAVITY_MPS2
     n = np.arange(len(run.times_s))
-    np.testing.assert_allclose(run.measures["drop_m"][:, 0], g * dt**2 * n * (n + 1) / 2,
-                               rtol=1e-12, atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(
+        run.measures["drop_m"][:, 0], g * dt**2 * n * (n + 1) / 2, rtol=1e-12, atol=1e-12
+    )
     t_apple = params.target_distance_m / params.speed_mps
     for body, expected in ((0, 0.5 * g * t_apple**2), (1, 0.0)):
         x, drop = run.measures["x_m"][:, body], run.measures["drop_m"][:, body]
@@ -322,8 +324,10 @@ def test_torch_runs_the_same_scene(name: str) -> None:
     """Every scene on torch (float64) equals NumPy, step for step (to 1e-9)."""
     pytest.importorskip("torch")
     pytest.importorskip("array_api_compat")
-    ours, theirs = simulate(SCENES[name], steps=300), simulate(SCENES[name], steps=300,
-                                                                backend="torch")  # fmt: skip
+    ours, theirs = (
+        simulate(SCENES[name], steps=300),
+        simulate(SCENES[name], steps=300, backend="torch"),
+    )
     for key, values in ours.measures.items():
         # summation orders differ: the springs' chaotic motion grows 1e-16 to 1e-12 in 300 steps
         np.testing.assert_allclose(theirs.measures[key], values, rtol=1e-9, atol=1e-9)

@@ -56,8 +56,7 @@ def test_confetti_normal_force_terminal_speed_glide_and_rocking() -> None:
     tilt = m["tilt_deg"][:, TILTED]
     broadside = int(np.argmax(tilt < 1.0))
     assert 0 < broadside and m["drift_m"][broadside, TILTED] > 0.03
-    np.testing.assert_allclose(mirrored["drift_m"][:, TILTED], -m["drift_m"][:, TILTED],
-                               atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(mirrored["drift_m"][:, TILTED], -m["drift_m"][:, TILTED], atol=1e-12)
     in_air = height[:, TILTED] > 0.0
     swings = np.diff((tilt[in_air] > 90.0).astype(int)) != 0
     assert np.sum(swings) >= 10 and tilt[in_air].min() < 2.0 and tilt[in_air].max() > 170.0
@@ -86,8 +85,9 @@ def test_panel_force_is_along_the_normal_and_from_the_normal_wind_only() -> None
         force = f * ez
         scale = 1e-15 * np.linalg.norm(force)
         assert abs(force @ ex) < scale and abs(force @ ey) < scale
-        assert f * 0.002 == pytest.approx(-0.5 * AIR_DENSITY_KGM3 * 1.17 * 0.01 * abs(u_n) * u_n,
-                                          rel=1e-9)  # fmt: skip
+        assert f * 0.002 == pytest.approx(
+            -0.5 * AIR_DENSITY_KGM3 * 1.17 * 0.01 * abs(u_n) * u_n, rel=1e-9
+        )
         along = wind - u_n * ez  # the wind's part along the panel: u_n is 0 to rounding
         f_along = panel_normal_force(1.17, 0.01, 0.002, float(along @ ez), 0.0, 0.01, np)
         assert abs(f_along) < 1e-20
@@ -128,8 +128,7 @@ def test_aeroplane_trim_turns_gyro_pitch_and_gusts() -> None:
     states: list = []
     simulate(scene, steps=400, on_step=lambda p, s: states.append(s))
     for state in states[::50]:
-        torque = propeller_gyro_torque(momentum, (state.wx_radps, state.wy_radps,
-                                                  state.wz_radps))  # fmt: skip
+        torque = propeller_gyro_torque(momentum, (state.wx_radps, state.wy_radps, state.wz_radps))
         np.testing.assert_allclose(-torque[1], momentum * state.wz_radps, rtol=1e-15)
     sin_attack = np.sin(np.radians(m["attack_deg"][late]))
     half_gap = 0.5 * (sin_attack[:, LEFT] - sin_attack[:, RIGHT]).mean()
@@ -142,8 +141,9 @@ def test_aeroplane_trim_turns_gyro_pitch_and_gusts() -> None:
     still = simulate(scene, {"propeller_rpm": 0.0}).measures
     for key in ("attack_deg", "altitude_m", "airspeed_mps"):
         np.testing.assert_allclose(still[key][:, LEFT], still[key][:, RIGHT], rtol=1e-9)
-    np.testing.assert_allclose(still["turn_rate_degps"][:, LEFT],
-                               -still["turn_rate_degps"][:, RIGHT], atol=1e-9)  # fmt: skip
+    np.testing.assert_allclose(
+        still["turn_rate_degps"][:, LEFT], -still["turn_rate_degps"][:, RIGHT], atol=1e-9
+    )
     assert np.ptp(m["airspeed_mps"][:, GUSTS]) > 2.0 and np.ptp(m["altitude_m"][:, GUSTS]) > 2.0
     again = simulate(scene, steps=200).measures["altitude_m"][:, GUSTS]
     np.testing.assert_array_equal(again, m["altitude_m"][:201, GUSTS])

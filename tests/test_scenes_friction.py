@@ -90,8 +90,9 @@ def test_golf_ball_backspin_checks_topspin_kicks_within_coulomb() -> None:
                     for s in (before, after)
                 ]
                 assert np.all(kinetic[1] <= kinetic[0] * (1.0 + 1e-12))
-            energy = simulate(get_scene("golf-ball"), {"spin_radps": spin, "friction": mu},
-                              steps=400).measures["energy_j"]  # fmt: skip
+            energy = simulate(
+                get_scene("golf-ball"), {"spin_radps": spin, "friction": mu}, steps=400
+            ).measures["energy_j"]
             assert np.all(np.diff(energy, axis=0) <= 1e-12)
 
 
@@ -141,8 +142,15 @@ def test_rolling_stop_needs_friction_to_hold_the_ball_and_is_off_by_default() ->
         vx = 0.05
         wy = -m * r * vx / inertia  # rolling velocity 0
         assert rolling_velocity(ball, vx, 0.0, 0.0, wy)[0] == pytest.approx(0.0, abs=1e-15)
-        out = rolling_resistance(ball, np.array([vx]), np.array([0.0]), np.array([0.0]),
-                                 np.array([wy]), np.array([normal]), np)  # fmt: skip
+        out = rolling_resistance(
+            ball,
+            np.array([vx]),
+            np.array([0.0]),
+            np.array([0.0]),
+            np.array([wy]),
+            np.array([normal]),
+            np,
+        )
         assert bool(out[0][0] == 0.0 and out[3][0] == 0.0) is stops
 
 
@@ -172,7 +180,7 @@ def test_the_envs_throws_end_before_the_rolling_ball_creeps() -> None:
             max_time_s=30.0,
             field_radius_m=100.0,
             record=False,
-        )  # fmt: skip
+        )
         for stop in (False, True)
     ]
     rested = results[0].final

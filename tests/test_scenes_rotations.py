@@ -13,8 +13,7 @@ from bbgym.scenes import rotations as rot
 
 def run_states(name: str, params: dict | None = None, steps: int | None = None) -> tuple:
     states: list = []
-    run = simulate(get_scene(name), params, steps=steps,
-                   on_step=lambda p, s: states.append(s))  # fmt: skip
+    run = simulate(get_scene(name), params, steps=steps, on_step=lambda p, s: states.append(s))
     return run, states
 
 
@@ -103,8 +102,11 @@ def check_conservation(run, linear: bool) -> None:
     m = run.measures
     p = run.params
     scale = p.ball_mass_kg * p.speed_mps
-    keys = ("momentum_x_ns", "momentum_y_ns", "angular_momentum_js") if linear else (
-        "angular_momentum_js",)  # fmt: skip
+    keys = (
+        ("momentum_x_ns", "momentum_y_ns", "angular_momentum_js")
+        if linear
+        else ("angular_momentum_js",)
+    )
     for key in keys:
         total = m[key].sum(axis=1)
         np.testing.assert_allclose(total, total[0], atol=1e-12 * scale * p.plank_length_m)
@@ -114,8 +116,9 @@ def check_conservation(run, linear: bool) -> None:
     assert np.all(np.diff(energy) <= 1e-12 * energy[0])
 
 
-@pytest.mark.parametrize(("restitution", "hit_share"), [(1.0, 0.6), (0.5, -1.0), (0.0, 0.0),
-                                                        (0.3, 0.9)])  # fmt: skip
+@pytest.mark.parametrize(
+    ("restitution", "hit_share"), [(1.0, 0.6), (0.5, -1.0), (0.0, 0.0), (0.3, 0.9)]
+)
 def test_plank_free_moves_and_turns_by_the_impulse_and_keeps_momentum(
     restitution: float, hit_share: float
 ) -> None:
@@ -201,9 +204,16 @@ def test_many_beachballs_match_spins_where_they_collide_the_bad_ones_do_not() ->
     two = rot.Spinning(*(np.array(a, dtype=np.float64) for a in rows))
     m = p.mass_kg()
     zero = np.zeros(1)
-    v1, v2 = collide_balls(m, (two.vx_mps[0:1], two.vy_mps[0:1], zero), (zero, zero, zero),
-                           m, (two.vx_mps[1:2], two.vy_mps[1:2], zero), (1.0 + zero, zero, zero),
-                           0.7, np)  # fmt: skip
+    v1, v2 = collide_balls(
+        m,
+        (two.vx_mps[0:1], two.vy_mps[0:1], zero),
+        (zero, zero, zero),
+        m,
+        (two.vx_mps[1:2], two.vy_mps[1:2], zero),
+        (1.0 + zero, zero, zero),
+        0.7,
+        np,
+    )
     for match, spins in ((True, [2.0, -2.0]), (False, [3.0, -1.0])):
         out = rot.many_collide(p, two, match, np)
         np.testing.assert_array_equal(out.angular_velocity_radps, spins)

@@ -34,8 +34,12 @@ def test_turbulence_drag_crisis_switches_at_the_critical_reynolds_number() -> No
     assert turbulent_v / laminar_v == pytest.approx(math.sqrt(0.47 / 0.2), rel=1e-12)
     assert laminar_v == pytest.approx(8.34, abs=0.01)
     assert turbulent_v == pytest.approx(12.79, abs=0.01)
-    for row, terminal in ((LAMINAR, laminar_v), (TURBULENT, turbulent_v),
-                          (BY_REYNOLDS, turbulent_v), (SMALL, laminar_v)):  # fmt: skip
+    for row, terminal in (
+        (LAMINAR, laminar_v),
+        (TURBULENT, turbulent_v),
+        (BY_REYNOLDS, turbulent_v),
+        (SMALL, laminar_v),
+    ):
         assert speed[-1, row] == pytest.approx(terminal, rel=1e-4), row
     # the crisis: one switch, exactly where Re reaches the critical number
     below = re[:, BY_REYNOLDS] < p.critical_reynolds
@@ -75,11 +79,14 @@ def test_turbulence_gusts_are_random_with_the_steady_mean_and_repeat_under_a_see
     again = simulate(scene, {"seed": 0}, steps=steps).measures
     for key, values in runs[0].items():
         np.testing.assert_array_equal(again[key], values)
-    assert np.abs(runs[1]["drift_speed_mps"][:, GUSTY] - runs[0]["drift_speed_mps"][:, GUSTY]
-                  ).max() > 0.1  # fmt: skip
+    assert (
+        np.abs(runs[1]["drift_speed_mps"][:, GUSTY] - runs[0]["drift_speed_mps"][:, GUSTY]).max()
+        > 0.1
+    )
     for run in runs[1:]:
-        np.testing.assert_array_equal(run["drift_speed_mps"][:, :GUSTY],
-                                      runs[0]["drift_speed_mps"][:, :GUSTY])  # fmt: skip
+        np.testing.assert_array_equal(
+            run["drift_speed_mps"][:, :GUSTY], runs[0]["drift_speed_mps"][:, :GUSTY]
+        )
     wind = scene.make_params(None).wind_mps
     # the steady ball, in the same laminar drag, is still catching up with the wind
     steady = runs[0]["drift_speed_mps"][settled:, LAMINAR]
@@ -101,8 +108,11 @@ def fall_time_s(inertia_over_moment_s2: float, start_rad: float, end_rad: float)
     singularity out of the integral (trapezoids on 200,001 points)."""
     t = np.linspace(0.0, math.sqrt(end_rad - start_rad), 200_001)
     gap = np.cos(start_rad) - np.cos(start_rad + t * t)
-    integrand = np.where(t > 0, 2.0 * t / np.sqrt(2.0 * np.maximum(gap, 1e-300)),
-                         2.0 / math.sqrt(2.0 * math.sin(start_rad)))  # fmt: skip
+    integrand = np.where(
+        t > 0,
+        2.0 * t / np.sqrt(2.0 * np.maximum(gap, 1e-300)),
+        2.0 / math.sqrt(2.0 * math.sin(start_rad)),
+    )
     return math.sqrt(inertia_over_moment_s2) * float(np.trapezoid(integrand, t))
 
 
@@ -124,8 +134,11 @@ def test_falling_wall_falls_by_the_pendulum_law_and_the_wind_tips_or_tears_it() 
     landed = [int(np.argmax(status[:, k] == FALLEN_AWAY)) for k in (calm, gale)]
     r = math.hypot(wall.half_base_m, 0.5 * wall.height_m)
     nudge = math.radians(p.nudge_deg)
-    expected = fall_time_s(wall.inertia_kgm2 / (wall.mass_kg * GRAVITY_MPS2 * r), nudge,
-                           0.5 * math.pi - p.balance_rad())  # fmt: skip
+    expected = fall_time_s(
+        wall.inertia_kgm2 / (wall.mass_kg * GRAVITY_MPS2 * r),
+        nudge,
+        0.5 * math.pi - p.balance_rad(),
+    )
     assert expected == pytest.approx(1.80, abs=0.01)
     assert (landed[0] - 1) * p.dt_s < expected <= landed[0] * p.dt_s
     for k, land in zip((calm, gale), landed, strict=True):

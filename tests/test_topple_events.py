@@ -27,11 +27,17 @@ VACUUM = BallParams(drag_coefficient=0.0, lift_coefficient_max=0.0)
 def interval_params(ball: BallParams, sim_dt: float, integrator: str) -> IntervalParams:
     """A 3-s interval, gusts every 0.25 s, a sample every 0.05 s."""
     return IntervalParams(
-        wall=WallParams(), ball=ball, gust=GustParams(), sim_dt=sim_dt, gust_dt=0.25,
-        n_substeps=round(3.0 / sim_dt), gust_every=round(0.25 / sim_dt),
-        record_every=round(0.05 / sim_dt), chunk_substeps=round(0.25 / sim_dt),
+        wall=WallParams(),
+        ball=ball,
+        gust=GustParams(),
+        sim_dt=sim_dt,
+        gust_dt=0.25,
+        n_substeps=round(3.0 / sim_dt),
+        gust_every=round(0.25 / sim_dt),
+        record_every=round(0.05 / sim_dt),
+        chunk_substeps=round(0.25 / sim_dt),
         integrator=integrator,
-    )  # fmt: skip
+    )
 
 
 def calm_interval(params: IntervalParams, velocity: np.ndarray, wall_x: float):

@@ -73,9 +73,15 @@ def test_steps_equal_the_native_vector_env_with_resets_between_steps() -> None:
     env = make("BeachballSail-v1")
     got = run(env, 50)
     native = gym.make_vec(
-        "BeachballSail-v1", num_envs=N, vectorization_mode="vector_entry_point",
-        backend="torch", dtype="float32", output="torch", compile=False, max_episode_steps=20,
-    )  # fmt: skip
+        "BeachballSail-v1",
+        num_envs=N,
+        vectorization_mode="vector_entry_point",
+        backend="torch",
+        dtype="float32",
+        output="torch",
+        compile=False,
+        max_episode_steps=20,
+    )
     native.reset(seed=0)
     ends = 0
     for a, (obs, reward, term, trunc) in zip(actions(env, 50), got, strict=True):

@@ -52,8 +52,12 @@ def test_a_killed_training_resumes_from_its_last_checkpoint(tmp_path):
     assert latest_checkpoint(out, "ppo").timesteps == point.timesteps
 
     budget = point.timesteps + 2048
-    done = subprocess.run([*train, "--timesteps", str(budget), "--resume"],
-                          capture_output=True, text=True, timeout=600)  # fmt: skip
+    done = subprocess.run(
+        [*train, "--timesteps", str(budget), "--resume"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     assert f"resuming from {point.model} at {point.timesteps} of {budget}" in done.stdout
     summary = json.loads((out / "train.json").read_text())
@@ -81,14 +85,16 @@ def test_resume_continues_a_run_that_ended_before_checkpoints_held_its_end(tmp_p
     from test_train_smoke import small_ppo_run
 
     out, train = small_ppo_run(tmp_path, n_epochs=1)
-    done = subprocess.run([*train, "--timesteps", "2048"], capture_output=True, text=True,
-                          timeout=600)  # fmt: skip
+    done = subprocess.run(
+        [*train, "--timesteps", "2048"], capture_output=True, text=True, timeout=600
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     for path in (out / "checkpoints").iterdir():
         if path.name != "ppo_1024_steps.zip":  # what 0.8.0 left: the periodic model alone
             path.unlink()
-    done = subprocess.run([*train, "--timesteps", "3072", "--resume"], capture_output=True,
-                          text=True, timeout=600)  # fmt: skip
+    done = subprocess.run(
+        [*train, "--timesteps", "3072", "--resume"], capture_output=True, text=True, timeout=600
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     assert f"resuming from {out / 'model.zip'} at 2048 of 3072" in done.stdout
     summary = json.loads((out / "train.json").read_text())

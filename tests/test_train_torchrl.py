@@ -41,8 +41,9 @@ SHORT = {"max_episode_steps": 20}
 def train(out, seed=0, **settings):
     """A two-batch run."""
     torch.set_num_threads(1)
-    return bbgym_torchrl.train_ppo(ENV, {**SMALL, **settings}, out=out, seed=seed,
-                                   env_kwargs=SHORT, log=lambda line: None)  # fmt: skip
+    return bbgym_torchrl.train_ppo(
+        ENV, {**SMALL, **settings}, out=out, seed=seed, env_kwargs=SHORT, log=lambda line: None
+    )
 
 
 def weights(path):
@@ -219,8 +220,12 @@ def test_return_scaler_is_stable_baselines3_vecnormalize_on_the_rewards():
             self.t += 1
             return np.zeros(1, dtype=np.float32), float(r), bool(d), False, {}
 
-    vec = VecNormalize(DummyVecEnv([lambda i=i: Scripted(i) for i in range(3)]),
-                       norm_obs=False, norm_reward=True, gamma=gamma)  # fmt: skip
+    vec = VecNormalize(
+        DummyVecEnv([lambda i=i: Scripted(i) for i in range(3)]),
+        norm_obs=False,
+        norm_reward=True,
+        gamma=gamma,
+    )
     vec.reset()
     expected = np.stack([vec.step(np.zeros((3, 1)))[1] for _ in range(60)], axis=1)
 
@@ -228,8 +233,13 @@ def test_return_scaler_is_stable_baselines3_vecnormalize_on_the_rewards():
     as_batch = torch.tensor(reward, dtype=torch.float64).unsqueeze(-1)
     done_batch = torch.tensor(done).unsqueeze(-1)
     # two batches of 30 steps: the statistics carry over from one to the next
-    scaled = torch.cat([scaler(as_batch[:, :30], done_batch[:, :30]),
-                        scaler(as_batch[:, 30:], done_batch[:, 30:])], dim=1)  # fmt: skip
+    scaled = torch.cat(
+        [
+            scaler(as_batch[:, :30], done_batch[:, :30]),
+            scaler(as_batch[:, 30:], done_batch[:, 30:]),
+        ],
+        dim=1,
+    )
     assert scaled.squeeze(-1).numpy() == pytest.approx(expected, rel=1e-6)  # its float32
     assert scaled[1, 55, 0] == -10.0  # clipped
     assert (scaled.abs() < 10.0).sum() == 179  # and nothing else
@@ -303,8 +313,21 @@ def small_preset(path):
 def test_train_command_with_the_torchrl_engine(tmp_path, capsys):
     config = small_preset(tmp_path / "sail.yaml")
     out = tmp_path / "run"
-    argv = ["train", "--env", ENV, "--engine", "torchrl", "--preset", str(config),
-            "--timesteps", "100", "--seed", "3", "--out", str(out)]  # fmt: skip
+    argv = [
+        "train",
+        "--env",
+        ENV,
+        "--engine",
+        "torchrl",
+        "--preset",
+        str(config),
+        "--timesteps",
+        "100",
+        "--seed",
+        "3",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     printed = capsys.readouterr().out
     assert "100 timesteps round up to 128: whole batches of num_envs 8 x n_steps 8" in printed
@@ -323,8 +346,23 @@ def test_baseline_with_the_torchrl_engine(tmp_path):
     pytest.importorskip("matplotlib")
     config = small_preset(tmp_path / "sail.yaml")
     out = tmp_path / "run"
-    argv = ["baseline", "--env", ENV, "--engine", "torchrl", "--preset", str(config),
-            "--timesteps", "64", "--episodes", "2", "--seeds", "1", "--out", str(out)]  # fmt: skip
+    argv = [
+        "baseline",
+        "--env",
+        ENV,
+        "--engine",
+        "torchrl",
+        "--preset",
+        str(config),
+        "--timesteps",
+        "64",
+        "--episodes",
+        "2",
+        "--seeds",
+        "1",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     seed0 = out / "seed0"
     assert json.loads((seed0 / "train.json").read_text())["engine"] == "torchrl"
@@ -339,8 +377,9 @@ def test_baseline_with_the_torchrl_engine(tmp_path):
     from test_docs import tables
 
     (tmp_path / "results" / "baselines").mkdir(parents=True)
-    path = tables.record_baseline(out, "bbgym baseline --engine torchrl", note="tiny",
-                                  results=tmp_path / "results")  # fmt: skip
+    path = tables.record_baseline(
+        out, "bbgym baseline --engine torchrl", note="tiny", results=tmp_path / "results"
+    )
     assert path.name == f"{ENV}-torchrl-ppo.json"
     row, _ = tables.baseline_row(path)
     assert row.startswith(f"| {ENV}, PPO (torchrl) | ")
@@ -348,9 +387,20 @@ def test_baseline_with_the_torchrl_engine(tmp_path):
 
 # -- parity with stable-baselines3's PPO: the same learning from the same data -------------
 
-SB3_PPO = {"n_steps": 32, "batch_size": 64, "n_epochs": 4, "learning_rate": 3e-3,
-           "clip_range": 0.2, "ent_coef": 0.0, "vf_coef": 0.5, "max_grad_norm": 0.5,
-           "gamma": 0.99, "gae_lambda": 0.95, "use_sde": True, "sde_sample_freq": 4}  # fmt: skip
+SB3_PPO = {
+    "n_steps": 32,
+    "batch_size": 64,
+    "n_epochs": 4,
+    "learning_rate": 3e-3,
+    "clip_range": 0.2,
+    "ent_coef": 0.0,
+    "vf_coef": 0.5,
+    "max_grad_norm": 0.5,
+    "gamma": 0.99,
+    "gae_lambda": 0.95,
+    "use_sde": True,
+    "sde_sample_freq": 4,
+}
 
 
 def sb3_kwargs(white_noise):
@@ -372,25 +422,51 @@ def sb3_and_learner(n_envs, white_noise=False):
     venv = make_vec_env(ENV, n_envs=n_envs, seed=0, env_kwargs=SHORT)
     kwargs, policy_kwargs = sb3_kwargs(white_noise)
     model = sb3.PPO("MlpPolicy", venv, seed=0, **kwargs, policy_kwargs=policy_kwargs)
-    shared = ("learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "gamma",
-              "gae_lambda", "use_sde", "sde_sample_freq", "n_epochs")  # fmt: skip
-    settings = {**SMALL, **{k: kwargs[k] for k in shared}, "net_arch": [32, 32],
-                "log_std_init": policy_kwargs["log_std_init"],
-                "minibatch_size": SB3_PPO["batch_size"],
-                "squash_output": not white_noise}  # fmt: skip
+    shared = (
+        "learning_rate",
+        "clip_range",
+        "ent_coef",
+        "vf_coef",
+        "max_grad_norm",
+        "gamma",
+        "gae_lambda",
+        "use_sde",
+        "sde_sample_freq",
+        "n_epochs",
+    )
+    settings = {
+        **SMALL,
+        **{k: kwargs[k] for k in shared},
+        "net_arch": [32, 32],
+        "log_std_init": policy_kwargs["log_std_init"],
+        "minibatch_size": SB3_PPO["batch_size"],
+        "squash_output": not white_noise,
+    }
     env = bbgym_torchrl.BbgymTorchRLEnv(ENV, n_envs, compile_step=False, seed=0, **SHORT)
     learner = bbgym_torchrl.PPOLearner(env, settings)
     policy = model.policy
     pi, vf = policy.mlp_extractor.policy_net, policy.mlp_extractor.value_net
-    learner.net.load_state_dict({
-        "mean.0.weight": pi[0].weight, "mean.0.bias": pi[0].bias, "mean.2.weight": pi[2].weight,
-        "mean.2.bias": pi[2].bias, "mean.4.weight": policy.action_net.weight,
-        "mean.4.bias": policy.action_net.bias, "log_std": policy.log_std,
-    })  # fmt: skip
-    learner.advantage.value_network.module.load_state_dict({
-        "0.weight": vf[0].weight, "0.bias": vf[0].bias, "2.weight": vf[2].weight,
-        "2.bias": vf[2].bias, "4.weight": policy.value_net.weight, "4.bias": policy.value_net.bias,
-    })  # fmt: skip
+    learner.net.load_state_dict(
+        {
+            "mean.0.weight": pi[0].weight,
+            "mean.0.bias": pi[0].bias,
+            "mean.2.weight": pi[2].weight,
+            "mean.2.bias": pi[2].bias,
+            "mean.4.weight": policy.action_net.weight,
+            "mean.4.bias": policy.action_net.bias,
+            "log_std": policy.log_std,
+        }
+    )
+    learner.advantage.value_network.module.load_state_dict(
+        {
+            "0.weight": vf[0].weight,
+            "0.bias": vf[0].bias,
+            "2.weight": vf[2].weight,
+            "2.bias": vf[2].bias,
+            "4.weight": policy.value_net.weight,
+            "4.bias": policy.value_net.bias,
+        }
+    )
     return model, learner, env
 
 
@@ -410,13 +486,16 @@ def test_an_update_learns_what_stable_baselines3_ppo_learns_from_the_same_rollou
     model.collect_rollouts(model.env, callback, model.rollout_buffer, SB3_PPO["n_steps"])
     buffer = model.rollout_buffer
     n = buffer.buffer_size * buffer.n_envs
-    flat = TensorDict({  # SB3's layout: env by env (swap_and_flatten)
-        "observation": buffer.swap_and_flatten(buffer.observations),
-        "action": buffer.swap_and_flatten(buffer.actions),
-        "action_log_prob": buffer.swap_and_flatten(buffer.log_probs)[:, 0],
-        "advantage": buffer.swap_and_flatten(buffer.advantages),
-        "value_target": buffer.swap_and_flatten(buffer.returns),
-    }, batch_size=[n]).apply(lambda x: torch.as_tensor(x, dtype=torch.float32))  # fmt: skip
+    flat = TensorDict(
+        {  # SB3's layout: env by env (swap_and_flatten)
+            "observation": buffer.swap_and_flatten(buffer.observations),
+            "action": buffer.swap_and_flatten(buffer.actions),
+            "action_log_prob": buffer.swap_and_flatten(buffer.log_probs)[:, 0],
+            "advantage": buffer.swap_and_flatten(buffer.advantages),
+            "value_target": buffer.swap_and_flatten(buffer.returns),
+        },
+        batch_size=[n],
+    ).apply(lambda x: torch.as_tensor(x, dtype=torch.float32))
     np.random.seed(123)  # noqa: NPY002  (SB3 draws its minibatch order from NumPy's global generator)
     model.train()
     np.random.seed(123)  # noqa: NPY002
@@ -457,9 +536,14 @@ def test_advantages_are_stable_baselines3_gae_with_truncations_bootstrapped():
     torch.set_num_threads(1)
     model, learner, env = sb3_and_learner(n_envs=4)
     steps = 48
-    collector = Collector(env, learner.explorer(4), frames_per_batch=4 * steps,
-                          total_frames=4 * steps, device=env.device,
-                          auto_register_policy_transforms=False)  # fmt: skip
+    collector = Collector(
+        env,
+        learner.explorer(4),
+        frames_per_batch=4 * steps,
+        total_frames=4 * steps,
+        device=env.device,
+        auto_register_policy_transforms=False,
+    )
     batch = next(iter(collector))
     collector.shutdown()
     env.close()
@@ -474,8 +558,14 @@ def test_advantages_are_stable_baselines3_gae_with_truncations_bootstrapped():
     reward = batch["next", "reward"][..., 0].double() + gamma * final_value * truncated
     starts = torch.zeros_like(done)
     starts[:, 1:] = done[:, :-1]
-    buffer = RolloutBuffer(steps, model.observation_space, model.action_space,
-                           gamma=gamma, gae_lambda=SB3_PPO["gae_lambda"], n_envs=4)  # fmt: skip
+    buffer = RolloutBuffer(
+        steps,
+        model.observation_space,
+        model.action_space,
+        gamma=gamma,
+        gae_lambda=SB3_PPO["gae_lambda"],
+        n_envs=4,
+    )
     buffer.rewards[:] = reward.T.numpy()
     buffer.values[:] = value.T.numpy()
     buffer.episode_starts[:] = starts.T.numpy()

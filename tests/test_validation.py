@@ -262,8 +262,12 @@ def expected_interval_rows() -> list[tuple[str, str]]:
         for m in (sail, throw, topple)
         for names, accepted in m.ARGUMENT_TABLE
     ]
-    groups = ((DinghyParams, "dinghy"), (GustParams, "gust_params"), (BallParams, "ball"),
-              (WallParams, "wall"))  # fmt: skip
+    groups = (
+        (DinghyParams, "dinghy"),
+        (GustParams, "gust_params"),
+        (BallParams, "ball"),
+        (WallParams, "wall"),
+    )
     for cls, group in groups:
         rows += [
             (f"| `{group}.{f.name}` |", f" {f.metadata['interval']} |")  # default between
@@ -309,8 +313,9 @@ def test_a_missing_interval_row_is_noticed():
         kept = "\n".join(line for line in page if not line.startswith(dropped))
         assert missing_interval_rows(kept), dropped
     wrong = "\n".join(
-        line.replace("| [0, 1] |", "| [0, 2] |") if line.startswith("| `ball.restitution`")
+        line.replace("| [0, 1] |", "| [0, 2] |")
+        if line.startswith("| `ball.restitution`")
         else line
         for line in page
-    )  # fmt: skip
+    )
     assert missing_interval_rows(wrong)

@@ -27,16 +27,24 @@ from bbgym.physics.water import (
 )
 
 SEA_PARAMS = WaterParams(
-    wave_amplitude_m=0.36, wavelength_m=10.0, wave_components=3, wave_spread_rad=0.6,
-    current_variation=0.5, current_variation_length_m=60.0,
-)  # fmt: skip
+    wave_amplitude_m=0.36,
+    wavelength_m=10.0,
+    wave_components=3,
+    wave_spread_rad=0.6,
+    current_variation=0.5,
+    current_variation_length_m=60.0,
+)
 """A steep sea (steepness near the limit) with a sheared current."""
 
 
 def _sea(
-    p: WaterParams, batch: int, seed: int = 0, current_mps: float = 0.0,
-    current_set_rad: float = 0.0, wave_direction_rad: float = 0.4,
-) -> Sea:  # fmt: skip
+    p: WaterParams,
+    batch: int,
+    seed: int = 0,
+    current_mps: float = 0.0,
+    current_set_rad: float = 0.0,
+    wave_direction_rad: float = 0.4,
+) -> Sea:
     """A batch of seas with the same current and wave direction and random phases."""
     rng = np.random.default_rng(seed)
     full = np.ones(batch)
@@ -202,8 +210,9 @@ def test_same_numbers_on_every_namespace() -> None:
     sea = sea._replace(time_s=rng.uniform(0, 20, 9))
     reference = np.stack(water_over(SEA_PARAMS, sea, x, y, 0.05))
     # one env on Python floats
-    one = Sea(*(tuple(float(v[4]) for v in f) if isinstance(f, tuple) else float(f[4])
-                for f in sea))  # fmt: skip
+    one = Sea(
+        *(tuple(float(v[4]) for v in f) if isinstance(f, tuple) else float(f[4]) for f in sea)
+    )
     got = water_over(SEA_PARAMS, one, float(x[4]), float(y[4]), 0.05, floats)
     assert np.allclose(got, reference[:, 4], atol=1e-12, rtol=0)
     strict = pytest.importorskip("array_api_strict")

@@ -28,10 +28,22 @@ def wheel(tmp_path_factory) -> Path:
     for name in ("bbgym", "agents", "configs"):
         shutil.copytree(ROOT / name, source / name, ignore=shutil.ignore_patterns("__pycache__"))
     done = subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", str(source), "--no-deps", "--no-build-isolation",
-         "-q", "-w", str(out)],
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            str(source),
+            "--no-deps",
+            "--no-build-isolation",
+            "-q",
+            "-w",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     (path,) = out.glob("bbgym-*.whl")
     return path
@@ -41,8 +53,12 @@ def test_the_wheel_holds_one_package_with_its_presets(wheel):
     names = zipfile.ZipFile(wheel).namelist()
     roots = {name.split("/")[0] for name in names if not name.split("/")[0].endswith(".dist-info")}
     assert roots == {"bbgym"}
-    for preset in ("beachball_sail.yaml", "beachball_throw.yaml", "beachball_topple.yaml",
-                   "ppo.yml"):  # fmt: skip
+    for preset in (
+        "beachball_sail.yaml",
+        "beachball_throw.yaml",
+        "beachball_topple.yaml",
+        "ppo.yml",
+    ):
         assert f"bbgym/configs/{preset}" in names
     assert "bbgym/agents/sail_autopilot.py" in names
     # Every package of the checkout is in the wheel (pyproject lists them by name).
@@ -60,14 +76,22 @@ def test_the_installed_wheel_passes_the_smoke_script(wheel, tmp_path):
     environ["PATH"] = f"{env_dir / 'bin'}{os.pathsep}{environ.get('PATH', '')}"
     done = subprocess.run(
         [str(python), "-m", "pip", "install", "-q", str(wheel)],
-        capture_output=True, text=True, timeout=600, env=environ, cwd=tmp_path,
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=environ,
+        cwd=tmp_path,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     work = tmp_path / "work"
     done = subprocess.run(
         [str(python), str(ROOT / "scripts" / "smoke_installed.py"), "--out", str(work)],
-        capture_output=True, text=True, timeout=600, env=environ, cwd=tmp_path,
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=environ,
+        cwd=tmp_path,
+    )
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert "smoke test passed" in done.stdout
 

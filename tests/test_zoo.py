@@ -151,9 +151,15 @@ def _experiment(env_id: str, log_folder: Path, config: str | None = None):
 
     algo = ALGO_OF[env_id]
     return ExperimentManager(
-        argparse.Namespace(), algo, env_id, str(log_folder), eval_freq=-1, verbose=0,
-        device="cpu", config=config or str(ZOO_FILES[algo]),
-    )  # fmt: skip
+        argparse.Namespace(),
+        algo,
+        env_id,
+        str(log_folder),
+        eval_freq=-1,
+        verbose=0,
+        device="cpu",
+        config=config or str(ZOO_FILES[algo]),
+    )
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -173,8 +179,11 @@ def test_rl_zoo_parses_every_key(env_id, tmp_path):
     assert em.frame_stack is None
     if "normalize" in expected:  # VecNormalize on the rewards alone, at PPO's discount
         assert em.normalize
-        assert em.normalize_kwargs == {"norm_obs": False, "norm_reward": True,
-                                       "gamma": expected["gamma"]}  # fmt: skip
+        assert em.normalize_kwargs == {
+            "norm_obs": False,
+            "norm_reward": True,
+            "gamma": expected["gamma"],
+        }
     else:
         assert not em.normalize
     assert em.n_envs == expected["n_envs"] and em.n_timesteps == expected["n_timesteps"]
@@ -228,11 +237,29 @@ def _zoo_train(
 ) -> subprocess.CompletedProcess:
     algo = ALGO_OF[env_id]
     command = [
-        sys.executable, "-m", "rl_zoo3.train", "--algo", algo, "--env", env_id,
-        "--conf-file", str(ZOO_FILES[algo]), "-n", str(steps), "--seed", "0",
-        "--log-folder", str(log_folder), "--eval-freq", "-1", "--num-threads", "1",
-        "--device", "cpu", *extra,
-    ]  # fmt: skip
+        sys.executable,
+        "-m",
+        "rl_zoo3.train",
+        "--algo",
+        algo,
+        "--env",
+        env_id,
+        "--conf-file",
+        str(ZOO_FILES[algo]),
+        "-n",
+        str(steps),
+        "--seed",
+        "0",
+        "--log-folder",
+        str(log_folder),
+        "--eval-freq",
+        "-1",
+        "--num-threads",
+        "1",
+        "--device",
+        "cpu",
+        *extra,
+    ]
     return subprocess.run(
         command, capture_output=True, text=True, timeout=300, cwd=log_folder.parent
     )
@@ -273,8 +300,16 @@ def test_rl_zoo_trains_sac_from_its_file(tmp_path):
 
     logs = tmp_path / "logs"
     # A short run: learning starts (and the buffer is sized) within it.
-    done = _zoo_train(logs, "--gym-packages", "bbgym", "--hyperparams", "learning_starts:256",
-                      "buffer_size:2048", env_id="BeachballSail-v1", steps=1024)  # fmt: skip
+    done = _zoo_train(
+        logs,
+        "--gym-packages",
+        "bbgym",
+        "--hyperparams",
+        "learning_starts:256",
+        "buffer_size:2048",
+        env_id="BeachballSail-v1",
+        steps=1024,
+    )
     assert done.returncode == 0, (done.stdout[-2000:], done.stderr[-3000:])
     run = logs / "sac" / "BeachballSail-v1_1"
     saved = dict(yaml.unsafe_load((run / "BeachballSail-v1" / "config.yml").read_text()))

@@ -178,9 +178,11 @@ def check_device(device: str, argument: str) -> None:
     if kind not in ("cpu", "cuda"):
         raise UsageError(f"{argument} {device}: cpu or cuda (cuda:N), got a {kind} device")
     if kind == "cuda" and not torch.cuda.is_available():
-        raise UsageError(f"{argument} {device}: torch {torch.__version__} sees no CUDA device "
-                         f"(CUDA build: {torch.version.cuda or 'none'}); without "
-                         f"{argument} it runs on the CPU")  # fmt: skip
+        raise UsageError(
+            f"{argument} {device}: torch {torch.__version__} sees no CUDA device "
+            f"(CUDA build: {torch.version.cuda or 'none'}); without "
+            f"{argument} it runs on the CPU"
+        )
 
 
 class StoreAsPassed(argparse.Action):

@@ -55,25 +55,40 @@ from bbgym.spec import base_ids, spec_of
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", default=base_ids()[0], type=env_id, help="a bbgym env id")
     parser.add_argument(
-        "--preset", default=None,
+        "--preset",
+        default=None,
         help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
-    )  # fmt: skip
-    parser.add_argument("--timesteps", type=positive_int, default=None,
-                        help="training budget (default: the preset's total_timesteps)")  # fmt: skip
+    )
+    parser.add_argument(
+        "--timesteps",
+        type=positive_int,
+        default=None,
+        help="training budget (default: the preset's total_timesteps)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="first training seed")
     parser.add_argument("--seeds", type=positive_int, default=5, help="training seeds")
-    parser.add_argument("--jobs", type=positive_int, default=1,
-                        help="trainings at once (processes; each on --torch-threads)")  # fmt: skip
+    parser.add_argument(
+        "--jobs",
+        type=positive_int,
+        default=1,
+        help="trainings at once (processes; each on --torch-threads)",
+    )
     parser.add_argument("--episodes", type=positive_int, default=100, help="evaluation episodes")
-    parser.add_argument("--out", type=Path, default=None,
-                        help="run folder (default runs/baseline/<env>)")  # fmt: skip
+    parser.add_argument(
+        "--out", type=Path, default=None, help="run folder (default runs/baseline/<env>)"
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     train.add_threads_argument(parser)
-    parser.add_argument("--engine", choices=("sb3", "torchrl"), default="sb3",
-                        help="training library (torchrl: PPO on the env's torch backend, the "
-                        "preset's torchrl section)")  # fmt: skip
-    parser.add_argument("--device", default="cpu",
-                        help="torchrl: the env's and the policy's device (cpu, cuda)")  # fmt: skip
+    parser.add_argument(
+        "--engine",
+        choices=("sb3", "torchrl"),
+        default="sb3",
+        help="training library (torchrl: PPO on the env's torch backend, the "
+        "preset's torchrl section)",
+    )
+    parser.add_argument(
+        "--device", default="cpu", help="torchrl: the env's and the policy's device (cpu, cuda)"
+    )
     parser.add_argument(
         "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
     )
@@ -142,8 +157,9 @@ class _Evaluations:
         if "successes" in data and data["successes"].size:
             successes = 100.0 * np.asarray(data["successes"], dtype=float).reshape(len(steps), -1)
             successes = successes.mean(axis=1)
-        return cls(steps, returns.mean(axis=1), returns.std(axis=1), returns.shape[1],
-                   successes, train_log)  # fmt: skip
+        return cls(
+            steps, returns.mean(axis=1), returns.std(axis=1), returns.shape[1], successes, train_log
+        )
 
     def seeds_label(self) -> str:
         """Which seed the evaluation env had: training's plus the offset."""
@@ -173,8 +189,15 @@ def learning_curve_figure(
     if curve.successes is not None:
         panels.insert(0, (ax_success, curve.successes, "success_rate", 100.0, "{:.0f}%"))
     else:
-        ax_success.text(0.5, 0.5, "no success rate logged", ha="center", va="center",
-                        transform=ax_success.transAxes, color="grey")  # fmt: skip
+        ax_success.text(
+            0.5,
+            0.5,
+            "no success rate logged",
+            ha="center",
+            va="center",
+            transform=ax_success.transAxes,
+            color="grey",
+        )
     _draw_return_spread(ax_return, curve, algo)
     learnt_label = (
         f"{algo.upper()} evaluations ({curve.seeds_label()}, {curve.n_episodes} episodes per point)"
@@ -197,8 +220,9 @@ curve's span."""
 def _draw_return_spread(ax: Any, curve: _Evaluations, algo: str) -> None:
     """The band of the evaluations' return, mean +- std over their episodes."""
     steps, mean, std = curve.steps, curve.mean, curve.std
-    ax.fill_between(steps, mean - std, mean + std, alpha=0.2, label=f"{algo.upper()} mean +- std",
-                    zorder=2)  # fmt: skip
+    ax.fill_between(
+        steps, mean - std, mean + std, alpha=0.2, label=f"{algo.upper()} mean +- std", zorder=2
+    )
     if len(steps) == 1:  # a band of one point is not drawn: show its spread as an error bar
         ax.errorbar(steps, mean, yerr=std, fmt="none", ecolor="tab:blue", alpha=0.5)
 
@@ -212,17 +236,39 @@ def _draw_evaluations(
     i_final = len(steps) - 1
     final = f"{fmt.format(values[i_final])} at {_steps_label(steps[i_final])} steps"
     if i_best == i_final:
-        ax.plot(steps[i_final], values[i_final], "*", ms=15, color="tab:orange", mec="black",
-                label=f"final evaluation, also the best model (best_model.zip): {final}",
-                zorder=5)  # fmt: skip
+        ax.plot(
+            steps[i_final],
+            values[i_final],
+            "*",
+            ms=15,
+            color="tab:orange",
+            mec="black",
+            label=f"final evaluation, also the best model (best_model.zip): {final}",
+            zorder=5,
+        )
         return
-    ax.plot(steps[i_final], values[i_final], "s", ms=11, mfc="none", mec="tab:red", mew=2,
-            label=f"final evaluation: {final}", zorder=5)  # fmt: skip
     ax.plot(
-        steps[i_best], values[i_best], "*", ms=15, color="tab:orange", mec="black", zorder=5,
+        steps[i_final],
+        values[i_final],
+        "s",
+        ms=11,
+        mfc="none",
+        mec="tab:red",
+        mew=2,
+        label=f"final evaluation: {final}",
+        zorder=5,
+    )
+    ax.plot(
+        steps[i_best],
+        values[i_best],
+        "*",
+        ms=15,
+        color="tab:orange",
+        mec="black",
+        zorder=5,
         label=f"best model (best_model.zip): {fmt.format(values[i_best])} at "
         f"{_steps_label(steps[i_best])} steps",
-    )  # fmt: skip
+    )
 
 
 def _draw_references(
@@ -241,16 +287,28 @@ def _draw_references(
         if name in results:
             r = results[name]
             ax.axhline(
-                scale * r[key], color=color, ls="--", lw=1.2, alpha=0.8, zorder=1,
+                scale * r[key],
+                color=color,
+                ls="--",
+                lw=1.2,
+                alpha=0.8,
+                zorder=1,
                 label=f"{name}: {fmt.format(scale * r[key])} ({_seed_range(r)})",
-            )  # fmt: skip
+            )
     if algo in results:
         r = results[algo]
         ax.plot(
-            reevaluated_x, scale * r[key], "D", ms=8, mfc="none", mec="tab:purple", mew=1.5,
-            zorder=5, label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
+            reevaluated_x,
+            scale * r[key],
+            "D",
+            ms=8,
+            mfc="none",
+            mec="tab:purple",
+            mew=1.5,
+            zorder=5,
+            label=f"{evaluated} model re-evaluated: {fmt.format(scale * r[key])} "
             f"({_seed_range(r)})",
-        )  # fmt: skip
+        )
 
 
 def _label_figure(
@@ -320,14 +378,18 @@ def run(args: argparse.Namespace) -> int:
         algo, evaluated, n_envs = settings["algo"], settings["evaluate_model"], settings["n_envs"]
         model_file = EVALUATED_MODELS[evaluated]
     budget = args.timesteps or settings["total_timesteps"]
-    print(f"[1/4] training {algo.upper()} ({args.engine}) on {args.env}: seeds {seeds}, "
-          f"{budget} timesteps each, {n_envs} envs, {args.jobs} at once, {args.torch_threads} "
-          "torch thread(s) each")  # fmt: skip
+    print(
+        f"[1/4] training {algo.upper()} ({args.engine}) on {args.env}: seeds {seeds}, "
+        f"{budget} timesteps each, {n_envs} envs, {args.jobs} at once, {args.torch_threads} "
+        "torch thread(s) each"
+    )
     train_logs, train_wall = _train_or_reuse(args, folders, budget)
     budget = train_logs[seeds[0]]["timesteps"]
 
-    print(f"[2/4] evaluating random, scripted and {algo.upper()} ({len(seeds)} seeds, each "
-          f"seed's {model_file}) over {args.episodes} seeded episodes")  # fmt: skip
+    print(
+        f"[2/4] evaluating random, scripted and {algo.upper()} ({len(seeds)} seeds, each "
+        f"seed's {model_file}) over {args.episodes} seeded episodes"
+    )
     start = time.perf_counter()
     results, per_seed = _evaluate_policies(args.env, algo, folders, model_file, args.episodes)
     eval_wall = time.perf_counter() - start
@@ -339,10 +401,18 @@ def run(args: argparse.Namespace) -> int:
     print(f"[4/4] recording an episode of seed {seeds[0]}'s policy")
     animation = args.out / "episode.gif"
     showcase = spec_of(args.env).showcase
-    write_atomic(animation, lambda path: record.record_to_file(
-        args.env, algo, path, model=folders[seeds[0]] / model_file, seed=showcase.seed,
-        frame_skip=showcase.frame_skip, fps=showcase.fps,
-    ))  # fmt: skip
+    write_atomic(
+        animation,
+        lambda path: record.record_to_file(
+            args.env,
+            algo,
+            path,
+            model=folders[seeds[0]] / model_file,
+            seed=showcase.seed,
+            frame_skip=showcase.frame_skip,
+            fps=showcase.fps,
+        ),
+    )
 
     summary = {
         "env": args.env,
@@ -395,8 +465,9 @@ def _evaluate_policies(
     """Step 2: evaluate random play, the scripted agent and each seed's ``model_file`` on
     the same ``episodes`` seeded episodes. Return the results by policy (the learnt
     policy's over all seeds, under ``algo``) and the learnt policy's per seed."""
-    results = {name: evaluate.evaluate(env, name, episodes, 0, None)
-               for name in ("random", "scripted")}  # fmt: skip
+    results = {
+        name: evaluate.evaluate(env, name, episodes, 0, None) for name in ("random", "scripted")
+    }
     per_seed = []
     for seed, folder in folders.items():
         result = evaluate.evaluate(env, algo, episodes, 0, folder / model_file)
@@ -437,8 +508,9 @@ def _plot_learning_curves(
     re-evaluation; the first seed's is copied into the run folder ``out``."""
     for folder, seed_result in zip(folders.values(), per_seed, strict=True):
         curve_results = {**results, algo: seed_result}
-        plot_learning_curve(folder, curve_results, env, folder / "learning_curve.png", algo,
-                            evaluated)  # fmt: skip
+        plot_learning_curve(
+            folder, curve_results, env, folder / "learning_curve.png", algo, evaluated
+        )
     first = next(iter(folders.values()))
     copy_atomic(first / "learning_curve.png", out / "learning_curve.png")
 

@@ -167,8 +167,9 @@ def time_race(num_races: int, steps: int, seconds: float, seed: int, **backend: 
         else:
             if not race.agents:
                 race.reset()
-            race.step({a: action[i] for i, a in enumerate(race.possible_agents)
-                       if a in race.agents})  # fmt: skip
+            race.step(
+                {a: action[i] for i, a in enumerate(race.possible_agents) if a in race.agents}
+            )
         done += 1
     if fleet is not None and fleet.backend.device != "cpu":
         import torch
@@ -185,9 +186,14 @@ def time_vector(
 
 
 def time_backend(
-    env_id: str, num_envs: int, steps: int, seconds: float, seed: int, repeats: int = 1,
+    env_id: str,
+    num_envs: int,
+    steps: int,
+    seconds: float,
+    seed: int,
+    repeats: int = 1,
     **backend: Any,
-) -> dict[str, float]:  # fmt: skip
+) -> dict[str, float]:
     """Steps/s of a native vector env on a backend (best of ``repeats`` timed loops), its
     first step's time (on torch: the compile time of every part of the step, the
     autoreset's included) and the bytes of its state."""
@@ -246,8 +252,9 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
     where = "" if args.device == "cpu" else f" {args.device}"
     for n in args.backend_envs:
         steps = max(3, args.steps // n)
-        reference = max(time_vector(REFERENCE, n, steps, args.seconds, args.seed)
-                        for _ in range(args.repeats))  # fmt: skip
+        reference = max(
+            time_vector(REFERENCE, n, steps, args.seconds, args.seed) for _ in range(args.repeats)
+        )
         rows.append({"env": REFERENCE, "kind": f"N={n}", "rate": reference, "ratio": 1.0})
         print(f"{REFERENCE} N={n}: {reference:,.0f}/s", flush=True)
         for env_id in args.envs:
@@ -255,17 +262,29 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
             # a NumPy step takes seconds (it ran out a GPU lease once).
             numpy_row = n > max(args.num_envs) and args.device == "cpu"
             kinds = [("numpy float64", {})] if numpy_row else []
-            kinds += [(f"torch {d}{where}" + GRAPH_LABELS[graph],
-                       {"backend": "torch", "dtype": d, "compile": args.compile,
-                        "step_graph": graph, **on_device})
-                      for d in args.dtypes for graph in args.step_graph]  # fmt: skip
+            kinds += [
+                (
+                    f"torch {d}{where}" + GRAPH_LABELS[graph],
+                    {
+                        "backend": "torch",
+                        "dtype": d,
+                        "compile": args.compile,
+                        "step_graph": graph,
+                        **on_device,
+                    },
+                )
+                for d in args.dtypes
+                for graph in args.step_graph
+            ]
             for kind, backend in kinds:
-                r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats,
-                                 **backend)  # fmt: skip
-                rows.append({"env": env_id, "kind": f"N={n} {kind}", **r,
-                             "ratio": r["rate"] / reference})  # fmt: skip
-                print(f"{env_id} N={n} {kind}: {r['rate']:,.0f}/s, "
-                      f"warm-up {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
+                r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats, **backend)
+                rows.append(
+                    {"env": env_id, "kind": f"N={n} {kind}", **r, "ratio": r["rate"] / reference}
+                )
+                print(
+                    f"{env_id} N={n} {kind}: {r['rate']:,.0f}/s, warm-up {r['warmup_s']:.1f} s",
+                    flush=True,
+                )
     return rows
 
 
@@ -322,19 +341,38 @@ def torchrl_training_rows(args: argparse.Namespace, reference: float | None) -> 
         path, env_kwargs = env_preset(env_id)
         settings = {**load_torchrl(path), **args.training_settings}
         batch = settings["num_envs"] * settings["n_steps"]
-        settings.update(total_timesteps=batch * (args.training_batches + 1),
-                        eval_every_timesteps=10**12, eval_episodes=1)  # fmt: skip
+        settings.update(
+            total_timesteps=batch * (args.training_batches + 1),
+            eval_every_timesteps=10**12,
+            eval_episodes=1,
+        )
         with tempfile.TemporaryDirectory() as out:
-            summary = torchrl.train_ppo(env_id, settings, out=Path(out), seed=args.seed,
-                                        device=args.device, env_kwargs=env_kwargs,
-                                        log=lambda line: None)  # fmt: skip
+            summary = torchrl.train_ppo(
+                env_id,
+                settings,
+                out=Path(out),
+                seed=args.seed,
+                device=args.device,
+                env_kwargs=env_kwargs,
+                log=lambda line: None,
+            )
         rate = summary["steady_timesteps_per_s"]
         share = summary["update_time_s"] / summary["train_time_s"]  # learning, not collecting
-        rows.append({"env": env_id, "kind": f"TorchRL PPO N={settings['num_envs']}",
-                     "rate": rate, "ratio": rate / reference if reference else None,
-                     "first_batch_s": summary["first_batch_s"], "update_share": share})  # fmt: skip
-        print(f"{env_id} TorchRL PPO on {args.device}: {rate:,.0f} timesteps/s after the "
-              f"first batch ({summary['first_batch_s']:.1f} s)", flush=True)  # fmt: skip
+        rows.append(
+            {
+                "env": env_id,
+                "kind": f"TorchRL PPO N={settings['num_envs']}",
+                "rate": rate,
+                "ratio": rate / reference if reference else None,
+                "first_batch_s": summary["first_batch_s"],
+                "update_share": share,
+            }
+        )
+        print(
+            f"{env_id} TorchRL PPO on {args.device}: {rate:,.0f} timesteps/s after the "
+            f"first batch ({summary['first_batch_s']:.1f} s)",
+            flush=True,
+        )
     return rows
 
 
@@ -361,8 +399,7 @@ def torch_info() -> dict[str, Any]:
     return info
 
 
-def prepare_scene(name: str, params: dict[str, Any], backend: str,
-                  compile: bool) -> dict[str, Any]:  # fmt: skip
+def prepare_scene(name: str, params: dict[str, Any], backend: str, compile: bool) -> dict[str, Any]:
     """A scene's step on ``backend`` (compiled or eager), its state after a first step, that
     step's time (the compile) and the state's bytes."""
     from bbgym.backends import compiled, resolve_backend
@@ -383,8 +420,9 @@ def prepare_scene(name: str, params: dict[str, Any], backend: str,
     return {"step": step, "state": state, "warmup_s": first, "state_mb": state_mb}
 
 
-def time_scene(name: str, params: dict[str, Any], backend: str, compile: bool,
-               seconds: float, repeats: int) -> dict[str, float]:  # fmt: skip
+def time_scene(
+    name: str, params: dict[str, Any], backend: str, compile: bool, seconds: float, repeats: int
+) -> dict[str, float]:
     """Particle-steps per second of a particle scene (its particles, in every row of its
     batch, times its steps a second; best of ``repeats`` loops of up to ``seconds``) and
     its first step's time and the bytes of its state."""
@@ -414,12 +452,14 @@ def scene_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         reference = time_vector(REFERENCE, n, max(2, args.steps // n), args.seconds, args.seed)
         rows.append({"env": REFERENCE, "kind": f"N={n:,}", "rate": reference, "ratio": 1.0})
         for label, backend, compile in kinds:
-            r = time_scene("sproing", {"size": size}, backend, compile, args.seconds,
-                           args.repeats)  # fmt: skip
+            r = time_scene("sproing", {"size": size}, backend, compile, args.seconds, args.repeats)
             kind = f"{size * size:,} particles x 3, {label}"
             rows.append({"env": "scene sproing", "kind": kind, **r, "ratio": r["rate"] / reference})
-            print(f"scene sproing {kind}: {r['rate']:,.0f} particle-steps/s, "
-                  f"first step {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
+            print(
+                f"scene sproing {kind}: {r['rate']:,.0f} particle-steps/s, "
+                f"first step {r['warmup_s']:.1f} s",
+                flush=True,
+            )
     return rows
 
 
@@ -445,8 +485,9 @@ def sph_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
                 continue
             label = f"{search}, {backend}" + (" float64" if backend == "torch" else "")
             label += " compiled" if compile else ""
-            run = prepare_scene("dam-break", {"particles": n, "neighbour_search": search},
-                                backend, compile)  # fmt: skip
+            run = prepare_scene(
+                "dam-break", {"particles": n, "neighbour_search": search}, backend, compile
+            )
             runs.append((label, run, 0.0))
         for _ in range(args.repeats):  # interleaved: a slow spell of the machine hits all
             for k, (label, run, best) in enumerate(runs):
@@ -457,21 +498,36 @@ def sph_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
                 runs[k] = (label, run, max(best, done / (time.perf_counter() - start)))
         for label, run, steps_per_s in runs:
             first.setdefault(label, steps_per_s)
-            row = {"env": "scene dam-break", "kind": f"{n:,} particles, {label}",
-                   "particles": n, "neighbours": label, "steps_per_s": steps_per_s,
-                   "rate": steps_per_s * n, "cost": first[label] / steps_per_s,
-                   "warmup_s": run["warmup_s"], "state_mb": run["state_mb"]}  # fmt: skip
+            row = {
+                "env": "scene dam-break",
+                "kind": f"{n:,} particles, {label}",
+                "particles": n,
+                "neighbours": label,
+                "steps_per_s": steps_per_s,
+                "rate": steps_per_s * n,
+                "cost": first[label] / steps_per_s,
+                "warmup_s": run["warmup_s"],
+                "state_mb": run["state_mb"],
+            }
             rows.append(row)
-            print(f"scene dam-break {row['kind']}: {steps_per_s:,.2f} steps/s, "
-                  f"first step {run['warmup_s']:.1f} s", flush=True)  # fmt: skip
+            print(
+                f"scene dam-break {row['kind']}: {steps_per_s:,.2f} steps/s, "
+                f"first step {run['warmup_s']:.1f} s",
+                flush=True,
+            )
             del run["state"]
     return rows
 
 
 def measure(args: argparse.Namespace) -> dict[str, Any]:
     if args.scenes:  # the scenes' rows alone
-        return {"rows": [], "backend_rows": scene_rows(args), "sph_rows": sph_rows(args),
-                "memory_mb": {}, "machine": machine_info()}  # fmt: skip
+        return {
+            "rows": [],
+            "backend_rows": scene_rows(args),
+            "sph_rows": sph_rows(args),
+            "memory_mb": {},
+            "machine": machine_info(),
+        }
     if args.device != "cpu":  # the GPU check: the torch rows alone, one short run
         # The step rows first: they are printed as they come, so a run cut short by a
         # lease's end still has the figures the targets name.
@@ -479,13 +535,11 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
         reference = ppo_throughput(REFERENCE, args.ppo_timesteps, args.ppo_n_steps, args.seed)
         rows = []
         if reference is not None:
-            rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": reference,
-                         "ratio": 1.0})  # fmt: skip
+            rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": reference, "ratio": 1.0})
         rows += torchrl_training_rows(args, reference)
         if args.race:
             rows += race_backend_rows(args)
-        return {"rows": rows, "backend_rows": backend, "memory_mb": {},
-                "machine": machine_info()}  # fmt: skip
+        return {"rows": rows, "backend_rows": backend, "memory_mb": {}, "machine": machine_info()}
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     rows: list[dict[str, Any]] = []
 
@@ -510,8 +564,9 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
         rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": ppo_reference, "ratio": 1.0})
         for env_id in args.envs:
             rate = ppo_throughput(env_id, args.ppo_timesteps, args.ppo_n_steps, args.seed)
-            rows.append({"env": env_id, "kind": "PPO 8 envs", "rate": rate,
-                         "ratio": rate / ppo_reference})  # fmt: skip
+            rows.append(
+                {"env": env_id, "kind": "PPO 8 envs", "rate": rate, "ratio": rate / ppo_reference}
+            )
 
     if args.training:
         rows += torchrl_training_rows(args, ppo_reference)
@@ -522,8 +577,7 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
         env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
     }
     backend = backend_rows(args) if args.backends else []
-    return {"rows": rows, "backend_rows": backend, "memory_mb": memory,
-            "machine": machine_info()}  # fmt: skip
+    return {"rows": rows, "backend_rows": backend, "memory_mb": memory, "machine": machine_info()}
 
 
 def race_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
@@ -534,19 +588,33 @@ def race_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
 
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     reference = best(time_single, REFERENCE, args.steps, args.seconds, args.seed)
-    rate = max(time_race(0, args.steps, args.seconds, args.seed)["rate"]
-               for _ in range(args.repeats))  # fmt: skip
-    rows = [{"env": ENV_ID, "kind": f"PettingZoo, {RACE_BOATS} boats", "rate": rate,
-             "ratio": rate / reference}]  # fmt: skip
+    rate = max(
+        time_race(0, args.steps, args.seconds, args.seed)["rate"] for _ in range(args.repeats)
+    )
+    rows = [
+        {
+            "env": ENV_ID,
+            "kind": f"PettingZoo, {RACE_BOATS} boats",
+            "rate": rate,
+            "ratio": rate / reference,
+        }
+    ]
     for n in args.num_envs:
         races = max(n // RACE_BOATS, 1)
         size = races * RACE_BOATS
-        reference = time_vector(REFERENCE, size, max(2, args.steps // size), args.seconds,
-                                args.seed)  # fmt: skip
+        reference = time_vector(
+            REFERENCE, size, max(2, args.steps // size), args.seconds, args.seed
+        )
         rate = time_race(races, max(2, args.steps // size), args.seconds, args.seed)["rate"]
         plural = "s" if races > 1 else ""
-        rows.append({"env": ENV_ID, "kind": f"fleet N={size} ({races} race{plural})", "rate": rate,
-                     "ratio": rate / reference})  # fmt: skip
+        rows.append(
+            {
+                "env": ENV_ID,
+                "kind": f"fleet N={size} ({races} race{plural})",
+                "rate": rate,
+                "ratio": rate / reference,
+            }
+        )
     return rows + (race_backend_rows(args) if args.backends else [])
 
 
@@ -565,22 +633,30 @@ def race_backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
         reference = time_vector(REFERENCE, size, steps, args.seconds, args.seed)
         for dtype in args.dtypes:
             backend = {"backend": "torch", "dtype": dtype, "compile": args.compile, **on_device}
-            runs = [time_race(races, steps, args.seconds, args.seed, **backend)
-                    for _ in range(args.repeats)]  # fmt: skip
+            runs = [
+                time_race(races, steps, args.seconds, args.seed, **backend)
+                for _ in range(args.repeats)
+            ]
             # the best rate; the first run's warm-up, the one that compiled
             r = {"rate": max(run["rate"] for run in runs), "warmup_s": runs[0]["warmup_s"]}
             kind = f"fleet N={size} ({races} races) torch {dtype}{where}"
             rows.append({"env": ENV_ID, "kind": kind, **r, "ratio": r["rate"] / reference})
-            print(f"{ENV_ID} {kind}: {r['rate']:,.0f} boat-steps/s, "
-                  f"warm-up {r['warmup_s']:.1f} s", flush=True)  # fmt: skip
+            print(
+                f"{ENV_ID} {kind}: {r['rate']:,.0f} boat-steps/s, warm-up {r['warmup_s']:.1f} s",
+                flush=True,
+            )
     return rows
 
 
 def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
-    lines = [
-        "| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
-        "|---|---|---:|---:|",
-    ] if result["rows"] else []  # fmt: skip
+    lines = (
+        [
+            "| env | kind | steps/s | ratio to CartPole-v1 (same kind) |",
+            "|---|---|---:|---:|",
+        ]
+        if result["rows"]
+        else []
+    )
     for r in result["rows"]:
         unit = "" if "PPO" in r["kind"] else per_second(r["env"])
         ratio = "-" if r["ratio"] is None else f"{r['ratio']:.4f}"
@@ -594,20 +670,30 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
         ]
         for r in result["backend_rows"]:
             unit = per_second(r["env"])
-            extra = (f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r
-                     else " | ")  # fmt: skip
-            lines.append(f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
-                         f"{r['ratio']:.4f} | {extra} |")  # fmt: skip
+            extra = f"{r['warmup_s']:.1f} s | {r['state_mb']:.1f} MB" if "warmup_s" in r else " | "
+            lines.append(
+                f"| {r['env']} | {r['kind']} | {r['rate']:,.0f}{unit} | "
+                f"{r['ratio']:.4f} | {extra} |"
+            )
     if result.get("sph_rows"):
-        lines += ["", "| scene | particles | neighbours, backend | steps/s | particle-steps/s | "
-                  "cost of a step (x the smallest size's) | first step (compile) |",
-                  "|---|---:|---|---:|---:|---:|---:|"]  # fmt: skip
-        lines += [f"| {r['env']} | {r['particles']:,} | {r['neighbours']} | "
-                  f"{r['steps_per_s']:,.2f} | {r['rate']:,.0f} | {r['cost']:.1f} | "
-                  f"{r['warmup_s']:.1f} s |" for r in result["sph_rows"]]  # fmt: skip
+        lines += [
+            "",
+            "| scene | particles | neighbours, backend | steps/s | particle-steps/s | "
+            "cost of a step (x the smallest size's) | first step (compile) |",
+            "|---|---:|---|---:|---:|---:|---:|",
+        ]
+        lines += [
+            f"| {r['env']} | {r['particles']:,} | {r['neighbours']} | "
+            f"{r['steps_per_s']:,.2f} | {r['rate']:,.0f} | {r['cost']:.1f} | "
+            f"{r['warmup_s']:.1f} s |"
+            for r in result["sph_rows"]
+        ]
     if result["memory_mb"]:
-        lines += ["", f"| env | peak memory of the vector env, N={args.memory_envs} |",
-                  "|---|---:|"]  # fmt: skip
+        lines += [
+            "",
+            f"| env | peak memory of the vector env, N={args.memory_envs} |",
+            "|---|---:|",
+        ]
         lines += [f"| {env_id} | {mb:.1f} MB |" for env_id, mb in result["memory_mb"].items()]
     m = result["machine"]
     lines += [
@@ -618,25 +704,31 @@ def format_table(result: dict[str, Any], args: argparse.Namespace) -> str:
         f"settings: {args.steps} steps per loop, loops capped at {args.seconds} s, best of "
         f"{args.repeats}; PPO: MlpPolicy, 8 envs, n_steps {args.ppo_n_steps}, "
         f"{args.ppo_timesteps} timesteps"
-        + (f"; TorchRL PPO: the preset's settings, {args.training_batches} batches after the "
-           f"first, on {args.device}" if args.training else ""),
-    ]  # fmt: skip
+        + (
+            f"; TorchRL PPO: the preset's settings, {args.training_batches} batches after the "
+            f"first, on {args.device}"
+            if args.training
+            else ""
+        ),
+    ]
     return "\n".join(lines)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="tiny sizes (the test suite)")
     parser.add_argument("--out", type=Path, default=Path("runs/bench"), help="output folder")
-    parser.add_argument("--steps", type=positive_int, default=20000,
-                        help="env-steps per timed loop")  # fmt: skip
-    parser.add_argument("--seconds", type=positive_float, default=2.0,
-                        help="cap of each timed loop")  # fmt: skip
-    parser.add_argument("--repeats", type=positive_int, default=2,
-                        help="repeats, the best is kept")  # fmt: skip
+    parser.add_argument(
+        "--steps", type=positive_int, default=20000, help="env-steps per timed loop"
+    )
+    parser.add_argument(
+        "--seconds", type=positive_float, default=2.0, help="cap of each timed loop"
+    )
+    parser.add_argument("--repeats", type=positive_int, default=2, help="repeats, the best is kept")
     parser.add_argument("--seed", type=int, default=0, help="seed of the envs and actions")
     parser.add_argument("--backends", action="store_true", help="add the torch backend rows")
-    parser.add_argument("--torch-threads", type=positive_int, default=2,
-                        help="torch's thread count")  # fmt: skip
+    parser.add_argument(
+        "--torch-threads", type=positive_int, default=2, help="torch's thread count"
+    )
     add_aliased(
         parser,
         "--envs",
@@ -646,29 +738,49 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=newest_ids(),
         help=f"the envs to time (default: the newest version of each, {' '.join(newest_ids())})",
     )
-    parser.add_argument("--no-compile", dest="compile", action="store_false",
-                        help="torch rows eager (no torch.compile)")  # fmt: skip
-    parser.add_argument("--step-graph", nargs="+", choices=STEP_GRAPHS, default=None,
-                        help="how the torch rows compile the step: auto (as each env "
-                             "compiles unasked), as its parts, as one graph, or several "
-                             "side by side (default: auto; with --device cuda parts and "
-                             "one)")  # fmt: skip
-    parser.add_argument("--dtypes", nargs="+", choices=("float64", "float32"),
-                        default=["float64", "float32"],
-                        help="the torch rows' dtypes (default: float64 float32)")  # fmt: skip
-    parser.add_argument("--training", action="store_true",
-                        help="add TorchRL PPO's training throughput (the torchrl extra; "
-                        "always with --device cuda)")  # fmt: skip
+    parser.add_argument(
+        "--no-compile",
+        dest="compile",
+        action="store_false",
+        help="torch rows eager (no torch.compile)",
+    )
+    parser.add_argument(
+        "--step-graph",
+        nargs="+",
+        choices=STEP_GRAPHS,
+        default=None,
+        help="how the torch rows compile the step: auto (as each env "
+        "compiles unasked), as its parts, as one graph, or several "
+        "side by side (default: auto; with --device cuda parts and "
+        "one)",
+    )
+    parser.add_argument(
+        "--dtypes",
+        nargs="+",
+        choices=("float64", "float32"),
+        default=["float64", "float32"],
+        help="the torch rows' dtypes (default: float64 float32)",
+    )
+    parser.add_argument(
+        "--training",
+        action="store_true",
+        help="add TorchRL PPO's training throughput (the torchrl extra; always with --device cuda)",
+    )
     parser.add_argument(
         "--race", action="store_true", help="add BeachballRace's rows (the race extra: PettingZoo)"
     )
-    parser.add_argument("--scenes", action="store_true",
-                        help="only the course's spring and SPH scenes, on NumPy and torch (the "
-                             "torch extra)")  # fmt: skip
-    parser.add_argument("--device", default="cpu",
-                        help="the torch rows' device; off the CPU (cuda) only those rows run, "
-                             f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "
-                             "(default: cpu)")  # fmt: skip
+    parser.add_argument(
+        "--scenes",
+        action="store_true",
+        help="only the course's spring and SPH scenes, on NumPy and torch (the torch extra)",
+    )
+    parser.add_argument(
+        "--device",
+        default="cpu",
+        help="the torch rows' device; off the CPU (cuda) only those rows run, "
+        f"at N up to {GPU_ENVS[-1]:,}, tensors kept on the device "
+        "(default: cpu)",
+    )
 
 
 def _sizes(args: argparse.Namespace) -> None:
@@ -694,8 +806,13 @@ def _sizes(args: argparse.Namespace) -> None:
         args.backend_envs = (8,)
         args.compile = False
         args.training_batches = 1
-        args.training_settings = {"num_envs": 8, "n_steps": 4, "minibatch_size": 16,
-                                  "n_epochs": 1, "compile_step": False}  # fmt: skip
+        args.training_settings = {
+            "num_envs": 8,
+            "n_steps": 4,
+            "minibatch_size": 16,
+            "n_epochs": 1,
+            "compile_step": False,
+        }
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:

@@ -54,12 +54,14 @@ def save_checkpoint(model: Any, out: Path, algo: str, evaluation: Any) -> Checkp
     steps = int(model.num_timesteps)
     buffer = vecnormalize = best = None
     if isinstance(model, OffPolicyAlgorithm):
-        buffer = write_atomic(_file(out, algo, "replay_buffer", steps, "pkl"),
-                              model.save_replay_buffer)  # fmt: skip
+        buffer = write_atomic(
+            _file(out, algo, "replay_buffer", steps, "pkl"), model.save_replay_buffer
+        )
     normalizer = model.get_vec_normalize_env()
     if normalizer is not None:
-        vecnormalize = write_atomic(_file(out, algo, "vecnormalize", steps, "pkl"),
-                                    lambda p: normalizer.save(str(p)))  # fmt: skip
+        vecnormalize = write_atomic(
+            _file(out, algo, "vecnormalize", steps, "pkl"), lambda p: normalizer.save(str(p))
+        )
     state = evaluation.state()
     write_text_atomic(_file(out, algo, "eval", steps, "json"), json.dumps(state) + "\n")
     if (out / "best_model.zip").exists():
@@ -90,9 +92,14 @@ def latest_checkpoint(out: Path, algo: str) -> Checkpoint | None:
 
     state_file = optional("eval", "json")
     state = json.loads(state_file.read_text()) if state_file else {}
-    return Checkpoint(steps, model, optional("replay_buffer", "pkl"),
-                      optional("vecnormalize", "pkl"), state,
-                      optional("best_model", "zip"))  # fmt: skip
+    return Checkpoint(
+        steps,
+        model,
+        optional("replay_buffer", "pkl"),
+        optional("vecnormalize", "pkl"),
+        state,
+        optional("best_model", "zip"),
+    )
 
 
 def finished_run(out: Path) -> Checkpoint | None:
@@ -108,8 +115,9 @@ def finished_run(out: Path) -> Checkpoint | None:
     def beside(name: str) -> Path | None:
         return out / name if (out / name).exists() else None
 
-    return Checkpoint(steps, model, beside("replay_buffer.pkl"), beside("vecnormalize.pkl"),
-                      {}, None)  # fmt: skip
+    return Checkpoint(
+        steps, model, beside("replay_buffer.pkl"), beside("vecnormalize.pkl"), {}, None
+    )
 
 
 def checkpoint_callback(out: Path, algo: str, every_timesteps: int, evaluation: Any) -> Any:

@@ -28,8 +28,12 @@ from bbgym.spec import spec_of, specs
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     with_demo = [s.versions[0].env_id for s in specs() if s.demo is not None]
-    parser.add_argument("--env", type=env_id, default=with_demo[0] if with_demo else None,
-                        help="an env id whose family has a demo")  # fmt: skip
+    parser.add_argument(
+        "--env",
+        type=env_id,
+        default=with_demo[0] if with_demo else None,
+        help="an env id whose family has a demo",
+    )
     parser.add_argument("--seed", type=int, default=None, help="episode seed (the family's)")
     parser.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder")
     parser.add_argument("--format", choices=["gif", "mp4"], default="gif", help="animation format")

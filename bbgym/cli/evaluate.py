@@ -78,8 +78,10 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
         if model_path is None:
             raise ValueError(f"--policies {name} needs --model")
         if not Path(model_path).is_file():
-            raise ValueError(f"--model {model_path}: no such file (a saved SB3 model .zip, "
-                             "or a policy .pt of --engine torchrl)")  # fmt: skip
+            raise ValueError(
+                f"--model {model_path}: no such file (a saved SB3 model .zip, "
+                "or a policy .pt of --engine torchrl)"
+            )
         if Path(model_path).suffix == ".pt":
             return _torchrl_policy(name, model_path)
         require("stable_baselines3", "train")
@@ -95,8 +97,10 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
 def _torchrl_policy(name: str, model_path: Path) -> Policy:
     """The deterministic action of a PPO policy saved by ``bbgym train --engine torchrl``."""
     if name != "ppo":
-        raise ValueError(f"--model {model_path}: a policy of --engine torchrl is PPO's "
-                         f"(--policies ppo), not {name}")  # fmt: skip
+        raise ValueError(
+            f"--model {model_path}: a policy of --engine torchrl is PPO's "
+            f"(--policies ppo), not {name}"
+        )
     require("torchrl", "torchrl")
     import torch
 
@@ -342,20 +346,34 @@ def format_table(results: list[dict]) -> str:
         "env": ("---", lambda r: r["env"]),
         "policy": ("---", lambda r: r["policy"]),
         "episodes": ("---:", episodes_label),
-        "success (95% CI)": ("---", lambda r: (
-            f"{100 * r['success_rate']:.0f}% "
-            f"({100 * r['success_ci95'][0]:.0f}-{100 * r['success_ci95'][1]:.0f}%)")),
+        "success (95% CI)": (
+            "---",
+            lambda r: (
+                f"{100 * r['success_rate']:.0f}% "
+                f"({100 * r['success_ci95'][0]:.0f}-{100 * r['success_ci95'][1]:.0f}%)"
+            ),
+        ),
         "mean return": ("---:", lambda r: f"{r['mean_return']:.2f}"),
         "mean length": ("---:", lambda r: f"{r['mean_length']:.1f}"),
-        "time to mark": ("---:", lambda r: _with_count(
-            f"{r['mean_time_to_mark_s']:.1f} s", r.get("time_to_mark_episodes"))
-            if r.get("mean_time_to_mark_s") else "-"),
-        "time / oracle": ("---:", lambda r: _with_count(
-            f"{r['time_vs_oracle']:.2f}", r.get("time_vs_oracle_episodes"))
-            if r.get("time_vs_oracle") is not None else "-"),
+        "time to mark": (
+            "---:",
+            lambda r: (
+                _with_count(f"{r['mean_time_to_mark_s']:.1f} s", r.get("time_to_mark_episodes"))
+                if r.get("mean_time_to_mark_s")
+                else "-"
+            ),
+        ),
+        "time / oracle": (
+            "---:",
+            lambda r: (
+                _with_count(f"{r['time_vs_oracle']:.2f}", r.get("time_vs_oracle_episodes"))
+                if r.get("time_vs_oracle") is not None
+                else "-"
+            ),
+        ),
         "failures": ("---", lambda r: format_failures(r.get("outcomes"))),
         "wall time": ("---:", lambda r: f"{r['wall_time_s']:.0f} s"),
-    }  # fmt: skip
+    }
     cells = {name: [cell(r) for r in results] for name, (_, cell) in columns.items()}
     dropped = {
         name for name in ("time to mark", "time / oracle") if all(c == "-" for c in cells[name])
@@ -397,8 +415,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--episodes", type=positive_int, default=100, help="episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
     parser.add_argument("--out", type=Path, default=Path("runs/eval"), help="output folder")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace <out>/<env>.json and .md where they exist")  # fmt: skip
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace <out>/<env>.json and .md where they exist"
+    )
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:

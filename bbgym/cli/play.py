@@ -29,8 +29,9 @@ from bbgym.cli import UsageError, env_id, positive_float, positive_int, require_
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument("--seed", type=int, default=None, help="seed of the first episode")
-    parser.add_argument("--fps", type=positive_int, default=20,
-                        help="frames (sail: env steps) a second")  # fmt: skip
+    parser.add_argument(
+        "--fps", type=positive_int, default=20, help="frames (sail: env steps) a second"
+    )
     parser.add_argument("--zoom", type=positive_float, default=1.0, help="window scale")
 
 

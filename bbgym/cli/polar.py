@@ -123,9 +123,7 @@ def label_layout(fig: Any, ax: Any) -> dict[str, Any]:
     labels' clearance from the curves (px) and whether any two labels overlap."""
     fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
-    radial = [
-        t.get_window_extent(renderer) for t in ax.get_yticklabels() if t.get_text()
-    ]  # fmt: skip
+    radial = [t.get_window_extent(renderer) for t in ax.get_yticklabels() if t.get_text()]
     angular = [t.get_window_extent(renderer) for t in ax.get_xticklabels() if t.get_text()]
     lines = [_display_points(ax, line) for line in ax.get_lines()]
     points = np.concatenate(lines) if lines else np.zeros((0, 2))
@@ -296,9 +294,17 @@ def write_compare_csv(path: Path, rows: list[Comparison]) -> None:
         writer.writerow(COMPARE_COLUMNS)
         for r in rows:
             writer.writerow(
-                [r.source, f"{r.wind_kn:g}", r.quantity, f"{r.true_wind_angle_deg:g}",
-                 f"{r.reference:g}", f"{r.bbgym:.6g}", f"{r.error:.6g}", int(r.within)]
-            )  # fmt: skip
+                [
+                    r.source,
+                    f"{r.wind_kn:g}",
+                    r.quantity,
+                    f"{r.true_wind_angle_deg:g}",
+                    f"{r.reference:g}",
+                    f"{r.bbgym:.6g}",
+                    f"{r.error:.6g}",
+                    int(r.within),
+                ]
+            )
 
 
 def compare_figure(by_wind: dict[float, Polar]) -> Any:
@@ -318,18 +324,35 @@ def compare_figure(by_wind: dict[float, Polar]) -> Any:
     colors = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(by_wind)))
     for color, (kn, polar) in zip(colors, sorted(by_wind.items()), strict=True):
         order = np.argsort(polar.true_wind_angle_rad)
-        ax.plot(polar.true_wind_angle_rad[order], polar.boat_speed_mps[order] / KNOT_MPS,
-                color=color, lw=1.8, label=f"bbgym, {kn:g} kn")  # fmt: skip
+        ax.plot(
+            polar.true_wind_angle_rad[order],
+            polar.boat_speed_mps[order] / KNOT_MPS,
+            color=color,
+            lw=1.8,
+            label=f"bbgym, {kn:g} kn",
+        )
         day = [pt for pt in DAY_2017 if pt.wind_kn == kn]
         binns = [pt for pt in BINNS_2002 if pt.wind_kn == kn]
         if day:
-            ax.plot([math.radians(pt.true_wind_angle_deg) for pt in day],
-                    [pt.boat_speed_kn for pt in day], "^", color=color, ms=9, mec="black",
-                    label=f"Day 2017 best upwind, {kn:g} kn")  # fmt: skip
+            ax.plot(
+                [math.radians(pt.true_wind_angle_deg) for pt in day],
+                [pt.boat_speed_kn for pt in day],
+                "^",
+                color=color,
+                ms=9,
+                mec="black",
+                label=f"Day 2017 best upwind, {kn:g} kn",
+            )
         if binns:
-            ax.plot([math.radians(pt.true_wind_angle_deg) for pt in binns],
-                    [pt.boat_speed_kn for pt in binns], "o", color=color, ms=7, mec="black",
-                    label=f"Binns 2002, {kn:g} kn")  # fmt: skip
+            ax.plot(
+                [math.radians(pt.true_wind_angle_deg) for pt in binns],
+                [pt.boat_speed_kn for pt in binns],
+                "o",
+                color=color,
+                ms=7,
+                mec="black",
+                label=f"Binns 2002, {kn:g} kn",
+            )
     ax.set_thetagrids(range(0, 181, 30), [f"{a}{DEG}" for a in range(0, 181, 30)])
     ax.set_xlabel(f"true wind angle: 0{DEG} head to wind; boat speed in knots", labelpad=8)
     ax.set_title("The calibrated sloop against a Laser's polar", pad=16)
@@ -353,8 +376,10 @@ def run_compare(out: Path) -> int:
     fig = compare_figure(by_wind)
     fig.savefig(png, dpi=100, bbox_inches="tight")
     plt.close(fig)
-    print(f"polar --compare: the calibrated sloop at {len(by_wind)} wind speeds, "
-          f"computed in {seconds:.1f} s")  # fmt: skip
+    print(
+        f"polar --compare: the calibrated sloop at {len(by_wind)} wind speeds, "
+        f"computed in {seconds:.1f} s"
+    )
     print(comparison_table(rows))
     missed = sum(not r.within for r in rows)
     print(f"{len(rows) - missed} of {len(rows)} reference figures within tolerance")
@@ -364,15 +389,21 @@ def run_compare(out: Path) -> int:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--wind-speed", type=positive_float, default=None,
-                        help="true wind, m/s (default 5)")  # fmt: skip
-    parser.add_argument("--sail-model", choices=SAIL_MODELS, default=None,
-                        help="sail model (default lift)")  # fmt: skip
-    parser.add_argument("--compare", action="store_true",
-                        help="the calibrated sloop against a Laser's reference polar")  # fmt: skip
+    parser.add_argument(
+        "--wind-speed", type=positive_float, default=None, help="true wind, m/s (default 5)"
+    )
+    parser.add_argument(
+        "--sail-model", choices=SAIL_MODELS, default=None, help="sail model (default lift)"
+    )
+    parser.add_argument(
+        "--compare",
+        action="store_true",
+        help="the calibrated sloop against a Laser's reference polar",
+    )
     parser.add_argument("--out", type=Path, default=Path("runs/polar"), help="output folder")
-    parser.add_argument("--step-deg", type=positive_float, default=1.0,
-                        help="angle grid step, deg, in (0, 90]")  # fmt: skip
+    parser.add_argument(
+        "--step-deg", type=positive_float, default=1.0, help="angle grid step, deg, in (0, 90]"
+    )
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:

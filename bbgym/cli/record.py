@@ -113,9 +113,12 @@ class Mp4Writer:
         if self._gen is None:
             height, width = frame.shape[:2]
             self._gen = self._write_frames(
-                str(self.path), (width, height), fps=self.fps, quality=7,
+                str(self.path),
+                (width, height),
+                fps=self.fps,
+                quality=7,
                 ffmpeg_log_level="error",
-            )  # fmt: skip
+            )
             self._gen.send(None)
         for _ in range(max(1, periods)):
             self._gen.send(frame)
@@ -313,8 +316,12 @@ def is_race(args: argparse.Namespace) -> bool:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = "Formats: .gif (Pillow), .mp4 (imageio-ffmpeg). Runs headless."
-    parser.add_argument("--env", required=True, type=race_or_env_id,
-                        help="a bbgym env id, or the race's PettingZoo id")  # fmt: skip
+    parser.add_argument(
+        "--env",
+        required=True,
+        type=race_or_env_id,
+        help="a bbgym env id, or the race's PettingZoo id",
+    )
     add_aliased(
         parser,
         "--policy",
@@ -323,25 +330,35 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=POLICIES,
         help="the policy to record",
     )
-    parser.add_argument("--model", type=Path, default=None,
-                        help="saved PPO or SAC model (.zip), or a PPO policy .pt of --engine "
-                        "torchrl")  # fmt: skip
+    parser.add_argument(
+        "--model",
+        type=Path,
+        default=None,
+        help="saved PPO or SAC model (.zip), or a PPO policy .pt of --engine torchrl",
+    )
     parser.add_argument("--seed", type=int, default=0, help="episode seed")
     parser.add_argument(
-        "--out", type=Path, default=None,
+        "--out",
+        type=Path,
+        default=None,
         help="output file, .gif or .mp4 (default runs/record/<env>-<policy>-seed<seed>.gif)",
-    )  # fmt: skip
+    )
     parser.add_argument(
-        "--fps", type=positive_float, default=DEFAULT_FPS,
+        "--fps",
+        type=positive_float,
+        default=DEFAULT_FPS,
         help="playback rate (20: real time for the ball envs, 5x for sailing)",
-    )  # fmt: skip
+    )
     parser.add_argument("--frame-skip", type=positive_int, default=1, help="keep every K-th frame")
-    parser.add_argument("--max-steps", type=positive_int, default=None,
-                        help="cut the episode short")  # fmt: skip
     parser.add_argument(
-        "--hold", type=float, default=1.0,
+        "--max-steps", type=positive_int, default=None, help="cut the episode short"
+    )
+    parser.add_argument(
+        "--hold",
+        type=float,
+        default=1.0,
         help="seconds the end of each throw and of the episode is shown",
-    )  # fmt: skip
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -364,9 +381,16 @@ def run(args: argparse.Namespace) -> int:
     if is_race(args):
         return run_race(args)
     stats = record_to_file(
-        args.env, args.policy, args.out, model=args.model, seed=args.seed, fps=args.fps,
-        frame_skip=args.frame_skip, max_steps=args.max_steps, hold=args.hold,
-    )  # fmt: skip
+        args.env,
+        args.policy,
+        args.out,
+        model=args.model,
+        seed=args.seed,
+        fps=args.fps,
+        frame_skip=args.frame_skip,
+        max_steps=args.max_steps,
+        hold=args.hold,
+    )
     capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
     print(
         f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
@@ -404,9 +428,16 @@ def record_to_file(
         out.parent.mkdir(parents=True, exist_ok=True)
         writer = open_writer(out, fps)
         stats = record_episode(
-            env, policy, seed, writer, frame_skip=frame_skip, max_steps=max_steps,
-            hold_periods=max(1, round(hold * fps)), title=title, policy_name=policy_name,
-        )  # fmt: skip
+            env,
+            policy,
+            seed,
+            writer,
+            frame_skip=frame_skip,
+            max_steps=max_steps,
+            hold_periods=max(1, round(hold * fps)),
+            title=title,
+            policy_name=policy_name,
+        )
         writer.close()
         stats["file_frames"] = file_frames(writer, stats["frames"])
     finally:
@@ -425,9 +456,16 @@ def run_race(args: argparse.Namespace) -> int:
             f"{as_passed(args, 'policy', '--policy')} {args.policy}: a race records "
             f"{', '.join(RACE_POLICIES)}"
         )
-    stats = record_race(args.policy, args.out, model=args.model, seed=args.seed, fps=args.fps,
-                        frame_skip=args.frame_skip, max_steps=args.max_steps,
-                        hold=args.hold)  # fmt: skip
+    stats = record_race(
+        args.policy,
+        args.out,
+        model=args.model,
+        seed=args.seed,
+        fps=args.fps,
+        frame_skip=args.frame_skip,
+        max_steps=args.max_steps,
+        hold=args.hold,
+    )
     capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
     print(
         f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
@@ -446,9 +484,10 @@ def race_model_settings(model: Path) -> dict[str, Any]:
         found = json.loads(settings.read_text())
         return {"learners": int(found["learners"]), "residual": bool(found["residual"])}
     except (OSError, KeyError, TypeError, ValueError) as err:
-        raise UsageError(f"--model {model}: {settings.name} beside it should say how it races "
-                         f"(learners, residual; scripts/race_selfplay.py writes it): {err}"
-                         ) from None  # fmt: skip
+        raise UsageError(
+            f"--model {model}: {settings.name} beside it should say how it races "
+            f"(learners, residual; scripts/race_selfplay.py writes it): {err}"
+        ) from None
 
 
 def race_outcome(place: np.ndarray, learned: np.ndarray) -> str:
@@ -461,10 +500,17 @@ def race_outcome(place: np.ndarray, learned: np.ndarray) -> str:
 
 
 def record_race(
-    policy_name: str, out: Path, *, model: Path | None = None, seed: int = 0,
-    fps: float = DEFAULT_FPS, frame_skip: int = 1, max_steps: int | None = None,
-    hold: float = 1.0, title: bool = True,
-) -> dict[str, Any]:  # fmt: skip
+    policy_name: str,
+    out: Path,
+    *,
+    model: Path | None = None,
+    seed: int = 0,
+    fps: float = DEFAULT_FPS,
+    frame_skip: int = 1,
+    max_steps: int | None = None,
+    hold: float = 1.0,
+    title: bool = True,
+) -> dict[str, Any]:
     """Record one race (``reset(seed=seed)``) into ``out``: every boat by the scripted
     racer (``scripted``), at random (``random``), or the learning boats by the self-play
     model ``model`` (``ppo``) against scripted racers; return its statistics."""
@@ -489,9 +535,12 @@ def record_race(
     out.parent.mkdir(parents=True, exist_ok=True)
     writer = open_writer(out, fps)
     frames = _CaptionedFrames(
-        writer, f"{ENV_ID} \N{MIDDLE DOT} {policy_name}", title=title, frame_skip=frame_skip,
+        writer,
+        f"{ENV_ID} \N{MIDDLE DOT} {policy_name}",
+        title=title,
+        frame_skip=frame_skip,
         hold_periods=max(1, round(hold * fps)),
-    )  # fmt: skip
+    )
     try:
         obs, _ = env.reset(seed=seed)
 
@@ -520,7 +569,11 @@ def record_race(
     finally:
         renderer.close()
         env.close()
-    return {"steps": steps, "frames": frames.kept, "outcome": outcome,
-            "file_frames": file_frames(writer, frames.kept),
-            "capped": not bool(env.fleet.races_ended[0]),
-            "place": state.place[0].tolist()}  # fmt: skip
+    return {
+        "steps": steps,
+        "frames": frames.kept,
+        "outcome": outcome,
+        "file_frames": file_frames(writer, frames.kept),
+        "capped": not bool(env.fleet.races_ended[0]),
+        "place": state.place[0].tolist(),
+    }

@@ -33,14 +33,28 @@ from bbgym.render.gif import MAX_GIF_FRAMES
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("name", nargs="?", metavar="NAME", help="the scene (see --list)")
     parser.add_argument("--list", action="store_true", help="list the scenes and their parameters")
-    parser.add_argument("--steps", type=nonnegative_int, default=None,
-                        help="time steps to run (default: the scene's own)")  # fmt: skip
-    parser.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
-                        help="a parameter of the scene (repeatable)")  # fmt: skip
-    parser.add_argument("--backend", choices=["numpy", "torch"], default="numpy",
-                        help="the array namespace it runs on (torch: the torch extra)")  # fmt: skip
-    parser.add_argument("--out", type=Path, default=None,
-                        help="write an animation, .gif or .mp4 (default: none)")  # fmt: skip
+    parser.add_argument(
+        "--steps",
+        type=nonnegative_int,
+        default=None,
+        help="time steps to run (default: the scene's own)",
+    )
+    parser.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a parameter of the scene (repeatable)",
+    )
+    parser.add_argument(
+        "--backend",
+        choices=["numpy", "torch"],
+        default="numpy",
+        help="the array namespace it runs on (torch: the torch extra)",
+    )
+    parser.add_argument(
+        "--out", type=Path, default=None, help="write an animation, .gif or .mp4 (default: none)"
+    )
     parser.add_argument("--fps", type=positive_float, default=30.0, help="animation frame rate")
     frames_help = (
         "frames an animation keeps at most: a longer run is drawn every n-th step, still "

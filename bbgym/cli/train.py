@@ -85,32 +85,55 @@ REPLAY_BUFFER_FILE = "replay_buffer.pkl"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
     parser.add_argument(
-        "--preset", default=None,
+        "--preset",
+        default=None,
         help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
-    )  # fmt: skip
-    parser.add_argument("--timesteps", type=positive_int, default=None,
-                        help="sb3: the budget (default: the preset's total_timesteps)")  # fmt: skip
+    )
+    parser.add_argument(
+        "--timesteps",
+        type=positive_int,
+        default=None,
+        help="sb3: the budget (default: the preset's total_timesteps)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="training seed")
-    parser.add_argument("--out", type=Path, default=None,
-                        help="run folder (default runs/<engine>/<env>-seed<seed>)")  # fmt: skip
-    parser.add_argument("--resume", action="store_true",
-                        help="sb3: continue the run in --out from its newest checkpoint up to "
-                        "the budget")  # fmt: skip
+    parser.add_argument(
+        "--out", type=Path, default=None, help="run folder (default runs/<engine>/<env>-seed<seed>)"
+    )
+    parser.add_argument(
+        "--resume",
+        action="store_true",
+        help="sb3: continue the run in --out from its newest checkpoint up to the budget",
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_threads_argument(parser)
     parser.add_argument("--engine", choices=ENGINES, default="sb3", help="training library")
-    parser.add_argument("--device", default="cpu",
-                        help="torchrl: the env's and the policy's device (cpu, cuda)")  # fmt: skip
-    parser.add_argument("--iterations", type=positive_int, default=10,
-                        help="rllib: training iterations")  # fmt: skip
-    parser.add_argument("--num-env-runners", type=nonnegative_int, default=2,
-                        help="rllib: env runner processes (0: sample in the driver)")  # fmt: skip
-    parser.add_argument("--num-envs-per-env-runner", type=positive_int, default=None,
-                        help="rllib: vector env size per runner (default: n_envs)")  # fmt: skip
-    parser.add_argument("--address", default=None,
-                        help="rllib: a Ray cluster to join ('auto' or host:port)")  # fmt: skip
-    parser.add_argument("--num-cpus", type=positive_int, default=None,
-                        help="rllib: CPUs of the local Ray started without --address")  # fmt: skip
+    parser.add_argument(
+        "--device", default="cpu", help="torchrl: the env's and the policy's device (cpu, cuda)"
+    )
+    parser.add_argument(
+        "--iterations", type=positive_int, default=10, help="rllib: training iterations"
+    )
+    parser.add_argument(
+        "--num-env-runners",
+        type=nonnegative_int,
+        default=2,
+        help="rllib: env runner processes (0: sample in the driver)",
+    )
+    parser.add_argument(
+        "--num-envs-per-env-runner",
+        type=positive_int,
+        default=None,
+        help="rllib: vector env size per runner (default: n_envs)",
+    )
+    parser.add_argument(
+        "--address", default=None, help="rllib: a Ray cluster to join ('auto' or host:port)"
+    )
+    parser.add_argument(
+        "--num-cpus",
+        type=positive_int,
+        default=None,
+        help="rllib: CPUs of the local Ray started without --address",
+    )
 
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
@@ -120,9 +143,11 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
 
 def add_threads_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--torch-threads", type=positive_int, default=1,
+        "--torch-threads",
+        type=positive_int,
+        default=1,
         help="torch's thread count while training (the result depends on it: pinned)",
-    )  # fmt: skip
+    )
 
 
 def pin_torch_threads(threads: int) -> None:
@@ -171,9 +196,15 @@ def run(args: argparse.Namespace) -> int:
         algo = load_training(resolve_preset(args.env, args.preset)[0])[1]["algo"]
         args.out = Path("runs") / algo / f"{args.env}-seed{args.seed}"
     summary = train_sb3(
-        args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=args.out,
-        resume=args.resume, progress=not args.no_progress, torch_threads=args.torch_threads,
-    )  # fmt: skip
+        args.env,
+        preset=args.preset,
+        timesteps=args.timesteps,
+        seed=args.seed,
+        out=args.out,
+        resume=args.resume,
+        progress=not args.no_progress,
+        torch_threads=args.torch_threads,
+    )
     print(format_summary(summary, args.out))
     return 0
 
@@ -184,8 +215,12 @@ def format_summary(summary: dict[str, Any], out: Path) -> str:
     asked = summary.get("timesteps_requested")
     trained = summary["timesteps_trained"]
     rounded = f" (asked {asked})" if asked is not None and asked != trained else ""
-    files = [Path(summary["model"]).name, Path(summary["best_model"]).name,
-             "train.json with the full summary", "eval/"]  # fmt: skip
+    files = [
+        Path(summary["model"]).name,
+        Path(summary["best_model"]).name,
+        "train.json with the full summary",
+        "eval/",
+    ]
     if summary.get("engine") == "sb3":
         files.append("tb/")
     lines = [
@@ -232,8 +267,10 @@ def round_budget(algo: str, algo_kwargs: dict[str, Any], n_envs: int, budget: in
     if granule is None or budget % granule == 0:
         return budget
     rounded = -(-budget // granule) * granule
-    print(f"{budget} timesteps round up to {rounded}: stable-baselines3 {algo.upper()} stops "
-          f"only between collections of {granule} timesteps ({why})")  # fmt: skip
+    print(
+        f"{budget} timesteps round up to {rounded}: stable-baselines3 {algo.upper()} stops "
+        f"only between collections of {granule} timesteps ({why})"
+    )
     return rounded
 
 
@@ -285,8 +322,12 @@ def train_sb3(
     evaluation, checkpoints = _training_callbacks(eval_env, settings, out, point)
     model = _load_or_build_model(algo, algo_kwargs, vec_env, seed, out, point)
     first = int(model.num_timesteps)  # 0, or where --resume continues
-    round_budget(algo, {k: v for k, v in algo_kwargs.items() if k != "policy"},
-                 settings["n_envs"], budget - first)  # fmt: skip
+    round_budget(
+        algo,
+        {k: v for k, v in algo_kwargs.items() if k != "policy"},
+        settings["n_envs"],
+        budget - first,
+    )
     start = time.perf_counter()
     model.learn(
         total_timesteps=budget - first,
@@ -391,13 +432,17 @@ def resume_point(out: Path, algo: str, budget: int) -> Any:
     if finished is not None and (point is None or finished.timesteps > point.timesteps):
         point = finished
     if point is None:
-        raise UsageError(f"--resume: no {algo.upper()} checkpoint in {out / 'checkpoints'} "
-                         "(a run of this bbgym saves one every checkpoint_every_timesteps "
-                         "and at its end)")  # fmt: skip
+        raise UsageError(
+            f"--resume: no {algo.upper()} checkpoint in {out / 'checkpoints'} "
+            "(a run of this bbgym saves one every checkpoint_every_timesteps "
+            "and at its end)"
+        )
     if point.timesteps >= budget:
-        raise UsageError(f"--resume: the run in {out} has trained {point.timesteps} "
-                         f"timesteps, the budget is {budget}: nothing is left to train "
-                         "(pass a larger --timesteps)")  # fmt: skip
+        raise UsageError(
+            f"--resume: the run in {out} has trained {point.timesteps} "
+            f"timesteps, the budget is {budget}: nothing is left to train "
+            "(pass a larger --timesteps)"
+        )
     print(f"resuming from {point.model} at {point.timesteps} of {budget} timesteps")
     return point
 
@@ -411,17 +456,23 @@ def _load_or_build_model(
     from bbgym.sb3 import algorithm_class, load_model
 
     if point is not None:
-        model = load_model(point.model, algo, "--resume:", env=vec_env,
-                           tensorboard_log=str(out / "tb"))  # fmt: skip
+        model = load_model(
+            point.model, algo, "--resume:", env=vec_env, tensorboard_log=str(out / "tb")
+        )
         if point.replay_buffer is not None:
             model.load_replay_buffer(point.replay_buffer)
         return model
     kwargs = dict(algo_kwargs)
     policy = kwargs.pop("policy")
     return algorithm_class(algo)(
-        policy, vec_env, seed=seed, device="cpu", tensorboard_log=str(out / "tb"),
-        verbose=0, **kwargs,
-    )  # fmt: skip
+        policy,
+        vec_env,
+        seed=seed,
+        device="cpu",
+        tensorboard_log=str(out / "tb"),
+        verbose=0,
+        **kwargs,
+    )
 
 
 def _save_run(model: Any, out: Path, algo: str, evaluation: Any) -> None:
@@ -489,8 +540,10 @@ def _final_eval_callback() -> type:
 
         def state(self) -> dict[str, Any]:
             """What a checkpoint keeps of the evaluation (its log is the run's own)."""
-            return {"best_mean_reward": float(self.best_mean_reward),
-                    "best_timesteps": self.best_timesteps}  # fmt: skip
+            return {
+                "best_mean_reward": float(self.best_mean_reward),
+                "best_timesteps": self.best_timesteps,
+            }
 
         def restore(self, point: Any, n_envs: int) -> None:
             """Continue from the checkpoint ``point``: its best model and best return, the
@@ -596,9 +649,14 @@ def _run_torchrl(args: argparse.Namespace) -> int:
         raise UsageError("--resume is for --engine sb3")
     out = args.out or Path("runs") / "torchrl" / f"{args.env}-seed{args.seed}"
     summary = train_torchrl(
-        args.env, preset=args.preset, timesteps=args.timesteps, seed=args.seed, out=out,
-        device=args.device, torch_threads=args.torch_threads,
-    )  # fmt: skip
+        args.env,
+        preset=args.preset,
+        timesteps=args.timesteps,
+        seed=args.seed,
+        out=out,
+        device=args.device,
+        torch_threads=args.torch_threads,
+    )
     print(format_summary(summary, out))
     return 0
 
@@ -638,8 +696,9 @@ def train_torchrl(
 
     out.mkdir(parents=True, exist_ok=True)
     copy_atomic(path, out / "config.yaml")
-    summary = torchrl.train_ppo(env, settings, out=out, seed=seed, device=device,
-                                timesteps=timesteps, env_kwargs=env_kwargs)  # fmt: skip
+    summary = torchrl.train_ppo(
+        env, settings, out=out, seed=seed, device=device, timesteps=timesteps, env_kwargs=env_kwargs
+    )
     summary.update(config=str(path), **run_provenance(seed, torch_threads))
     write_text_atomic(out / "train.json", json.dumps(summary, indent=2) + "\n")
     return summary

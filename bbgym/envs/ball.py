@@ -13,8 +13,9 @@ from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.validation import interval
 from bbgym.physics.wind import GustParams
 
-BALL_GUSTS = GustParams(speed_std=0.25, shift_std_rad=math.radians(15.0), time_constant_s=10.0,
-                        smoothing_s=2.0)  # fmt: skip
+BALL_GUSTS = GustParams(
+    speed_std=0.25, shift_std_rad=math.radians(15.0), time_constant_s=10.0, smoothing_s=2.0
+)
 """Gusts near the ground: stronger and quicker than on open water."""
 
 # Accepted intervals of the arguments and reset options every ball task takes.

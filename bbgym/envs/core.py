@@ -246,13 +246,15 @@ def check_info_keys(info_keys: Any, task: Any) -> tuple[str, ...] | None:
     if info_keys is None:
         return None
     if isinstance(info_keys, str) or not isinstance(info_keys, (tuple, list)):
-        raise TypeError(f"info_keys must be a list or tuple of info names or None, got "
-                        f"{info_keys!r}")  # fmt: skip
+        raise TypeError(
+            f"info_keys must be a list or tuple of info names or None, got {info_keys!r}"
+        )
     names = task_info_names(task)
     unknown = [k for k in info_keys if k not in names]
     if unknown:
-        raise ValueError(f"info_keys: {unknown} are not infos of this env; its infos: "
-                         f"{', '.join(names)}")  # fmt: skip
+        raise ValueError(
+            f"info_keys: {unknown} are not infos of this env; its infos: {', '.join(names)}"
+        )
     return tuple(info_keys)
 
 
@@ -343,8 +345,7 @@ class CoreVectorEnv(VectorEnv):
         if not isinstance(max_episode_steps, (int, np.integer)) or max_episode_steps < 1:
             raise ValueError(f"max_episode_steps must be an int >= 1, got {max_episode_steps!r}")
         check_render_mode(render_mode, self.metadata["render_modes"])
-        self.backend = backends.resolve_backend(backend, device, dtype, output, compile,
-                                                step_graph)  # fmt: skip
+        self.backend = backends.resolve_backend(backend, device, dtype, output, compile, step_graph)
         self.task = self.task_class(**kwargs)
         self.info_keys = check_info_keys(info_keys, self.task)
         self.num_envs = int(num_envs)
@@ -403,8 +404,9 @@ class CoreVectorEnv(VectorEnv):
             )
             return
         xp, m = self.xp, self._tensor(mask)
-        noise = counter_initial_noise(self.task, self._keys, self._counter,
-                                      self.backend.float_dtype, xp)  # fmt: skip
+        noise = counter_initial_noise(
+            self.task, self._keys, self._counter, self.backend.float_dtype, xp
+        )
         state = restart(self.task, self.state, m, noise, options, xp)
         # Distinct tensors per leaf: the compiled step's guards would otherwise see the
         # fields a fresh state shares (zeros) as aliases, and recompile once they part.
@@ -431,8 +433,9 @@ class CoreVectorEnv(VectorEnv):
         """The torch step: the parts of :class:`VectorStep`, each compiled, called one by
         one (``step_graph="parts"``), or the whole step as one compiled call
         (``step_graph="one"``, :meth:`VectorStep.fused`); eager without ``compile``."""
-        step = VectorStep(self.task, self.max_episode_steps, self.xp, self.backend.float_dtype,
-                          self.info_keys)  # fmt: skip
+        step = VectorStep(
+            self.task, self.max_episode_steps, self.xp, self.backend.float_dtype, self.info_keys
+        )
         if self.step_graph == "one":
             fused = backends.compiled(step.fused, self.backend)
 
@@ -487,8 +490,12 @@ class CoreVectorEnv(VectorEnv):
         base = seeds[0]
         if base is None:
             base = int(np.random.SeedSequence().generate_state(1)[0])
-        keys = np.array([backends.env_keys(s if s is not None else base + i, 1, np)[0]
-                         for i, s in enumerate(seeds)])  # fmt: skip
+        keys = np.array(
+            [
+                backends.env_keys(s if s is not None else base + i, 1, np)[0]
+                for i, s in enumerate(seeds)
+            ]
+        )
         self._keys = self._tensor(keys)
         self._counter = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
 
@@ -543,8 +550,9 @@ class CoreVectorEnv(VectorEnv):
         if hasattr(actions, "detach"):  # a tensor from a GPU-resident learner
             a = check_tensor_actions(actions, self.action_space.shape, self.backend)
         else:
-            a = self._tensor(self.task.check_action(actions, self.num_envs),
-                             self.backend.float_dtype)  # fmt: skip
+            a = self._tensor(
+                self.task.check_action(actions, self.num_envs), self.backend.float_dtype
+            )
         any_restarting = self._any_restarting
         first = self._compiled_step is None
         if first:
@@ -554,8 +562,15 @@ class CoreVectorEnv(VectorEnv):
             any_restarting = True
         restarting = self._autoreset
         with self._compile_logged() if first and self.backend.compile else nullcontext():
-            out = self._compiled_step(self.state, a, self._keys, self._counter, self._steps,
-                                      restarting, any_restarting=any_restarting)  # fmt: skip
+            out = self._compiled_step(
+                self.state,
+                a,
+                self._keys,
+                self._counter,
+                self._steps,
+                restarting,
+                any_restarting=any_restarting,
+            )
         self.state, obs, reward, terminated, truncated, info, self._counter, self._steps = out
         self._autoreset = terminated | truncated
         self._any_restarting = None
@@ -567,8 +582,13 @@ class CoreVectorEnv(VectorEnv):
         self._on_step(a)
         if self.render_mode == LIST_MODE:
             self._collect(np.asarray(backends.to_numpy(restarting), dtype=bool))
-        return (self._out(obs), self._out(reward), self._out(terminated),
-                self._out(truncated), self._vector_info(info))  # fmt: skip
+        return (
+            self._out(obs),
+            self._out(reward),
+            self._out(terminated),
+            self._out(truncated),
+            self._vector_info(info),
+        )
 
     def _compile_logged(self) -> Any:
         """:func:`backends.compile_logged` for this env's first step (where its parts
@@ -598,8 +618,9 @@ class CoreVectorEnv(VectorEnv):
                 for i in np.flatnonzero(mask[: self._drawn_envs]):
                     self._collected[i].append(self._scene_env(int(i)))
         m = self.task.measure(self.state, self.xp)
-        return self._out(columns_to_observation(self.task.observation(self.state, m, self.xp),
-                                                self.xp))  # fmt: skip
+        return self._out(
+            columns_to_observation(self.task.observation(self.state, m, self.xp), self.xp)
+        )
 
     def _out(self, x: Any) -> Any:
         return x if self.backend.output == "torch" else backends.to_numpy(x)

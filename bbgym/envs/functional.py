@@ -67,8 +67,9 @@ class TaskCore:
         """Which envs may draw step noise (an env's stream must not depend on the others)."""
         raise NotImplementedError
 
-    def transition(self, state: Any, action: Any, noise: Any, xp: Any,
-                   record: bool = False) -> tuple[Any, Any]:  # fmt: skip
+    def transition(
+        self, state: Any, action: Any, noise: Any, xp: Any, record: bool = False
+    ) -> tuple[Any, Any]:
         """:meth:`begin`, ``chunks`` times :meth:`chunk` (stopping early once
         :meth:`all_done` where ``stops_early``), then :meth:`end`. ``noise`` is a sequence
         of ``2 * step_noise_pairs`` arrays (or floats); ``record`` asks for the samples a
@@ -147,8 +148,9 @@ def stack_pair(x: Any, y: Any, xp: Any) -> Any:
     return xp.stack((x, y), axis=1)
 
 
-def settle(task: Any, moved: Any, restarting: Any, steps: Any, max_episode_steps: int,
-           xp: Any) -> tuple[Any, Any, Any, Any]:  # fmt: skip
+def settle(
+    task: Any, moved: Any, restarting: Any, steps: Any, max_episode_steps: int, xp: Any
+) -> tuple[Any, Any, Any, Any]:
     """Next-step autoreset's bookkeeping of a vector step, on any backend: the one place
     that decides what a step reports. ``moved`` is every env's state after the transition;
     the envs ``restarting`` (their episode ended on the previous step) start anew on this
@@ -201,8 +203,14 @@ class VectorStep:
     same results, on NumPy or any array-API namespace.
     """
 
-    def __init__(self, task: Any, max_episode_steps: int, xp: Any, dtype: Any,
-                 info_keys: tuple[str, ...] | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        task: Any,
+        max_episode_steps: int,
+        xp: Any,
+        dtype: Any,
+        info_keys: tuple[str, ...] | None = None,
+    ) -> None:
         self.task, self.max_episode_steps, self.xp, self.dtype = task, max_episode_steps, xp, dtype
         self.info_keys = info_keys
 
@@ -237,8 +245,9 @@ class VectorStep:
         info = select_info(task.info(state, m, xp), self.info_keys)
         return columns_to_observation(task.observation(state, m, xp), xp), info
 
-    def fused(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
-              restarting: Any) -> tuple:  # fmt: skip
+    def fused(
+        self, state: Any, action: Any, keys: Any, counter: Any, steps: Any, restarting: Any
+    ) -> tuple:
         """The whole step as one function of tensors, for one ``torch.compile`` graph: what
         :meth:`__call__` does, with the chunks after the first rolled into one
         ``torch._higher_order_ops.while_loop`` (so the graph holds one chunk however many
@@ -256,16 +265,28 @@ class VectorStep:
         obs, info = self.observe(moved)
         return moved, obs, reward, terminated, truncated, info, new_counter, steps
 
-    def __call__(self, state: Any, action: Any, keys: Any, counter: Any, steps: Any,
-                 restarting: Any, parts: tuple | None = None,
-                 any_restarting: bool | None = None) -> tuple:  # fmt: skip
+    def __call__(
+        self,
+        state: Any,
+        action: Any,
+        keys: Any,
+        counter: Any,
+        steps: Any,
+        restarting: Any,
+        parts: tuple | None = None,
+        any_restarting: bool | None = None,
+    ) -> tuple:
         """Returns ``(state, obs, reward, terminated, truncated, info, counter, steps)``.
         ``parts`` are the compiled :meth:`begin`, :meth:`chunk`, :meth:`end`,
         :meth:`restart`, :meth:`observe` (default: these, eager); ``any_restarting``, if
         the caller knows it, saves a device sync."""
         begin, chunk, end, restart_, observe = parts or (
-            self.begin, self.chunk, self.end, self.restart, self.observe,
-        )  # fmt: skip
+            self.begin,
+            self.chunk,
+            self.end,
+            self.restart,
+            self.observe,
+        )
         carry = begin(state, action, keys, counter)
         task = self.task
         for _ in range(task.chunks):
@@ -292,8 +313,9 @@ def task_info_names(task: Any) -> list[str]:
     """The names of a task's infos (``task.info``), read from one probe state."""
     n_uniform, n_normal = task.initial_noise_counts
     half, zero = np.full(1, 0.5), np.zeros(1)
-    noise = InitialNoise([half] * n_uniform, [zero] * n_normal,
-                         [zero] * (2 * task.initial_stream_pairs))  # fmt: skip
+    noise = InitialNoise(
+        [half] * n_uniform, [zero] * n_normal, [zero] * (2 * task.initial_stream_pairs)
+    )
     state = task.initial(noise, {}, np)
     return list(task.info(state, task.measure(state, np), np))
 
@@ -328,8 +350,11 @@ def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
     # loop), not twice, which is most of what it costs to compile.
     probe = task.chunk(carry, xp)
     before = tree_leaves(carry)
-    varying = [j for j, (old, new) in enumerate(zip(before, tree_leaves(probe), strict=True))
-               if isinstance(new, torch.Tensor) and new is not old]  # fmt: skip
+    varying = [
+        j
+        for j, (old, new) in enumerate(zip(before, tree_leaves(probe), strict=True))
+        if isinstance(new, torch.Tensor) and new is not old
+    ]
     # No two of the loop's inputs may share memory (rows of one noise draw are views of
     # it, a flight's fields may be one array): each gets its own copy.
     leaves = [leaf.clone() if isinstance(leaf, torch.Tensor) else leaf for leaf in before]

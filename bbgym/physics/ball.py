@@ -149,9 +149,17 @@ class BallState(NamedTuple):
 
 
 def ball_at(
-    x: Array, y: Array, z: Array, vx: Array, vy: Array, vz: Array, wx: Array, wy: Array,
-    wz: Array, xp: Any = None,
-) -> BallState:  # fmt: skip
+    x: Array,
+    y: Array,
+    z: Array,
+    vx: Array,
+    vy: Array,
+    vz: Array,
+    wx: Array,
+    wy: Array,
+    wz: Array,
+    xp: Any = None,
+) -> BallState:
     """A ball at a position with a velocity and spin, in its reference orientation.
 
     Without ``xp`` the components are taken as they are (Python floats for one ball, arrays
@@ -174,9 +182,15 @@ def _as_arrays(xp: Any, *values: Any) -> list:
 
 
 def magnus_force(
-    p: BallParams, rel_x: Array, rel_y: Array, rel_z: Array, wx: Array, wy: Array, wz: Array,
+    p: BallParams,
+    rel_x: Array,
+    rel_y: Array,
+    rel_z: Array,
+    wx: Array,
+    wy: Array,
+    wz: Array,
     xp: Any = np,
-) -> tuple[Array, Array, Array, Array]:  # fmt: skip
+) -> tuple[Array, Array, Array, Array]:
     """Magnus force ``1/2 rho A C_L |v|^2`` along ``omega x v`` (seed §8).
 
     ``rel`` is the ball's velocity relative to the air. ``C_L`` grows like the spin
@@ -370,9 +384,14 @@ def _apply_contact_impulse(
 
 
 def rolling_resistance(
-    p: BallParams, vx: Array, vy: Array, wx: Array, wy: Array, normal_impulse: Array,
+    p: BallParams,
+    vx: Array,
+    vy: Array,
+    wx: Array,
+    wy: Array,
+    normal_impulse: Array,
     xp: Any = np,
-) -> tuple[Array, Array, Array, Array]:  # fmt: skip
+) -> tuple[Array, Array, Array, Array]:
     """Rolling resistance (seed §6) as the ground's couple on the flattened contact patch: a
     pure torque (no horizontal force, so the ground's horizontal impulse stays within
     Coulomb's ``friction * J_n``) against the horizontal spin. Its angular impulse
@@ -408,9 +427,11 @@ def rolling_resistance(
         & (m * speed <= p.friction * normal_impulse)
     )
     return (
-        xp.where(stops, 0.0, vx), xp.where(stops, 0.0, vy),
-        xp.where(stops, 0.0, new_wx), xp.where(stops, 0.0, new_wy),
-    )  # fmt: skip
+        xp.where(stops, 0.0, vx),
+        xp.where(stops, 0.0, vy),
+        xp.where(stops, 0.0, new_wx),
+        xp.where(stops, 0.0, new_wy),
+    )
 
 
 def panel_contact(
@@ -443,15 +464,24 @@ def panel_contact(
     if skippable(hit):  # no ball touching the panel
         return s, hit
     side = xp.where(offset >= 0.0, 1.0, xp.zeros_like(offset) - 1.0)
-    bounced = panel_bounce(s, radius_m, normal_x, normal_y, offset, side, approach, restitution,
-                           hit, xp)  # fmt: skip
+    bounced = panel_bounce(
+        s, radius_m, normal_x, normal_y, offset, side, approach, restitution, hit, xp
+    )
     return bounced, hit
 
 
 def panel_bounce(
-    s: BallState, radius_m: float, normal_x: Array, normal_y: Array, offset: Array,
-    side: Array, approach: Array, restitution: float, hit: Array, xp: Any = np,
-) -> BallState:  # fmt: skip
+    s: BallState,
+    radius_m: float,
+    normal_x: Array,
+    normal_y: Array,
+    offset: Array,
+    side: Array,
+    approach: Array,
+    restitution: float,
+    hit: Array,
+    xp: Any = np,
+) -> BallState:
     """The bounce off a panel where ``hit``: the velocity along the panel's unit normal,
     ``approach``, reverses times ``restitution``, and the ball, ``offset`` along the normal
     from the panel's plane, is put back one radius from it on ``side`` (+1 or -1: the
@@ -459,10 +489,20 @@ def panel_bounce(
     change = xp.where(hit, -(1.0 + restitution) * approach, 0.0)
     push = xp.where(hit, side * radius_m - offset, 0.0)
     return BallState(
-        s.x + push * normal_x, s.y + push * normal_y, s.z,
-        s.vx + change * normal_x, s.vy + change * normal_y, s.vz,
-        s.wx, s.wy, s.wz, s.qw, s.qx, s.qy, s.qz,
-    )  # fmt: skip
+        s.x + push * normal_x,
+        s.y + push * normal_y,
+        s.z,
+        s.vx + change * normal_x,
+        s.vy + change * normal_y,
+        s.vz,
+        s.wx,
+        s.wy,
+        s.wz,
+        s.qw,
+        s.qx,
+        s.qy,
+        s.qz,
+    )
 
 
 def spin_decay(p: BallParams, elapsed_s: Array, xp: Any = np) -> Array:
@@ -492,9 +532,13 @@ def substep(
     turn = k * (dt_s / p.mass_kg)  # rad per (rad/s) of spin: dt Omega = turn * omega
     rel_x, rel_y, rel_z = _implicit_velocity(
         1.0 + dt_s * drag_rate_per_s(p, speed),
-        rel_x, rel_y, rel_z - GRAVITY_MPS2 * dt_s,
-        turn * s.wx, turn * s.wy, turn * s.wz,
-    )  # fmt: skip
+        rel_x,
+        rel_y,
+        rel_z - GRAVITY_MPS2 * dt_s,
+        turn * s.wx,
+        turn * s.wy,
+        turn * s.wz,
+    )
     vx, vy, vz = rel_x + wind_x, rel_y + wind_y, rel_z
     decay = spin_decay(p, dt_s, math)
     wx, wy, wz = s.wx * decay, s.wy * decay, s.wz * decay
@@ -505,15 +549,32 @@ def substep(
     qz = s.qz + h * (wz * s.qw + wx * s.qy - wy * s.qx)
     norm = xp.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     return BallState(
-        s.x + vx * dt_s, s.y + vy * dt_s, s.z + vz * dt_s, vx, vy, vz, wx, wy, wz,
-        qw / norm, qx / norm, qy / norm, qz / norm,
-    )  # fmt: skip
+        s.x + vx * dt_s,
+        s.y + vy * dt_s,
+        s.z + vz * dt_s,
+        vx,
+        vy,
+        vz,
+        wx,
+        wy,
+        wz,
+        qw / norm,
+        qx / norm,
+        qy / norm,
+        qz / norm,
+    )
 
 
 def collide_balls(
-    m1: float, v1: tuple, p1: tuple, m2: float, v2: tuple, p2: tuple, restitution: float,
+    m1: float,
+    v1: tuple,
+    p1: tuple,
+    m2: float,
+    v2: tuple,
+    p2: tuple,
+    restitution: float,
     xp: Any = np,
-) -> tuple[tuple, tuple]:  # fmt: skip
+) -> tuple[tuple, tuple]:
     """Two balls touching at positions ``p1``, ``p2`` (3-tuples of components) collide.
 
     Along the line of centres the seed's restitution formula (§4, after Palmer) gives

@@ -120,17 +120,25 @@ def polar_angles_deg() -> np.ndarray:
 
 
 def polars(
-    params: DinghyParams, winds_kn: list[float] | None = None, dt_s: float = 0.05,
-    duration_s: float = 60.0, sheets: int = 21, angles_deg: np.ndarray | None = None,
-) -> dict[float, Polar]:  # fmt: skip
+    params: DinghyParams,
+    winds_kn: list[float] | None = None,
+    dt_s: float = 0.05,
+    duration_s: float = 60.0,
+    sheets: int = 21,
+    angles_deg: np.ndarray | None = None,
+) -> dict[float, Polar]:
     """``params``' polar at each reference wind speed (knots) over ``angles_deg``
     (:func:`polar_angles_deg` by default; others should include them for :func:`compare`)."""
     winds_kn = winds_kn or reference_winds_kn()
     angles = np.radians(polar_angles_deg() if angles_deg is None else angles_deg)
     sailed = compute_polars(
-        params, [kn * KNOT_MPS for kn in winds_kn], angles, np.linspace(0.0, 1.0, sheets),
-        duration_s, dt_s,
-    )  # fmt: skip
+        params,
+        [kn * KNOT_MPS for kn in winds_kn],
+        angles,
+        np.linspace(0.0, 1.0, sheets),
+        duration_s,
+        dt_s,
+    )
     return dict(zip(winds_kn, sailed, strict=True))
 
 

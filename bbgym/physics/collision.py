@@ -121,9 +121,17 @@ def hull_contacts(h: Hulls, x: Array, y: Array, heading: Array, xp: Any) -> Cont
 
 
 def collide(
-    h: Hulls, restitution: float, x: Array, y: Array, heading: Array, vx: Array, vy: Array,
-    yaw_rate: Array, active: Array, xp: Any,
-) -> tuple[Array, Array, Array, Array, Array, Array]:  # fmt: skip
+    h: Hulls,
+    restitution: float,
+    x: Array,
+    y: Array,
+    heading: Array,
+    vx: Array,
+    vy: Array,
+    yaw_rate: Array,
+    active: Array,
+    xp: Any,
+) -> tuple[Array, Array, Array, Array, Array, Array]:
     """Resolve every touching pair of ``active`` hulls (module docstring): the impulses of
     the pairs approaching at their contact, then the overlap pushed out. Returns the new
     ``(x, y, vx, vy, yaw_rate, touching)``, ``touching`` ``(races, K, K)`` the pairs whose
@@ -150,9 +158,17 @@ def collide(
 
 
 def _resolve(
-    h: Hulls, restitution: float, x: Array, y: Array, heading: Array, vx: Array, vy: Array,
-    yaw_rate: Array, pairs: Array, xp: Any,
-) -> tuple[Array, Array, Array, Array, Array, Array]:  # fmt: skip
+    h: Hulls,
+    restitution: float,
+    x: Array,
+    y: Array,
+    heading: Array,
+    vx: Array,
+    vy: Array,
+    yaw_rate: Array,
+    pairs: Array,
+    xp: Any,
+) -> tuple[Array, Array, Array, Array, Array, Array]:
     """:func:`collide`'s narrow phase, impulses and push for the races given."""
     contacts = hull_contacts(h, x, y, heading, xp)
     touching = pairs & (contacts.gap_m < 0.0)

@@ -131,10 +131,20 @@ def flight_start(p: BallParams, launch: BallState, xp: Any = np) -> Flight:
 
 
 def flight_chunk(
-    p: BallParams, flight: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
-    dt_s: float, substeps: int, last: int, record_every: int, record: bool = True,
-    xp: Any = np, max_roll_s: float | None = None, field_radius_m: float = 30.0,
-) -> tuple[Flight, list]:  # fmt: skip
+    p: BallParams,
+    flight: Flight,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None,
+    dt_s: float,
+    substeps: int,
+    last: int,
+    record_every: int,
+    record: bool = True,
+    xp: Any = np,
+    max_roll_s: float | None = None,
+    field_radius_m: float = 30.0,
+) -> tuple[Flight, list]:
     """The next ``substeps`` substeps of a flight (from ``flight.substep`` on), a fixed
     number: a finished ball is frozen where it stopped, and so is every ball after substep
     ``last`` (every update is masked). The substep number is an array, so one compiled
@@ -143,9 +153,18 @@ def flight_chunk(
     poses = []
     for _ in range(substeps):
         flight, pose = _flight_substep(
-            p, flight, wind_x, wind_y, screen, dt_s, last, record_every, xp, max_roll_s,
+            p,
+            flight,
+            wind_x,
+            wind_y,
+            screen,
+            dt_s,
+            last,
+            record_every,
+            xp,
+            max_roll_s,
             field_radius_m,
-        )  # fmt: skip
+        )
         if record:
             poses.append(pose)
     return flight, poses
@@ -155,15 +174,24 @@ def recorded_poses(poses: list, first_substep: int, record_every: int, last: int
     """Of the poses after substeps ``first_substep, first_substep + 1, ...`` (from
     :func:`flight_chunk`), those the record keeps: every ``record_every``-th substep, up to
     substep ``last``."""
-    return [pose for i, pose in enumerate(poses, first_substep)
-            if i % record_every == 0 and i <= last]  # fmt: skip
+    return [
+        pose for i, pose in enumerate(poses, first_substep) if i % record_every == 0 and i <= last
+    ]
 
 
 def _flight_substep(
-    p: BallParams, f: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
-    dt_s: float, last: int, record_every: int, xp: Any, max_roll_s: float | None,
+    p: BallParams,
+    f: Flight,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None,
+    dt_s: float,
+    last: int,
+    record_every: int,
+    xp: Any,
+    max_roll_s: float | None,
     field_radius_m: float,
-) -> tuple[Flight, BallPose]:  # fmt: skip
+) -> tuple[Flight, BallPose]:
     """Substep ``f.substep`` of every ball still flying: air, screen, ground, then the
     bookkeeping."""
     i = f.substep
@@ -194,13 +222,20 @@ def _flight_substep(
     now = i * dt_s
     finished = _finished(p, s, landed, flight_time, now, max_roll_s, field_radius_m, xp)
     new = Flight(
-        ball=s, landed=landed, landing_x=landing_x, landing_y=landing_y,
+        ball=s,
+        landed=landed,
+        landing_x=landing_x,
+        landing_y=landing_y,
         flight_time_s=flight_time,
         # a frozen ball's height is in its apex already: no mask needed
-        apex_height_m=xp.maximum(f.apex_height_m, s.z), hit_screen=hit_screen,
-        done=f.done | (flying & finished), end_time_s=xp.where(frozen, f.end_time_s, now),
-        steps=steps, samples=samples, substep=i + 1.0,
-    )  # fmt: skip
+        apex_height_m=xp.maximum(f.apex_height_m, s.z),
+        hit_screen=hit_screen,
+        done=f.done | (flying & finished),
+        end_time_s=xp.where(frozen, f.end_time_s, now),
+        steps=steps,
+        samples=samples,
+        substep=i + 1.0,
+    )
     # Only a recorded substep's pose is kept (recorded_poses): the host skips the others'.
     return new, None if skippable(recorded) else pose_of(s)
 
@@ -213,10 +248,16 @@ def flight_result(
     never = xp.logical_not(flight.landed)
     final = flight.ball
     return ThrowResult(
-        xp.where(never, final.x, flight.landing_x), xp.where(never, final.y, flight.landing_y),
-        xp.where(never, flight.end_time_s, flight.flight_time_s), flight.apex_height_m,
-        spin_parameter, flight.hit_screen, final, trajectory, flight.steps,
-    )  # fmt: skip
+        xp.where(never, final.x, flight.landing_x),
+        xp.where(never, final.y, flight.landing_y),
+        xp.where(never, flight.end_time_s, flight.flight_time_s),
+        flight.apex_height_m,
+        spin_parameter,
+        flight.hit_screen,
+        final,
+        trajectory,
+        flight.steps,
+    )
 
 
 def sample_count(samples: Array, xp: Any = np) -> int:
@@ -267,19 +308,39 @@ def simulate_throw(
     record_every = flight_record_every(dt_s, record_dt_s)
     last = flight_substeps(dt_s, max_time_s)
     flight, poses = fly(
-        p, flight_start(p, launch, xp), wind_x, wind_y, screen, dt_s, last, record_every,
-        record, xp, max_roll_s, field_radius_m, check_every,
-    )  # fmt: skip
+        p,
+        flight_start(p, launch, xp),
+        wind_x,
+        wind_y,
+        screen,
+        dt_s,
+        last,
+        record_every,
+        record,
+        xp,
+        max_roll_s,
+        field_radius_m,
+        check_every,
+    )
     trajectory = [pose_of(launch), *poses] if record else []
     return flight_result(flight, spin_parameter, trajectory, xp)
 
 
 def fly(
-    p: BallParams, flight: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
-    dt_s: float, last: int, record_every: int, record: bool = True, xp: Any = np,
-    max_roll_s: float | None = None, field_radius_m: float = 30.0,
+    p: BallParams,
+    flight: Flight,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None,
+    dt_s: float,
+    last: int,
+    record_every: int,
+    record: bool = True,
+    xp: Any = np,
+    max_roll_s: float | None = None,
+    field_radius_m: float = 30.0,
     check_every: int | None = None,
-) -> tuple[Flight, list]:  # fmt: skip
+) -> tuple[Flight, list]:
     """A flight from ``flight.substep`` to its end on the host: :func:`flight_chunk` of
     ``check_every`` substeps (default: 1 for Python floats, where the check is free, else
     :data:`CHECK_EVERY_ARRAYS`) until every ball is done or substep ``last`` is flown.
@@ -302,9 +363,20 @@ def fly(
     while i <= last:
         n = min(check_every, last + 1 - i)
         flight, chunk_poses = flight_chunk(
-            p, flight, wind_x, wind_y, screen, dt_s, n, last, record_every, record, xp,
-            max_roll_s, field_radius_m,
-        )  # fmt: skip
+            p,
+            flight,
+            wind_x,
+            wind_y,
+            screen,
+            dt_s,
+            n,
+            last,
+            record_every,
+            record,
+            xp,
+            max_roll_s,
+            field_radius_m,
+        )
         kept = recorded_poses(chunk_poses, i, record_every, last)
         poses += kept if working is None else [scatter(frozen_pose, working, q) for q in kept]
         i += n
@@ -371,15 +443,30 @@ def _touchdown(
 
 def _screen_contact(p: BallParams, s: BallState, screen: Screen, xp: Any) -> tuple:
     return panel_contact(
-        s, p.radius_m, screen.center_x, screen.center_y, screen.along_x, screen.along_y,
-        screen.half_width_m, screen.height_m, screen.restitution, screen.enabled, xp,
-    )  # fmt: skip
+        s,
+        p.radius_m,
+        screen.center_x,
+        screen.center_y,
+        screen.along_x,
+        screen.along_y,
+        screen.half_width_m,
+        screen.height_m,
+        screen.restitution,
+        screen.enabled,
+        xp,
+    )
 
 
 def _finished(
-    p: BallParams, s: BallState, landed: Any, flight_time: Any, t: float, max_roll_s: Any,
-    field_radius_m: float, xp: Any,
-) -> Any:  # fmt: skip
+    p: BallParams,
+    s: BallState,
+    landed: Any,
+    flight_time: Any,
+    t: float,
+    max_roll_s: Any,
+    field_radius_m: float,
+    xp: Any,
+) -> Any:
     """Landed and at rest (:func:`ball_at_rest`), or rolled long enough after landing, or out of
     the field."""
     at_rest = landed & ball_at_rest(p, s)

@@ -204,9 +204,14 @@ def descent_root(c: tuple, xp: Any) -> Array:
 
 
 def state_at(
-    p: BallParams, s: BallState, cubics: tuple, theta: Array, h: Array, xp: Any,
+    p: BallParams,
+    s: BallState,
+    cubics: tuple,
+    theta: Array,
+    h: Array,
+    xp: Any,
     orient: bool = True,
-) -> BallState:  # fmt: skip
+) -> BallState:
     """The ball at ``theta`` of the step: position and velocity from the dense output,
     spin and orientation exact (the spin keeps its axis and decays exponentially, so the
     ball turns by ``|omega| tau (1 - exp(-t / tau))`` about it). Without ``orient`` the
@@ -215,8 +220,9 @@ def state_at(
     elapsed = theta * h
     decay = spin_decay(p, elapsed, xp)
     if not orient:
-        return BallState(x, y, z, vx, vy, vz, s.wx * decay, s.wy * decay, s.wz * decay,
-                         s.qw, s.qx, s.qy, s.qz)  # fmt: skip
+        return BallState(
+            x, y, z, vx, vy, vz, s.wx * decay, s.wy * decay, s.wz * decay, s.qw, s.qx, s.qy, s.qz
+        )
     spin = xp.sqrt(s.wx * s.wx + s.wy * s.wy + s.wz * s.wz)
     angle = spin * p.spin_decay_s * (1.0 - decay)
     # sin(angle / 2) along the unit axis; a ball without spin does not turn
@@ -229,15 +235,34 @@ def state_at(
     qz = dw * s.qz + dz * s.qw + dx * s.qy - dy * s.qx
     norm = xp.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     return BallState(
-        x, y, z, vx, vy, vz, s.wx * decay, s.wy * decay, s.wz * decay,
-        qw / norm, qx / norm, qy / norm, qz / norm,
-    )  # fmt: skip
+        x,
+        y,
+        z,
+        vx,
+        vy,
+        vz,
+        s.wx * decay,
+        s.wy * decay,
+        s.wz * decay,
+        qw / norm,
+        qx / norm,
+        qy / norm,
+        qz / norm,
+    )
 
 
 def event_flight_step(
-    p: BallParams, f: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
-    dt_s: float, max_time_s: float, field_radius_m: float, xp: Any = np, orient: bool = True,
-) -> tuple[Flight, Any]:  # fmt: skip
+    p: BallParams,
+    f: Flight,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None,
+    dt_s: float,
+    max_time_s: float,
+    field_radius_m: float,
+    xp: Any = np,
+    orient: bool = True,
+) -> tuple[Flight, Any]:
     """One RK4 step of every ball still flying (the module docstring says what it
     locates), finished balls frozen. Returns the flight and the pose after the step.
     Without ``orient`` the balls' orientations stay as they are: nothing of a throw's
@@ -293,7 +318,8 @@ def event_flight_step(
     landed = f.landed | (touch & flying)
     first = touch & flying
     new = Flight(
-        ball=new_ball, landed=landed,
+        ball=new_ball,
+        landed=landed,
         landing_x=xp.where(first, ended.x, f.landing_x),
         landing_y=xp.where(first, ended.y, f.landing_y),
         flight_time_s=xp.where(first, now, f.flight_time_s),
@@ -304,7 +330,7 @@ def event_flight_step(
         steps=f.steps + xp.astype(flying, xp.int64),
         samples=f.samples + xp.astype(xp.any(flying), xp.int64),
         substep=f.substep + 1.0,
-    )  # fmt: skip
+    )
     return new, pose_of(new_ball)
 
 
@@ -318,14 +344,21 @@ def _lean(
     offset = (s.x - screen.center_x) * normal_x + (s.y - screen.center_y) * normal_y
     approach = s.vx * normal_x + s.vy * normal_y
     closing = xp.where(side * approach < 0.0, approach, 0.0 * approach)
-    return panel_bounce(s, p.radius_m, normal_x, normal_y, offset, side, closing,
-                        screen.restitution, leaning, xp)  # fmt: skip
+    return panel_bounce(
+        s, p.radius_m, normal_x, normal_y, offset, side, closing, screen.restitution, leaning, xp
+    )
 
 
 def _screen_cut(
-    p: BallParams, s: BallState, cubics: tuple, h: Array, screen: Screen, flying: Array,
-    xp: Any, orient: bool,
-) -> tuple:  # fmt: skip
+    p: BallParams,
+    s: BallState,
+    cubics: tuple,
+    h: Array,
+    screen: Screen,
+    flying: Array,
+    xp: Any,
+    orient: bool,
+) -> tuple:
     """Where a ball reaches the screen during the step: ``(cut, leaning, theta, bounced,
     side)``. ``cut``: it reaches it at :data:`CUT_SPEED_MPS` or faster, at ``theta``,
     where ``bounced`` is its state just after the bounce (a ball that starts the step
@@ -351,40 +384,81 @@ def _screen_cut(
     cut = contact & (closing >= CUT_SPEED_MPS)
     # the rest of the contacts, if the step ends within a radius of the plane (or past it)
     leaning = contact & xp.logical_not(cut) & (cubic_at(gap, 1.0) < 0.0)
-    bounced = panel_bounce(at, r, normal_x, normal_y, cubic_at(offset, theta), side, approach,
-                           screen.restitution, cut, xp)  # fmt: skip
+    bounced = panel_bounce(
+        at,
+        r,
+        normal_x,
+        normal_y,
+        cubic_at(offset, theta),
+        side,
+        approach,
+        screen.restitution,
+        cut,
+        xp,
+    )
     return cut, leaning, theta, bounced, side
 
 
 def simulate_event_throw(
-    p: BallParams, launch: BallState, wind_x: Array, wind_y: Array,
-    screen: Screen | None = None, dt_s: float = 0.05, max_time_s: float = 6.0,
-    max_roll_s: float = 2.0, field_radius_m: float = 30.0, record_dt_s: float = 0.05,
-    xp: Any = np, record: bool = True,
-) -> ThrowResult:  # fmt: skip
+    p: BallParams,
+    launch: BallState,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None = None,
+    dt_s: float = 0.05,
+    max_time_s: float = 6.0,
+    max_roll_s: float = 2.0,
+    field_radius_m: float = 30.0,
+    record_dt_s: float = 0.05,
+    xp: Any = np,
+    record: bool = True,
+) -> ThrowResult:
     """Fly balls from launch to their first touchdown (or out of the field, or out of
     time) in RK4 steps; the outcome is :func:`~bbgym.physics.flight.flight_result`'s. With
     ``record``, the trajectory has the pose after every step (``dt_s`` apart but for the
     cut steps), then the landed balls' bounces and roll for display (:func:`roll_display`)."""
     spin_parameter = launch_spin_parameter(p, launch, wind_x, wind_y, xp)
     flight, poses = fly_events(
-        p, flight_start(p, launch, xp), wind_x, wind_y, screen, dt_s, max_time_s,
-        field_radius_m, record, xp,
-    )  # fmt: skip
+        p,
+        flight_start(p, launch, xp),
+        wind_x,
+        wind_y,
+        screen,
+        dt_s,
+        max_time_s,
+        field_radius_m,
+        record,
+        xp,
+    )
     trajectory, steps = [], flight.steps
     if record:
         trajectory, steps = roll_display(
-            p, flight, [pose_of(launch), *poses], wind_x, wind_y, screen, max_roll_s,
-            field_radius_m, record_dt_s, xp,
-        )  # fmt: skip
+            p,
+            flight,
+            [pose_of(launch), *poses],
+            wind_x,
+            wind_y,
+            screen,
+            max_roll_s,
+            field_radius_m,
+            record_dt_s,
+            xp,
+        )
     return replaced(flight_result(flight, spin_parameter, trajectory, xp), steps=steps)
 
 
 def fly_events(
-    p: BallParams, flight: Flight, wind_x: Array, wind_y: Array, screen: Screen | None,
-    dt_s: float, max_time_s: float, field_radius_m: float, record: bool = True,
+    p: BallParams,
+    flight: Flight,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None,
+    dt_s: float,
+    max_time_s: float,
+    field_radius_m: float,
+    record: bool = True,
     xp: Any = np,
-) -> tuple[Flight, list]:  # fmt: skip
+) -> tuple[Flight, list]:
     """A flight to its end on the host: :func:`event_flight_step` until every ball is
     done. Returns the flight and, if ``record``, the pose after every step (cut to the
     last ball's end)."""
@@ -403,10 +477,17 @@ def fly_events(
 
 
 def roll_display(
-    p: BallParams, flight: Flight, poses: list, wind_x: Array, wind_y: Array,
-    screen: Screen | None, max_roll_s: float, field_radius_m: float, record_dt_s: float,
+    p: BallParams,
+    flight: Flight,
+    poses: list,
+    wind_x: Array,
+    wind_y: Array,
+    screen: Screen | None,
+    max_roll_s: float,
+    field_radius_m: float,
+    record_dt_s: float,
     xp: Any,
-) -> tuple[list, Array]:  # fmt: skip
+) -> tuple[list, Array]:
     """The recorded flight (``poses``: the launch's, then one per step) followed, for each
     landed ball, by its bounces and roll from the touchdown, flown in the substeps of
     :mod:`bbgym.physics.flight` (:data:`ROLL_DISPLAY_DT_S`) until it rests or
@@ -417,15 +498,27 @@ def roll_display(
     # the roll's clock starts at the touchdown (``flight_time_s`` 0, substep 1)
     roll = replaced(
         flight,
-        flight_time_s=xp.zeros_like(flight.flight_time_s), done=xp.logical_not(flight.landed),
-        hit_screen=no, substep=xp.zeros_like(flight.substep) + 1.0,
-        steps=0 * flight.steps + 1, samples=0 * flight.samples + 1,
-    )  # fmt: skip
+        flight_time_s=xp.zeros_like(flight.flight_time_s),
+        done=xp.logical_not(flight.landed),
+        hit_screen=no,
+        substep=xp.zeros_like(flight.substep) + 1.0,
+        steps=0 * flight.steps + 1,
+        samples=0 * flight.samples + 1,
+    )
     rolled, roll_poses = fly(
-        p, roll, wind_x, wind_y, screen, ROLL_DISPLAY_DT_S,
-        round(max_roll_s / ROLL_DISPLAY_DT_S), flight_record_every(ROLL_DISPLAY_DT_S, record_dt_s),
-        True, xp, max_roll_s, field_radius_m,
-    )  # fmt: skip
+        p,
+        roll,
+        wind_x,
+        wind_y,
+        screen,
+        ROLL_DISPLAY_DT_S,
+        round(max_roll_s / ROLL_DISPLAY_DT_S),
+        flight_record_every(ROLL_DISPLAY_DT_S, record_dt_s),
+        True,
+        xp,
+        max_roll_s,
+        field_radius_m,
+    )
     steps = flight.steps + rolled.steps - 1
     if isinstance(flight.steps, int):  # one ball on floats
         return poses[: flight.steps] + roll_poses[: rolled.steps - 1], steps
@@ -437,8 +530,9 @@ def roll_display(
     out = np.take_along_axis(flown, own[:, None, :], axis=0)
     if rolling is not None:
         after = index - flight.steps[None, :]
-        rolled_rows = np.take_along_axis(rolling, np.clip(after, 0, len(rolling) - 1)[:, None, :],
-                                         axis=0)  # fmt: skip
+        rolled_rows = np.take_along_axis(
+            rolling, np.clip(after, 0, len(rolling) - 1)[:, None, :], axis=0
+        )
         in_roll = (after >= 0) & (after < rolled.steps[None, :] - 1)
         last_roll = np.take_along_axis(
             rolling,

@@ -81,13 +81,27 @@ _MATH_NAMES = ("sin", "cos", "tan", "tanh", "exp", "log", "sqrt", "asin", "acos"
 """The standard's functions that :mod:`math` has under the same names."""
 
 floats = SimpleNamespace(
-    float64=float, float32=float, int64=int, bool=bool,  # Python's own types stand for the dtypes
+    float64=float,
+    float32=float,
+    int64=int,
+    bool=bool,  # Python's own types stand for the dtypes
     **{name: getattr(math, name) for name in _MATH_NAMES},
-    abs=abs, sign=_sign, maximum=max, minimum=min, clip=_clip, where=_where, astype=_astype,
+    abs=abs,
+    sign=_sign,
+    maximum=max,
+    minimum=min,
+    clip=_clip,
+    where=_where,
+    astype=_astype,
     remainder=operator.mod,  # Python's float % has the standard's remainder semantics
-    logical_not=operator.not_, logical_and=operator.and_, logical_or=operator.or_,
-    any=bool, all=bool, zeros_like=_zeros_like, full_like=_full_like,
-)  # fmt: skip
+    logical_not=operator.not_,
+    logical_and=operator.and_,
+    logical_or=operator.or_,
+    any=bool,
+    all=bool,
+    zeros_like=_zeros_like,
+    full_like=_full_like,
+)
 """Namespace of the standard's functions on Python floats (and bools, ints)."""
 
 numpy = np

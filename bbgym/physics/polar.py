@@ -45,9 +45,13 @@ class Polar:
 
 
 def sail_steady(
-    params: DinghyParams, wind_speed_mps: np.ndarray, true_wind_angle_rad: np.ndarray,
-    sheet: np.ndarray, duration_s: float = 90.0, dt_s: float = 0.05,
-) -> DinghyState:  # fmt: skip
+    params: DinghyParams,
+    wind_speed_mps: np.ndarray,
+    true_wind_angle_rad: np.ndarray,
+    sheet: np.ndarray,
+    duration_s: float = 90.0,
+    dt_s: float = 0.05,
+) -> DinghyState:
     """Boats (one per element of the equal-shaped arrays) held on heading 0 (east) with
     the wind from ``true_wind_angle_rad`` counterclockwise of the bow (from port) and the
     sheet at ``sheet`` (0 in .. 1 out), sailed for ``duration_s``: their final state."""

@@ -285,9 +285,13 @@ def jib_angle(p: DinghyParams, jib_sheet: Array, aw_u: Array, aw_v: Array, xp: A
 
 
 def rig_force(
-    p: DinghyParams, state: DinghyState, jib_sheet: Array | None, aw_u: Array, aw_v: Array,
+    p: DinghyParams,
+    state: DinghyState,
+    jib_sheet: Array | None,
+    aw_u: Array,
+    aw_v: Array,
     xp: Any = np,
-) -> tuple[Array, Array]:  # fmt: skip
+) -> tuple[Array, Array]:
     """The force of all the boat's sails in the apparent wind ``(aw_u, aw_v)``, body frame
     (``drive`` ahead, ``side`` to port): the main's (:func:`sail_force`) and a sloop's
     jib's at its angle for ``jib_sheet`` (:func:`jib_angle`; None: its sheets eased).
@@ -304,9 +308,15 @@ def rig_force(
 
 
 def sail_yaw_moment(
-    ahead_m: float, along_m: float, height_m: float, angle_rad: Array, sin_heel: Array,
-    drive: Array, side: Array, xp: Any = np,
-) -> Array:  # fmt: skip
+    ahead_m: float,
+    along_m: float,
+    height_m: float,
+    angle_rad: Array,
+    sin_heel: Array,
+    drive: Array,
+    side: Array,
+    xp: Any = np,
+) -> Array:
     """Yaw moment about the hull's centre of lateral resistance of a sail's force
     (``drive`` ahead, ``side`` to port) acting at its centre of effort: ``along_m`` from
     the sail's foot end (mast or tack, ``ahead_m`` ahead of the centre) along a foot at

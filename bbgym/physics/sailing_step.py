@@ -125,12 +125,24 @@ def substep(
             p, jib, cos_heel, upright, aw_u, aw_v, xp, p._jib_q
         )
         sail_moment = sail_yaw_moment(
-            p.mast_ahead_m, p.sail_ce_aft_m, p.sail_ce_height_m, state.boom_rad, sin_heel,
-            drive, side, xp,
+            p.mast_ahead_m,
+            p.sail_ce_aft_m,
+            p.sail_ce_height_m,
+            state.boom_rad,
+            sin_heel,
+            drive,
+            side,
+            xp,
         ) + sail_yaw_moment(
-            p.jib_tack_ahead_m, p.jib_ce_aft_m, p.jib_ce_height_m, jib, sin_heel, jib_drive,
-            jib_side, xp,
-        )  # fmt: skip
+            p.jib_tack_ahead_m,
+            p.jib_ce_aft_m,
+            p.jib_ce_height_m,
+            jib,
+            sin_heel,
+            jib_drive,
+            jib_side,
+            xp,
+        )
         # the heel moment takes the side force at the main's height: the jib's, scaled
         heeling_side = side + p._jib_heel_ratio * jib_side
         drive, side, c_sail = drive + jib_drive, side + jib_side, c_sail + c_jib
@@ -160,18 +172,39 @@ def substep(
         x = state.x_m + water.shift_x_m + h * (vx - water.next_vx_mps)
         y = state.y_m + water.shift_y_m + h * (vy - water.next_vy_mps)
     new_state = DinghyState(
-        x, y, state.heading_rad + h * yaw_rate, vx, vy, yaw_rate, heel, heel_rate, boom,
-        boom_rate, crew, capsized,
-    )  # fmt: skip
+        x,
+        y,
+        state.heading_rad + h * yaw_rate,
+        vx,
+        vy,
+        yaw_rate,
+        heel,
+        heel_rate,
+        boom,
+        boom_rate,
+        crew,
+        capsized,
+    )
     jibe = (state.boom_rad * boom < 0.0) & (aw_u > 0.0)
     return new_state, impact, jibe
 
 
 def _hull_velocity(
-    p: DinghyParams, state: DinghyState, cos_h: Array, sin_h: Array, surge: Array,
-    sway: Array, aw_u: Array, aw_v: Array, aw_speed: Array, drive: Array, side: Array,
-    c_sail: Array, h: float, xp: Any,
-) -> tuple[Array, Array]:  # fmt: skip
+    p: DinghyParams,
+    state: DinghyState,
+    cos_h: Array,
+    sin_h: Array,
+    surge: Array,
+    sway: Array,
+    aw_u: Array,
+    aw_v: Array,
+    aw_speed: Array,
+    drive: Array,
+    side: Array,
+    c_sail: Array,
+    h: float,
+    xp: Any,
+) -> tuple[Array, Array]:
     """The boat's new world velocity: sail (``drive``, ``side``, with any force on the
     boat as a whole), hull and windage forces, linearly implicit in the body frame (module
     docstring); ``surge`` and ``sway`` are through the water."""
@@ -196,9 +229,14 @@ def _hull_velocity(
 
 
 def _boom_update(
-    p: DinghyParams, state: DinghyState, normal: Array, k_boom: Array, boom_limit_rad: Array,
-    h: float, xp: Any,
-) -> tuple[Array, Array, Array]:  # fmt: skip
+    p: DinghyParams,
+    state: DinghyState,
+    normal: Array,
+    k_boom: Array,
+    boom_limit_rad: Array,
+    h: float,
+    xp: Any,
+) -> tuple[Array, Array, Array]:
     """The boom's new ``(angle, rate, impact rate)``: the trapezoidal rule on its
     oscillator (the sail's weathervane stiffness ``k_boom``), air damping implicit, then the
     sheet stop (:func:`apply_sheet_stop`).
@@ -228,9 +266,15 @@ def _boom_update(
 
 
 def _yaw_rate(
-    p: DinghyParams, state: DinghyState, surge: Array, rudder_rad: Array, impulse: Array,
-    h: float, xp: Any, sail_moment: Array | None = None,
-) -> Array:  # fmt: skip
+    p: DinghyParams,
+    state: DinghyState,
+    surge: Array,
+    rudder_rad: Array,
+    impulse: Array,
+    h: float,
+    xp: Any,
+    sail_moment: Array | None = None,
+) -> Array:
     """The new yaw rate: rudder and damping (:func:`yaw_moment_linearised`), implicit, with
     the sheet's angular ``impulse`` and the sails' moment (a sloop's; explicit)."""
     yaw, c_yaw = yaw_moment_linearised(p, surge, state.yaw_rate_rps, rudder_rad, xp)
@@ -240,9 +284,16 @@ def _yaw_rate(
 
 
 def _heel_update(
-    p: DinghyParams, state: DinghyState, cos_heel: Array, sin_heel: Array, upright: Array,
-    side: Array, impulse: Array, h: float, xp: Any,
-) -> tuple[Array, Array, Array, Array]:  # fmt: skip
+    p: DinghyParams,
+    state: DinghyState,
+    cos_heel: Array,
+    sin_heel: Array,
+    upright: Array,
+    side: Array,
+    impulse: Array,
+    h: float,
+    xp: Any,
+) -> tuple[Array, Array, Array, Array]:
     """The new ``(heel, heel rate, crew, capsized)``: implicit Euler on the oscillator
     linearised about the start of the substep, the crew included.
 
@@ -293,9 +344,16 @@ class StepCarry(NamedTuple):
 
 
 def step_begin(
-    p: DinghyParams, state: DinghyState, rudder_rad: Array, sheet: Array, wind_x: Array,
-    wind_y: Array, xp: Any = np, sea: Sea | None = None, jib_sheet: Array | None = None,
-) -> StepCarry:  # fmt: skip
+    p: DinghyParams,
+    state: DinghyState,
+    rudder_rad: Array,
+    sheet: Array,
+    wind_x: Array,
+    wind_y: Array,
+    xp: Any = np,
+    sea: Sea | None = None,
+    jib_sheet: Array | None = None,
+) -> StepCarry:
     """Start a :func:`step`: clip the controls and hold them, with the wind; ``sea`` is
     the water at the start (None: still water); ``jib_sheet`` in [-1, 1] a sloop's."""
     rudder = xp.clip(rudder_rad, -p.rudder_max_rad, p.rudder_max_rad)
@@ -311,9 +369,12 @@ def step_begin(
 
 
 def step_substep(
-    p: DinghyParams, carry: StepCarry, dt_s: float, xp: Any = np,
+    p: DinghyParams,
+    carry: StepCarry,
+    dt_s: float,
+    xp: Any = np,
     water: WaterParams | None = None,
-) -> StepCarry:  # fmt: skip
+) -> StepCarry:
     """One substep of a :func:`step`, counting jibes (the boom crosses the centerline while
     the apparent wind comes from aft, checked every substep: a boom crosses in a fraction
     of a second) and keeping the fastest boom speed at one. With a sea, ``water`` says how
@@ -323,9 +384,17 @@ def step_substep(
         flow = water_over(water, sea, carry.boat.x_m, carry.boat.y_m, dt_s, xp)
         sea = replaced(sea, time_s=sea.time_s + dt_s)
     state, _impact, jibe = substep(
-        p, carry.boat, carry.rudder_rad, carry.boom_limit_rad, carry.wind_x, carry.wind_y,
-        dt_s, xp, flow, carry.jib_sheet,
-    )  # fmt: skip
+        p,
+        carry.boat,
+        carry.rudder_rad,
+        carry.boom_limit_rad,
+        carry.wind_x,
+        carry.wind_y,
+        dt_s,
+        xp,
+        flow,
+        carry.jib_sheet,
+    )
     jibes = carry.jibes + xp.astype(jibe, xp.int64)
     severity = xp.maximum(carry.jibe_severity_rps, xp.where(jibe, xp.abs(state.boom_rate_rps), 0.0))
     return replaced(carry, boat=state, jibes=jibes, jibe_severity_rps=severity, sea=sea)

@@ -100,14 +100,18 @@ def profile_area_m2(p: ShadowParams) -> float:
 
 def shadow_velocity(
     p: ShadowParams,
-    source_x_m: Array, source_y_m: Array,
-    force_x_n: Array, force_y_n: Array,
-    flow_x_mps: Array, flow_y_mps: Array,
+    source_x_m: Array,
+    source_y_m: Array,
+    force_x_n: Array,
+    force_y_n: Array,
+    flow_x_mps: Array,
+    flow_y_mps: Array,
     casts: Array,
-    x_m: Array, y_m: Array,
+    x_m: Array,
+    y_m: Array,
     xp: Any = np,
     area_m2: float | None = None,
-) -> tuple[Array, Array]:  # fmt: skip
+) -> tuple[Array, Array]:
     """The change of wind velocity at each boat ``(x_m, y_m)`` from every other boat's sails,
     summed (``(races, K)`` each): source ``j`` at ``(source_x_m, source_y_m)`` with the
     aerodynamic force ``(force_x_n, force_y_n)`` on its sails and its apparent wind

@@ -68,9 +68,19 @@ from bbgym.physics.wall import (
 from bbgym.physics.wind import GustParams, gust_step, wind_vector
 
 SAMPLE_FIELDS = (
-    "x", "y", "z", "qw", "qx", "qy", "qz",
-    "wall_angle", "loose_x", "loose_z", "loose_angle", "status",
-)  # fmt: skip
+    "x",
+    "y",
+    "z",
+    "qw",
+    "qx",
+    "qy",
+    "qz",
+    "wall_angle",
+    "loose_x",
+    "loose_z",
+    "loose_angle",
+    "status",
+)
 """What one recorded sample holds, in order: the ball's position and orientation, the
 wall's lean, the loose panel's centre and angle, the wall's status code."""
 
@@ -192,12 +202,21 @@ def interval_start(
     # Each field its own array, made from a different one (torch.compile guards on which
     # of a compiled function's inputs are one tensor: aliases that part would recompile).
     return IntervalCarry(
-        ball=ball, wall=wall, gust=gust, wind_x=wind_x, wind_y=wind_y, flying=flying,
-        running=running, hits=count(wall.angle), hit_height=xp.zeros_like(wall.rate) - 1.0,
-        hit_y=xp.zeros_like(wall.pivot), samples=count(wall.status),
-        noise_used=count(wall.base_x), substep=0 if xp is floats else count(wall.loose_x),
+        ball=ball,
+        wall=wall,
+        gust=gust,
+        wind_x=wind_x,
+        wind_y=wind_y,
+        flying=flying,
+        running=running,
+        hits=count(wall.angle),
+        hit_height=xp.zeros_like(wall.rate) - 1.0,
+        hit_y=xp.zeros_like(wall.pivot),
+        samples=count(wall.status),
+        noise_used=count(wall.base_x),
+        substep=0 if xp is floats else count(wall.loose_x),
         taken=() if record else None,
-    )  # fmt: skip
+    )
 
 
 def interval_substep(
@@ -236,9 +255,19 @@ def interval_substep(
     samples, taken = c.samples, c.taken
     if taken is not None:  # recording (never compiled): every substep, cut by the caller
         sample = (
-            ball.x, ball.y, ball.z, ball.qw, ball.qx, ball.qy, ball.qz,
-            wall.angle, wall.loose_x, wall.loose_z, wall.loose_angle, wall.status,
-        )  # fmt: skip
+            ball.x,
+            ball.y,
+            ball.z,
+            ball.qw,
+            ball.qx,
+            ball.qy,
+            ball.qz,
+            wall.angle,
+            wall.loose_x,
+            wall.loose_z,
+            wall.loose_angle,
+            wall.status,
+        )
         taken = (*taken, sample)
     re = params.record_every
     if params.chunk_substeps % re:  # which substeps sample: known only per env
@@ -251,9 +280,21 @@ def interval_substep(
     done = (settled | xp.logical_not(flying)) & (wall.status != STANDING)
     running = c.running & xp.logical_not(done & live)
     return IntervalCarry(  # in field order (faster than keywords, every substep)
-        ball, wall, gust, wind_x, wind_y, flying, running, hits, hit_height, hit_y, samples,
-        noise_used, i + 1, taken,
-    )  # fmt: skip
+        ball,
+        wall,
+        gust,
+        wind_x,
+        wind_y,
+        flying,
+        running,
+        hits,
+        hit_height,
+        hit_y,
+        samples,
+        noise_used,
+        i + 1,
+        taken,
+    )
 
 
 def euler_bodies(
@@ -374,9 +415,16 @@ class _BallStep(NamedTuple):
 
 
 def _ball_step(
-    params: IntervalParams, ball: Any, wall: Any, moving: Array, step: Array, wind_x: Array,
-    wind_y: Array, orient: bool, xp: Any,
-) -> _BallStep:  # fmt: skip
+    params: IntervalParams,
+    ball: Any,
+    wall: Any,
+    moving: Array,
+    step: Array,
+    wind_x: Array,
+    wind_y: Array,
+    orient: bool,
+    xp: Any,
+) -> _BallStep:
     """The ball's part of :func:`event_bodies`. ``orient``: turn the ball's orientation
     (nothing but the recorded samples reads it, and its turn in a step is exact, so a
     step that records nothing leaves it as it is)."""
@@ -460,9 +508,15 @@ def _root_where(mask: Array, cubic: tuple, one: Array, xp: Any) -> Array:
 
 
 def _face_contact(
-    wp: WallParams, wall: Any, frame: tuple, cubics: tuple, radius_m: float, moving: Array,
-    one: Array, xp: Any,
-) -> tuple[Array, Array]:  # fmt: skip
+    wp: WallParams,
+    wall: Any,
+    frame: tuple,
+    cubics: tuple,
+    radius_m: float,
+    moving: Array,
+    one: Array,
+    xp: Any,
+) -> tuple[Array, Array]:
     """When in the step a moving ball first touches a standing wall's face, the wall as
     it stands at the step's start: ``(theta, reaches)``. It touches when its centre comes
     within one radius of the face's plane while over the face, or comes down over the

@@ -163,9 +163,20 @@ def wall_at(base_x: Array, xp: Any = None) -> WallState:
     xp = namespace_of(base_x) if xp is None else xp
     zero = 0.0 * base_x
     return WallState(
-        zero, zero, zero, zero + float(STANDING), base_x, zero,
-        zero, zero, zero, zero, zero, zero, xp.zeros_like(base_x, dtype=xp.bool),
-    )  # fmt: skip
+        zero,
+        zero,
+        zero,
+        zero + float(STANDING),
+        base_x,
+        zero,
+        zero,
+        zero,
+        zero,
+        zero,
+        zero,
+        zero,
+        xp.zeros_like(base_x, dtype=xp.bool),
+    )
 
 
 def _lever(p: WallParams, angle: Array, side: Array, xp: Any) -> tuple[Array, Array]:
@@ -219,9 +230,15 @@ def _angular_acceleration(
 
 
 def _edge_shear(
-    p: WallParams, c: Array, sn: Array, rate: Array, acc: Array, pivot: Array, face: Array,
+    p: WallParams,
+    c: Array,
+    sn: Array,
+    rate: Array,
+    acc: Array,
+    pivot: Array,
+    face: Array,
     xp: Any,
-) -> Array:  # fmt: skip
+) -> Array:
     """The force along the ground the pivot edge must give to hold the wall from sliding:
     ``m a_cm`` minus the face force's horizontal part (the lean's cosine ``c``, sine
     ``sn``)."""
@@ -279,9 +296,18 @@ def wall_rk4_step(
 
 
 def _wall_events(
-    p: WallParams, s: WallState, standing: Array, pivot: Array, angle: Array, rate: Array,
-    shear: Array, wind_x: Array, dt_s: Array, xp: Any, fly_loose: bool = True,
-) -> WallState:  # fmt: skip
+    p: WallParams,
+    s: WallState,
+    standing: Array,
+    pivot: Array,
+    angle: Array,
+    rate: Array,
+    shear: Array,
+    wind_x: Array,
+    dt_s: Array,
+    xp: Any,
+    fly_loose: bool = True,
+) -> WallState:
     """What follows a step of the rocking from ``s`` to ``(angle, rate)``: breaking loose
     (``shear`` past ``hold_n``: the panel leaves with the motion it had at the step's
     start), landing back on the foot (plastic) or flat on the ground, and a loose panel's
@@ -317,9 +343,15 @@ def _wall_events(
     keep = xp.logical_not(standing)
     stress = xp.maximum(s.stress, xp.where(standing, shear / max(p.hold_n, HOLD_FLOOR_N), 0.0))
     return WallState(
-        xp.where(keep, s.angle, angle), xp.where(keep, s.rate, rate),
-        xp.where(keep, s.pivot, pivot), status, s.base_x, stress, *loose, landed,
-    )  # fmt: skip
+        xp.where(keep, s.angle, angle),
+        xp.where(keep, s.rate, rate),
+        xp.where(keep, s.pivot, pivot),
+        status,
+        s.base_x,
+        stress,
+        *loose,
+        landed,
+    )
 
 
 def _freeze_select(mask: Array, new: tuple, old: tuple, xp: Any) -> tuple:

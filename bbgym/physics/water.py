@@ -150,9 +150,12 @@ def max_wave_amplitude(wavelength_m: float, wave_components: int) -> float:
     steepness ``sum_i k_i A_i`` grows in proportion to the amplitude and may reach
     :data:`MAX_WAVE_STEEPNESS`; the field's own interval caps long waves at 5 m."""
     root_n = math.sqrt(wave_components)
-    wavenumbers = [c.wavenumber_rad_per_m for c in _components(
-        WaterParams(wavelength_m=wavelength_m, wave_components=wave_components)
-    )]  # fmt: skip
+    wavenumbers = [
+        c.wavenumber_rad_per_m
+        for c in _components(
+            WaterParams(wavelength_m=wavelength_m, wave_components=wave_components)
+        )
+    ]
 
     def steepness(amplitude: float) -> float:  # as WaterParams sums it, to the bit
         return sum((amplitude / root_n) * k for k in wavenumbers)
@@ -261,10 +264,11 @@ def _phase_angles(p: WaterParams, sea: Sea, a_x: Array, a_y: Array) -> list[Arra
     """``theta_i = k_i (d_i . a) - omega_i t + phase_i``: where the particle labelled ``a``
     is in each component's orbit."""
     return [
-        c.wavenumber_rad_per_m * (d_x * a_x + d_y * a_y) - c.angular_frequency_rps * sea.time_s
+        c.wavenumber_rad_per_m * (d_x * a_x + d_y * a_y)
+        - c.angular_frequency_rps * sea.time_s
         + phase
         for c, d_x, d_y, phase in zip(p.components, sea.wave_x, sea.wave_y, sea.phases, strict=True)
-    ]  # fmt: skip
+    ]
 
 
 def _displacement(
@@ -332,17 +336,22 @@ def water_over(
     Doppler shift is left out)."""
     current_x, current_y = current_velocity(p, sea, x_m, y_m, xp)
     if not p.components:
-        return WaterFlow(current_x, current_y, current_x, current_y, dt_s * current_x,
-                         dt_s * current_y)  # fmt: skip
+        return WaterFlow(
+            current_x, current_y, current_x, current_y, dt_s * current_x, dt_s * current_y
+        )
     a_x, a_y = particle_label(p, sea, x_m, y_m, xp)
     vx, vy, _, _ = _particle_velocity(p, sea, a_x, a_y, xp)
     later = replaced(sea, time_s=sea.time_s + dt_s)
     next_vx, next_vy, _, _ = _particle_velocity(p, later, a_x, a_y, xp)
     next_x, next_y, _ = particle_position(p, later, a_x, a_y, xp)
     return WaterFlow(
-        current_x + vx, current_y + vy, current_x + next_vx, current_y + next_vy,
-        next_x - x_m + dt_s * current_x, next_y - y_m + dt_s * current_y,
-    )  # fmt: skip
+        current_x + vx,
+        current_y + vy,
+        current_x + next_vx,
+        current_y + next_vy,
+        next_x - x_m + dt_s * current_x,
+        next_y - y_m + dt_s * current_y,
+    )
 
 
 def water_velocity(p: WaterParams, sea: Sea, x_m: Array, y_m: Array, xp: Any = np) -> tuple:

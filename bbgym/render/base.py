@@ -49,11 +49,25 @@ from bbgym.render.geometry import (
 from bbgym.render.safe_draw import SafePygame, import_pygame
 
 __all__ = [  # the renderer base, and the names the views and the CLI import from here
-    "CAPTION_BAND_PX", "EDGE_MARKER_HALF_WIDTH_PX", "EDGE_MARKER_LENGTH_PX",
-    "EDGE_MARKER_MARGIN_PX", "FONT_SIZE_PX", "RENDERER_MODES", "Captioner",
-    "Color", "PygameRenderer", "Vec2", "arc_span", "blend", "check_renderer_mode",
-    "draw_edge_marker", "edge_marker_tip", "import_pygame", "is_finite_px", "safe_box",
-]  # fmt: skip
+    "CAPTION_BAND_PX",
+    "EDGE_MARKER_HALF_WIDTH_PX",
+    "EDGE_MARKER_LENGTH_PX",
+    "EDGE_MARKER_MARGIN_PX",
+    "FONT_SIZE_PX",
+    "RENDERER_MODES",
+    "Captioner",
+    "Color",
+    "PygameRenderer",
+    "Vec2",
+    "arc_span",
+    "blend",
+    "check_renderer_mode",
+    "draw_edge_marker",
+    "edge_marker_tip",
+    "import_pygame",
+    "is_finite_px",
+    "safe_box",
+]
 
 RENDERER_MODES = ("human", "rgb_array")
 """How a renderer shows a frame: in a window, or as an array. (An env's render modes add

@@ -127,8 +127,12 @@ def clip_polygon(points: Iterable[Sequence[float]], box: Box) -> list[Vec2]:
     if not pts or any(p is None for p in pts):
         return []
     out: list[Vec2] = pts  # type: ignore[assignment]
-    for axis, bound, keep_above in ((0, box[0], True), (0, box[2], False), (1, box[1], True),
-                                    (1, box[3], False)):  # fmt: skip
+    for axis, bound, keep_above in (
+        (0, box[0], True),
+        (0, box[2], False),
+        (1, box[1], True),
+        (1, box[3], False),
+    ):
         src, out = out, []
         for i, cur in enumerate(src):
             prev = src[i - 1]

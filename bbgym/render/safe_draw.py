@@ -86,9 +86,13 @@ class SafeDraw:
         return safe_box(size), float(max(size))
 
     def line(
-        self, surface: Any, color: Any, start_pos: Sequence[float], end_pos: Sequence[float],
+        self,
+        surface: Any,
+        color: Any,
+        start_pos: Sequence[float],
+        end_pos: Sequence[float],
         width: int = 1,
-    ) -> Any:  # fmt: skip
+    ) -> Any:
         box, cap = self._limits(surface)
         if in_box(start_pos, box) and in_box(end_pos, box) and width <= cap:
             return self._draw.line(surface, color, start_pos, end_pos, width)
@@ -99,9 +103,13 @@ class SafeDraw:
         return self._draw.line(surface, color, seg[0], seg[1], w)
 
     def lines(
-        self, surface: Any, color: Any, closed: bool, points: Sequence[Sequence[float]],
+        self,
+        surface: Any,
+        color: Any,
+        closed: bool,
+        points: Sequence[Sequence[float]],
         width: int = 1,
-    ) -> Any:  # fmt: skip
+    ) -> Any:
         box, cap = self._limits(surface)
         pts = list(points)
         if len(pts) < 2:

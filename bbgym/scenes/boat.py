@@ -49,8 +49,9 @@ class PointsOfSailParams:
         check_fields(self)
 
     def angles_rad(self) -> tuple[float, float, float]:
-        return tuple(math.radians(a) for a in (self.run_angle_deg, self.reach_angle_deg,
-                                              self.beat_angle_deg))  # fmt: skip
+        return tuple(
+            math.radians(a) for a in (self.run_angle_deg, self.reach_angle_deg, self.beat_angle_deg)
+        )
 
     def sheets(self) -> tuple[float, float, float]:
         return self.run_sheet, self.reach_sheet, self.beat_sheet
@@ -104,8 +105,9 @@ def points_frame(p: PointsOfSailParams, s: DinghyState) -> Frame:
         segments.append(Segment(-half, lane, half, lane, HULL, 6))
         mast = 0.2 * half
         # the boom from the aft-pointing centreline, + to port (the sail view's convention)
-        segments.append(Segment(mast, lane, mast - 2.0 * math.cos(boom),
-                                lane + 2.0 * math.sin(boom), SAIL, 4))  # fmt: skip
+        segments.append(
+            Segment(mast, lane, mast - 2.0 * math.cos(boom), lane + 2.0 * math.sin(boom), SAIL, 4)
+        )
         # the wind: an arrow blowing at the boat from where it comes, its head just clear
         # of the hull (an ellipse around it), so it stays by its own boat, not between two
         wx, wy = math.cos(twa), math.sin(twa)
@@ -119,8 +121,11 @@ def points_frame(p: PointsOfSailParams, s: DinghyState) -> Frame:
         name = ("run", "reach", "beat")[k]
         # the name and speed well astern, clear of the boom and of a wind from astern
         circles.append(Circle(-half - 5.5, lane, 0.15, WIND, f"{name}: {speed:.2f} m/s"))
-    return Frame(circles, segments, [f"true wind {p.wind_speed_mps:g} m/s (blue), seen from "
-                                     "above; red: the boat's speed"])  # fmt: skip
+    return Frame(
+        circles,
+        segments,
+        [f"true wind {p.wind_speed_mps:g} m/s (blue), seen from above; red: the boat's speed"],
+    )
 
 
 POINTS_OF_SAIL = Scene(

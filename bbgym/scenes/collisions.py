@@ -27,16 +27,18 @@ from bbgym.scenes.projectiles import (
 from bbgym.scenes.scene import Circle, Frame, Scene, Segment
 
 
-def collide_rows(s: Bodies, masses: tuple[float, float], restitution: float,
-                 touching: Array, xp: Any) -> Bodies:  # fmt: skip
+def collide_rows(
+    s: Bodies, masses: tuple[float, float], restitution: float, touching: Array, xp: Any
+) -> Bodies:
     """Bodies 0 and 1 collide where ``touching`` (and approaching: the law leaves bodies
     moving apart alone), by :func:`~bbgym.physics.ball.collide_balls` in the x-y plane."""
     zero = 0.0 * s.x_m[0:1]
     first = (s.vx_mps[0:1], s.vy_mps[0:1], zero)
     second = (s.vx_mps[1:2], s.vy_mps[1:2], zero)
     at_first, at_second = (s.x_m[0:1], s.y_m[0:1], zero), (s.x_m[1:2], s.y_m[1:2], zero)
-    v1, v2 = collide_balls(masses[0], first, at_first, masses[1], second, at_second,
-                           restitution, xp)  # fmt: skip
+    v1, v2 = collide_balls(
+        masses[0], first, at_first, masses[1], second, at_second, restitution, xp
+    )
     vx = xp.where(touching, xp.concat([v1[0], v2[0]]), s.vx_mps)
     vy = xp.where(touching, xp.concat([v1[1], v2[1]]), s.vy_mps)
     return Bodies(s.x_m, s.y_m, vx, vy)
@@ -89,18 +91,28 @@ def arrow2_step(p: Arrow2Params, s: Bodies, xp: Any) -> Bodies:
 
 def arrow2_measures(p: Arrow2Params, s: Bodies, xp: Any) -> dict[str, Array]:
     mass = column((p.arrow_mass_kg, p.apple_mass_kg), xp)
-    return {"velocity_mps": s.vx_mps, "momentum_ns": mass * s.vx_mps,
-            "kinetic_energy_j": 0.5 * mass * s.vx_mps * s.vx_mps}  # fmt: skip
+    return {
+        "velocity_mps": s.vx_mps,
+        "momentum_ns": mass * s.vx_mps,
+        "kinetic_energy_j": 0.5 * mass * s.vx_mps * s.vx_mps,
+    }
 
 
 def arrow2_frame(p: Arrow2Params, s: Bodies) -> Frame:
     tip = float(s.x_m[0])
-    apple = Circle(float(s.x_m[1]), 1.5, p.apple_radius_m, APPLE_COLOR,
-                   f"apple {float(s.vx_mps[1]):.1f} m/s")  # fmt: skip
+    apple = Circle(
+        float(s.x_m[1]), 1.5, p.apple_radius_m, APPLE_COLOR, f"apple {float(s.vx_mps[1]):.1f} m/s"
+    )
     shaft = Segment(tip - 0.7, 1.5, tip, 1.5, ARROW_COLOR)
     common = p.speed_mps * p.arrow_mass_kg / (p.arrow_mass_kg + p.apple_mass_kg)
-    return Frame([apple], [shaft], [f"arrow {float(s.vx_mps[0]):.1f} m/s; after the hit both "
-                                    f"move at v m1 / (m1 + m2) = {common:.1f} m/s"])  # fmt: skip
+    return Frame(
+        [apple],
+        [shaft],
+        [
+            f"arrow {float(s.vx_mps[0]):.1f} m/s; after the hit both "
+            f"move at v m1 / (m1 + m2) = {common:.1f} m/s"
+        ],
+    )
 
 
 ARROW_2 = Scene(
@@ -142,8 +154,10 @@ class DoubleBounceParams:
         check_fields(self)
 
     def masses(self) -> tuple[float, float]:
-        return (BallParams(radius_m=self.bottom_radius_m).mass_kg,
-                BallParams(radius_m=self.top_radius_m).mass_kg)  # fmt: skip
+        return (
+            BallParams(radius_m=self.bottom_radius_m).mass_kg,
+            BallParams(radius_m=self.top_radius_m).mass_kg,
+        )
 
     def rebound_ratio(self) -> float:
         """The top ball's speed after the bounce over the impact speed: the bottom ball
@@ -171,8 +185,12 @@ def double_step(p: DoubleBounceParams, s: Bodies, xp: Any) -> Bodies:
     s = gravity_step(s, p.dt_s, xp)
     radius = column((p.bottom_radius_m, p.top_radius_m), xp)
     below = s.y_m < radius
-    s = Bodies(s.x_m, xp.where(below, 2.0 * radius - s.y_m, s.y_m), s.vx_mps,
-               xp.where(below, -p.restitution * s.vy_mps, s.vy_mps))  # fmt: skip
+    s = Bodies(
+        s.x_m,
+        xp.where(below, 2.0 * radius - s.y_m, s.y_m),
+        s.vx_mps,
+        xp.where(below, -p.restitution * s.vy_mps, s.vy_mps),
+    )
     gap = s.y_m[1:2] - s.y_m[0:1] - (p.bottom_radius_m + p.top_radius_m)
     return collide_rows(s, p.masses(), p.restitution, gap < 0.0, xp)
 
@@ -191,8 +209,16 @@ def double_measures(p: DoubleBounceParams, s: Bodies, xp: Any) -> dict[str, Arra
 
 def double_frame(p: DoubleBounceParams, s: Bodies) -> Frame:
     radii, masses = (p.bottom_radius_m, p.top_radius_m), p.masses()
-    circles = [Circle(float(s.x_m[i]), float(s.y_m[i]), radii[i], BALL_COLORS[2 * i],
-                      f"{masses[i] * 1000:.0f} g") for i in range(2)]  # fmt: skip
+    circles = [
+        Circle(
+            float(s.x_m[i]),
+            float(s.y_m[i]),
+            radii[i],
+            BALL_COLORS[2 * i],
+            f"{masses[i] * 1000:.0f} g",
+        )
+        for i in range(2)
+    ]
     ratio = p.rebound_ratio()
     line = f"top ball leaves at {ratio:.2f} x the impact speed: up to {ratio**2:.2f} x the drop"
     return Frame(circles, lines=[line])
@@ -217,7 +243,7 @@ DOUBLE_BOUNCE = Scene(
         (1.0 + p.rebound_ratio() ** 2) * p.drop_height_m
         + 2.0 * (p.bottom_radius_m + p.top_radius_m)
         + 0.3,
-    ),  # fmt: skip
+    ),
     duration_s=lambda p: (
         3.0 * math.sqrt(2.0 * p.drop_height_m / GRAVITY_MPS2) * max(p.rebound_ratio(), 1.0)
     ),

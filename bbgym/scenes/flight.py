@@ -100,9 +100,12 @@ def to_world(axes: tuple[Vector, Vector, Vector], v: Vector) -> Vector:
 
 
 def euler_rotation_step(
-    inertia: tuple[float, float, float], w: Vector, torque: Vector, damping: Vector,
+    inertia: tuple[float, float, float],
+    w: Vector,
+    torque: Vector,
+    damping: Vector,
     dt_s: float,
-) -> Vector:  # fmt: skip
+) -> Vector:
     """Euler's equations in the body's principal axes, ``I dw/dt = tau - w x (I w) - c w``,
     one step: the torque and the gyroscopic term explicit, the damping ``c`` (N m s, each
     axis its own) implicit, so a light body's fast aerodynamic damping never overshoots."""
@@ -121,17 +124,26 @@ def euler_rotation_step(
 
 
 def panel_normal_force(
-    normal_coefficient: float, area_m2: float, mass_kg: float, normal_speed_mps: Array,
-    gravity_along_normal: Array, dt_s: float, xp: Any,
-) -> Array:  # fmt: skip
+    normal_coefficient: float,
+    area_m2: float,
+    mass_kg: float,
+    normal_speed_mps: Array,
+    gravity_along_normal: Array,
+    dt_s: float,
+    xp: Any,
+) -> Array:
     """The air's force on a flat panel along its normal, per kg (§8: "projected to F_wn
     normal to the panel"): only the relative wind's component along the normal, ``u_n``,
     pushes, ``F = -1/2 rho C A |u_n| u_n`` (the drag law of the normal component; a wind
     along the panel pushes nothing). Taken implicitly over the step like the balls' drag
     (the rate ``1/2 rho C A |u_n| / m`` frozen, ``u_n`` the one at the step's end), so a
     light panel never overshoots; the terminal speed is unchanged."""
-    rate = quadratic_drag_rate(normal_coefficient * area_m2, AIR_DENSITY_KGM3,
-                               xp.abs(normal_speed_mps)) / mass_kg  # fmt: skip
+    rate = (
+        quadratic_drag_rate(
+            normal_coefficient * area_m2, AIR_DENSITY_KGM3, xp.abs(normal_speed_mps)
+        )
+        / mass_kg
+    )
     after = (normal_speed_mps + dt_s * gravity_along_normal) / (1.0 + dt_s * rate)
     return -rate * after
 
@@ -154,10 +166,12 @@ def panel_rotation_drag(
     ``1/2 rho C (a b^4 / 32) |w| w`` about the chord (x) axis and ``b a^4 / 32`` about the
     span (y) axis. Spinning about its normal the panel meets no air (0)."""
     wx, wy, wz = w
-    about_chord = quadratic_drag_rate(normal_coefficient * chord_m * span_m**4 / 32.0,
-                                      AIR_DENSITY_KGM3, xp.abs(wx))  # fmt: skip
-    about_span = quadratic_drag_rate(normal_coefficient * span_m * chord_m**4 / 32.0,
-                                     AIR_DENSITY_KGM3, xp.abs(wy))  # fmt: skip
+    about_chord = quadratic_drag_rate(
+        normal_coefficient * chord_m * span_m**4 / 32.0, AIR_DENSITY_KGM3, xp.abs(wx)
+    )
+    about_span = quadratic_drag_rate(
+        normal_coefficient * span_m * chord_m**4 / 32.0, AIR_DENSITY_KGM3, xp.abs(wy)
+    )
     return about_chord, about_span, 0.0 * wz
 
 
@@ -203,8 +217,12 @@ class ConfettiParams:
     def terminal_speed_mps(self) -> float:
         """A panel falling flat: ``sqrt(2 m g / (rho C A))``, where its normal force
         balances its weight (§8)."""
-        return math.sqrt(2.0 * self.mass_kg * GRAVITY_MPS2
-                         / (AIR_DENSITY_KGM3 * self.normal_coefficient * self.area_m2))  # fmt: skip
+        return math.sqrt(
+            2.0
+            * self.mass_kg
+            * GRAVITY_MPS2
+            / (AIR_DENSITY_KGM3 * self.normal_coefficient * self.area_m2)
+        )
 
 
 CONFETTI_NAMES = ("flat", "tilted", "spinning", "edge-on")
@@ -238,11 +256,20 @@ def confetti_initial(p: ConfettiParams, xp: Any) -> Panels:
     edge = math.sqrt(0.5)
     zero = column((0.0,) * 4, xp)
     return Panels(
-        column((-3.0, -1.0, 1.0, 3.0), xp), zero, zero + p.drop_height_m, zero, zero, zero,
-        zero, column((0.0, 0.0, p.spin_radps, 0.0), xp), zero,
-        column((1.0, math.cos(half_tilt), 1.0, edge), xp), column((0.0, 0.0, 0.0, edge), xp),
-        column((0.0, math.sin(half_tilt), 0.0, 0.0), xp), zero,
-    )  # fmt: skip
+        column((-3.0, -1.0, 1.0, 3.0), xp),
+        zero,
+        zero + p.drop_height_m,
+        zero,
+        zero,
+        zero,
+        zero,
+        column((0.0, 0.0, p.spin_radps, 0.0), xp),
+        zero,
+        column((1.0, math.cos(half_tilt), 1.0, edge), xp),
+        column((0.0, 0.0, 0.0, edge), xp),
+        column((0.0, math.sin(half_tilt), 0.0, 0.0), xp),
+        zero,
+    )
 
 
 def confetti_step(p: ConfettiParams, s: Panels, xp: Any) -> Panels:
@@ -261,8 +288,9 @@ def confetti_step(p: ConfettiParams, s: Panels, xp: Any) -> Panels:
     # The flow's direction over the panel (in its plane) and the panel's length along it.
     tx, ty = u_body[0] / xp.maximum(along, TINY), u_body[1] / xp.maximum(along, TINY)
     chord = p.chord_m * xp.abs(tx) + p.span_m * xp.abs(ty)
-    force = panel_normal_force(p.normal_coefficient, p.area_m2, p.mass_kg, u_body[2],
-                               -GRAVITY_MPS2 * normal[2], p.dt_s, xp)  # fmt: skip
+    force = panel_normal_force(
+        p.normal_coefficient, p.area_m2, p.mass_kg, u_body[2], -GRAVITY_MPS2 * normal[2], p.dt_s, xp
+    )
     vx = v[0] + p.dt_s * force * normal[0]
     vy = v[1] + p.dt_s * force * normal[1]
     vz = v[2] + p.dt_s * (force * normal[2] - GRAVITY_MPS2)
@@ -270,8 +298,9 @@ def confetti_step(p: ConfettiParams, s: Panels, xp: Any) -> Panels:
     moment = centre_of_pressure_m(chord, sin_attack) * p.mass_kg * force
     w = (s.wx_radps, s.wy_radps, s.wz_radps)
     damping = panel_rotation_drag(p.normal_coefficient, p.chord_m, p.span_m, w, xp)
-    w = euler_rotation_step(p.inertia_kgm2, w, (moment * ty, -moment * tx, 0.0 * moment),
-                            damping, p.dt_s)  # fmt: skip
+    w = euler_rotation_step(
+        p.inertia_kgm2, w, (moment * ty, -moment * tx, 0.0 * moment), damping, p.dt_s
+    )
     qw, qx, qy, qz = turned(q, w, p.dt_s, xp)
     moved = (s.x_m + p.dt_s * vx, s.y_m + p.dt_s * vy, s.z_m + p.dt_s * vz)
     down = moved[2] <= 0.0
@@ -305,10 +334,13 @@ def confetti_frame(p: ConfettiParams, s: Panels) -> Frame:
         for axis, size, width in ((ex, p.chord_m, 4), (ey, p.span_m, 2)):
             dx, dz = (0.5 * PANEL_DRAWN_X * size * float(axis[i]) for i in (0, 2))
             segments.append(Segment(cx - dx, cz - dz, cx + dx, cz + dz, PANEL_COLORS[k], width))
-    speeds = ", ".join(f"{n} {float(v):+.2f}" for n, v in zip(CONFETTI_NAMES, s.vz_mps,
-                                                                   strict=True))  # fmt: skip
-    note = (f"flat terminal speed {p.terminal_speed_mps():.2f} m/s; wind "
-            f"{p.wind_speed_mps:g} m/s; panels drawn x{PANEL_DRAWN_X:g}")  # fmt: skip
+    speeds = ", ".join(
+        f"{n} {float(v):+.2f}" for n, v in zip(CONFETTI_NAMES, s.vz_mps, strict=True)
+    )
+    note = (
+        f"flat terminal speed {p.terminal_speed_mps():.2f} m/s; wind "
+        f"{p.wind_speed_mps:g} m/s; panels drawn x{PANEL_DRAWN_X:g}"
+    )
     return Frame([], segments, [f"vertical velocity (m/s): {speeds}", note])
 
 
@@ -330,7 +362,7 @@ CONFETTI = Scene(
         5.0 + 0.6 * p.wind_speed_mps * p.drop_height_m,
         -0.5,
         p.drop_height_m + 1.0,
-    ),  # fmt: skip
+    ),
     duration_s=lambda p: 1.3 * p.drop_height_m / p.terminal_speed_mps() + 0.5,
     bodies=CONFETTI_NAMES,
     test="test_confetti_normal_force_terminal_speed_glide_and_rocking",
@@ -477,8 +509,9 @@ def gust_table(p: PlaneParams) -> tuple[np.ndarray, np.ndarray]:
     """The gusty plane's gusts at each knot, by the envs' gust process
     (:func:`~bbgym.physics.wind.gust_step`) from NumPy draws of ``seed``; the others'
     zero."""
-    gusts = GustParams(speed_std=p.gust_std, shift_std_rad=0.5 * p.gust_std,
-                       time_constant_s=2.0, smoothing_s=0.3)  # fmt: skip
+    gusts = GustParams(
+        speed_std=p.gust_std, shift_std_rad=0.5 * p.gust_std, time_constant_s=2.0, smoothing_s=0.3
+    )
     rng = np.random.default_rng(p.seed)
     enabled = np.array([False, False, False, True])
     state = gust_init(gusts, rng.standard_normal((2, 4)), enabled, np)
@@ -497,11 +530,23 @@ def plane_initial(p: PlaneParams, xp: Any) -> Planes:
     zero = column((0.0,) * 4, xp)
     speed, shift = gust_table(p)
     return Planes(
-        zero, column(PLANE_START_Y_M, xp), zero + 500.0,
-        zero + (p.trim_speed_mps - p.wind_speed_mps), zero, zero, zero, zero, zero,
-        zero + math.cos(0.5 * alpha), zero, zero - math.sin(0.5 * alpha), zero, zero,
-        xp.asarray(speed, dtype=xp.float64), xp.asarray(shift, dtype=xp.float64),
-    )  # fmt: skip
+        zero,
+        column(PLANE_START_Y_M, xp),
+        zero + 500.0,
+        zero + (p.trim_speed_mps - p.wind_speed_mps),
+        zero,
+        zero,
+        zero,
+        zero,
+        zero,
+        zero + math.cos(0.5 * alpha),
+        zero,
+        zero - math.sin(0.5 * alpha),
+        zero,
+        zero,
+        xp.asarray(speed, dtype=xp.float64),
+        xp.asarray(shift, dtype=xp.float64),
+    )
 
 
 def plane_wind(p: PlaneParams, s: Planes, xp: Any) -> tuple[Array, Array]:
@@ -555,8 +600,9 @@ def plane_step(p: PlaneParams, s: Planes, xp: Any) -> Planes:
     # The pilot banks the turning planes and raises the nose by 1 / cos(bank) (level turn).
     bank_wanted = column((0.0, bank, -bank, 0.0), xp)
     turning = alpha_trim / math.cos(bank)
-    sin_attack_wanted = column(tuple(math.sin(a) for a in (alpha_trim, turning, turning,
-                                                           alpha_trim)), xp)  # fmt: skip
+    sin_attack_wanted = column(
+        tuple(math.sin(a) for a in (alpha_trim, turning, turning, alpha_trim)), xp
+    )
     axes, u, speed, alpha = plane_air(p, s, xp)
     lift = plane_lift_n(speed, alpha, xp)
     drag_rate = quadratic_drag_rate(f.drag_coefficient * f.wing_area_m2, AIR_DENSITY_KGM3, speed)
@@ -575,13 +621,31 @@ def plane_step(p: PlaneParams, s: Planes, xp: Any) -> Planes:
     gyro = propeller_gyro_torque(p.propeller_momentum_kgm2ps(), w)
     # Damping of rates: q S l * C * (w l / (2 V)) = rho V S l^2 C / 4.
     rate = 0.25 * AIR_DENSITY_KGM3 * speed * f.wing_area_m2
-    damping = (rate * f.span_m**2 * f.roll_damping, rate * f.chord_m**2 * f.pitch_damping,
-               rate * f.span_m**2 * f.yaw_damping)  # fmt: skip
-    w = euler_rotation_step(f.inertia_kgm2, w, (roll + gyro[0], pitch + gyro[1], yaw + gyro[2]),
-                            damping, p.dt_s)  # fmt: skip
+    damping = (
+        rate * f.span_m**2 * f.roll_damping,
+        rate * f.chord_m**2 * f.pitch_damping,
+        rate * f.span_m**2 * f.yaw_damping,
+    )
+    w = euler_rotation_step(
+        f.inertia_kgm2, w, (roll + gyro[0], pitch + gyro[1], yaw + gyro[2]), damping, p.dt_s
+    )
     qw, qx, qy, qz = turned((s.qw, s.qx, s.qy, s.qz), w, p.dt_s, xp)
-    return Planes(s.x_m + p.dt_s * vx, s.y_m + p.dt_s * vy, s.z_m + p.dt_s * vz, vx, vy, vz,
-                  *w, qw, qx, qy, qz, s.time_s + p.dt_s, s.gust_speed, s.gust_shift)  # fmt: skip
+    return Planes(
+        s.x_m + p.dt_s * vx,
+        s.y_m + p.dt_s * vy,
+        s.z_m + p.dt_s * vz,
+        vx,
+        vy,
+        vz,
+        *w,
+        qw,
+        qx,
+        qy,
+        qz,
+        s.time_s + p.dt_s,
+        s.gust_speed,
+        s.gust_shift,
+    )
 
 
 def plane_measures(p: PlaneParams, s: Planes, xp: Any) -> dict[str, Array]:
@@ -589,8 +653,9 @@ def plane_measures(p: PlaneParams, s: Planes, xp: Any) -> dict[str, Array]:
     _, thrust = p.trim()
     lift = plane_lift_n(speed, alpha, xp)
     w_world = to_world(axes, (s.wx_radps, s.wy_radps, s.wz_radps))
-    gyro = propeller_gyro_torque(p.propeller_momentum_kgm2ps(),
-                                 (s.wx_radps, s.wy_radps, s.wz_radps))  # fmt: skip
+    gyro = propeller_gyro_torque(
+        p.propeller_momentum_kgm2ps(), (s.wx_radps, s.wy_radps, s.wz_radps)
+    )
     degrees = 180.0 / math.pi
     weight = AIRFRAME.mass_kg * GRAVITY_MPS2
     return {
@@ -619,21 +684,33 @@ def plane_frame(p: PlaneParams, s: Planes) -> Frame:
         nose = (cx + 0.6 * length * float(ex[0]), cy + 0.6 * length * float(ex[1]))
         tail = (cx - 0.4 * length * float(ex[0]), cy - 0.4 * length * float(ex[1]))
         segments.append(Segment(*tail, *nose, PLANE_COLORS[k], 3))
-        segments.append(Segment(cx - span * float(ey[0]), cy - span * float(ey[1]),
-                                cx + span * float(ey[0]), cy + span * float(ey[1]),
-                                PLANE_COLORS[k], 3))  # fmt: skip
+        segments.append(
+            Segment(
+                cx - span * float(ey[0]),
+                cy - span * float(ey[1]),
+                cx + span * float(ey[0]),
+                cy + span * float(ey[1]),
+                PLANE_COLORS[k],
+                3,
+            )
+        )
         lines.append(f"{PLANE_NAMES[k]} {float(s.z_m[k]):.0f} m")
-    return Frame([], segments, ["altitude: " + ", ".join(lines),
-                                f"trim {p.trim_speed_mps:g} m/s, bank {p.bank_deg:g} deg, "
-                                f"propeller {p.propeller_rpm:g} rpm; planes drawn "
-                                f"x{PLANE_DRAWN_X:g}"])  # fmt: skip
+    return Frame(
+        [],
+        segments,
+        [
+            "altitude: " + ", ".join(lines),
+            f"trim {p.trim_speed_mps:g} m/s, bank {p.bank_deg:g} deg, "
+            f"propeller {p.propeller_rpm:g} rpm; planes drawn "
+            f"x{PLANE_DRAWN_X:g}",
+        ],
+    )
 
 
 def plane_view_box_m(p: PlaneParams) -> tuple[float, float, float, float]:
     radius = p.trim_speed_mps / p.turn_rate_radps()
     reach = p.trim_speed_mps * 15.0
-    return (-100.0, max(reach, 2.0 * radius) + 100.0, -2.0 * radius - 150.0,
-            2.0 * radius + 150.0)  # fmt: skip
+    return (-100.0, max(reach, 2.0 * radius) + 100.0, -2.0 * radius - 150.0, 2.0 * radius + 150.0)
 
 
 AEROPLANE = Scene(

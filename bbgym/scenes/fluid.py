@@ -105,8 +105,9 @@ class DamBreakParams:
 
     def __post_init__(self) -> None:
         if isinstance(self.neighbour_search, str):  # "grid" | "all"
-            search = check_choice("DamBreakParams.neighbour_search", self.neighbour_search,
-                                  tuple(SEARCHES))  # fmt: skip
+            search = check_choice(
+                "DamBreakParams.neighbour_search", self.neighbour_search, tuple(SEARCHES)
+            )
             object.__setattr__(self, "neighbour_search", SEARCHES[search])
         check_fields(self)
         if self.water_width_m >= self.box_width_m or self.water_height_m >= self.box_height_m:
@@ -242,8 +243,9 @@ def wall_acceleration(p: DamBreakParams, distance_m: Array, speed_in_mps: Array,
     return xp.where(distance_m < reach, xp.maximum(push, 0.0), 0.0)
 
 
-def fluid_forces(p: DamBreakParams, x: Array, y: Array, vx: Array, vy: Array,
-                 xp: Any) -> tuple[Array, Array, Array, Array]:  # fmt: skip
+def fluid_forces(
+    p: DamBreakParams, x: Array, y: Array, vx: Array, vy: Array, xp: Any
+) -> tuple[Array, Array, Array, Array]:
     """The velocity change ``(dvx, dvy)`` one step applies at these positions and
     velocities (``(P,)`` each): the forces times the step and the XSPH smoothing; the
     density and the fullest cell."""
@@ -341,12 +343,17 @@ def dam_frame(p: DamBreakParams, s: Fluid) -> Frame:
     radius = 0.5 * p.spacing_m
     circles = [Circle(float(a), float(b), radius, WATER) for a, b in zip(x, y, strict=True)]
     w, h = p.box_width_m, p.box_height_m
-    walls = [Segment(0.0, 0.0, 0.0, h, WALL), Segment(w, 0.0, w, h, WALL),
-             Segment(0.0, 0.0, w, 0.0, WALL), Segment(0.0, h, w, h, WALL)]  # fmt: skip
+    walls = [
+        Segment(0.0, 0.0, 0.0, h, WALL),
+        Segment(w, 0.0, w, h, WALL),
+        Segment(0.0, 0.0, w, 0.0, WALL),
+        Segment(0.0, h, w, h, WALL),
+    ]
     search = "uniform grid" if p.neighbour_search == GRID else "all pairs"
     speed = np.hypot(np.asarray(s.vx_mps)[0], np.asarray(s.vy_mps)[0]).max()
-    return Frame(circles, walls, [f"{len(x)} particles, neighbours by {search}",
-                                  f"fastest {speed:.2f} m/s"])  # fmt: skip
+    return Frame(
+        circles, walls, [f"{len(x)} particles, neighbours by {search}", f"fastest {speed:.2f} m/s"]
+    )
 
 
 DAM_BREAK = Scene(
@@ -367,7 +374,7 @@ DAM_BREAK = Scene(
         1.05 * p.box_width_m,
         -0.05 * p.box_height_m,
         1.05 * p.box_height_m,
-    ),  # fmt: skip
+    ),
     duration_s=lambda p: 2.0,
     bodies=("water",),
     test="test_dam_break_surges_and_settles",

@@ -48,8 +48,7 @@ class Blocks(NamedTuple):
     checks: Array
 
 
-def friction_step(s: Blocks, mu_static: float, mu_kinetic: float, dt_s: float,
-                  xp: Any) -> Blocks:  # fmt: skip
+def friction_step(s: Blocks, mu_static: float, mu_kinetic: float, dt_s: float, xp: Any) -> Blocks:
     """One semi-implicit step of blocks on slopes (``s`` and ``v`` measured down the
     slope): gravity's share along it, ``g sin(theta)``; at rest, static friction holds
     the block if that is within ``mu_s g cos(theta)``; else kinetic friction
@@ -71,8 +70,10 @@ def check_coefficients(params: Any) -> None:
     """``mu_static >= mu_kinetic`` (static friction holds at least as hard as sliding
     friction brakes), or a ``ValueError`` naming the field."""
     if params.mu_static < params.mu_kinetic:
-        raise ValueError(f"{type(params).__name__}.mu_static must be >= mu_kinetic "
-                         f"({params.mu_kinetic}), got {params.mu_static}")  # fmt: skip
+        raise ValueError(
+            f"{type(params).__name__}.mu_static must be >= mu_kinetic "
+            f"({params.mu_kinetic}), got {params.mu_static}"
+        )
 
 
 # -- the sliding block ------------------------------------------------------------------------
@@ -104,8 +105,9 @@ class SlidingParams:
 def sliding_initial(p: SlidingParams, xp: Any) -> Blocks:
     speeds = np.concatenate([p.speeds(), p.speeds()])
     checks = np.repeat([0.0, 1.0], p.blocks)
-    return Blocks(*(xp.asarray(a, dtype=xp.float64)
-                    for a in (0.0 * speeds, speeds, 0.0 * speeds, checks)))  # fmt: skip
+    return Blocks(
+        *(xp.asarray(a, dtype=xp.float64) for a in (0.0 * speeds, speeds, 0.0 * speeds, checks))
+    )
 
 
 def sliding_step(p: SlidingParams, s: Blocks, xp: Any) -> Blocks:
@@ -123,13 +125,13 @@ def sliding_frame(p: SlidingParams, s: Blocks) -> Frame:
     for row, d in enumerate(distance):
         check = row >= p.blocks
         lane = (row % p.blocks) + (p.blocks + 1) * check
-        label = (f"{p.speeds()[row % p.blocks]:.1f} m/s" if lane % (p.blocks + 1) == 0
-                 else "")  # fmt: skip
+        label = f"{p.speeds()[row % p.blocks]:.1f} m/s" if lane % (p.blocks + 1) == 0 else ""
         circles.append(Circle(float(d), 0.4 * lane + size, 0.5 * size, BLOCK_COLORS[check], label))
     far = p.speed_max_mps**2 / (2.0 * p.mu_kinetic * GRAVITY_MPS2) if p.mu_kinetic else 1.0
     line = "red: no check (they creep); blue: the zero-crossing check (they stop)"
-    return Frame(circles, [Segment(far, 0.0, far, 0.4 * (2 * p.blocks + 2), (120, 120, 120), 1)],
-                 [line])  # fmt: skip
+    return Frame(
+        circles, [Segment(far, 0.0, far, 0.4 * (2 * p.blocks + 2), (120, 120, 120), 1)], [line]
+    )
 
 
 def sliding_duration(p: SlidingParams) -> float:
@@ -154,11 +156,11 @@ SLIDING_BLOCK = Scene(
         sliding_duration(p) * p.speed_max_mps * 0.5 + 0.5,
         -0.3,
         0.4 * (2 * p.blocks + 2) + 0.3,
-    ),  # fmt: skip
+    ),
     duration_s=sliding_duration,
     body_names=lambda p: tuple(
         f"{v:.2f} m/s{', check' * check}" for check in (0, 1) for v in p.speeds()
-    ),  # fmt: skip
+    ),
     test="test_sliding_block_stops_with_the_zero_crossing_check_and_creeps_without",
 )
 
@@ -190,8 +192,12 @@ class SlopeParams:
 
 def slope_initial(p: SlopeParams, xp: Any) -> Blocks:
     angles = p.angles_rad()
-    return Blocks(*(xp.asarray(a, dtype=xp.float64)
-                    for a in (0.0 * angles, 0.0 * angles, angles, 1.0 + 0.0 * angles)))  # fmt: skip
+    return Blocks(
+        *(
+            xp.asarray(a, dtype=xp.float64)
+            for a in (0.0 * angles, 0.0 * angles, angles, 1.0 + 0.0 * angles)
+        )
+    )
 
 
 def slope_step(p: SlopeParams, s: Blocks, xp: Any) -> Blocks:
@@ -203,12 +209,20 @@ def slope_frame(p: SlopeParams, s: Blocks) -> Frame:
     segments, circles = [], []
     for k, (d, a) in enumerate(zip(distance, angles, strict=True)):
         x0 = 3.0 * k
-        segments.append(Segment(x0, 2.0, x0 + 2.0 * math.cos(a), 2.0 - 2.0 * math.sin(a),
-                                (120, 120, 120), 2))  # fmt: skip
+        segments.append(
+            Segment(x0, 2.0, x0 + 2.0 * math.cos(a), 2.0 - 2.0 * math.sin(a), (120, 120, 120), 2)
+        )
         along = min(float(d), 2.0)
         color = BLOCK_COLORS[int(float(d) > 0.0)]
-        circles.append(Circle(x0 + along * math.cos(a), 2.0 - along * math.sin(a) + 0.12, 0.12,
-                              color, f"{math.degrees(a):.0f}"))  # fmt: skip
+        circles.append(
+            Circle(
+                x0 + along * math.cos(a),
+                2.0 - along * math.sin(a) + 0.12,
+                0.12,
+                color,
+                f"{math.degrees(a):.0f}",
+            )
+        )
     friction = math.degrees(math.atan(p.mu_static))
     return Frame(circles, segments, [f"friction angle {friction:.0f} deg: blue ones slide"])
 
@@ -275,21 +289,38 @@ class GolfParams:
     def __post_init__(self) -> None:
         check_fields(self)
         # Derived once (not a field): the envs' ball with these values.
-        object.__setattr__(self, "ball", BallParams(
-            radius_m=GOLF_RADIUS_M, solid=True, density_kgm3=GOLF_DENSITY_KGM3,
-            drag_coefficient=self.drag_coefficient, spin_decay_s=20.0,
-            restitution=self.restitution, friction=self.friction,
-            rolling_resistance=self.rolling_resistance,
-        ))  # fmt: skip
+        object.__setattr__(
+            self,
+            "ball",
+            BallParams(
+                radius_m=GOLF_RADIUS_M,
+                solid=True,
+                density_kgm3=GOLF_DENSITY_KGM3,
+                drag_coefficient=self.drag_coefficient,
+                spin_decay_s=20.0,
+                restitution=self.restitution,
+                friction=self.friction,
+                rolling_resistance=self.rolling_resistance,
+            ),
+        )
 
 
 def golf_initial(p: GolfParams, xp: Any) -> BallState:
     spins = column(SPIN_SIGNS, xp) * p.spin_radps
     angle = math.radians(p.descent_deg)
     zero = column((0.0, 0.0, 0.0), xp)
-    return ball_at(zero, zero, zero + (GOLF_RADIUS_M + p.height_m),
-                   zero + p.speed_mps * math.cos(angle), zero,
-                   zero - p.speed_mps * math.sin(angle), zero, spins, zero, xp)  # fmt: skip
+    return ball_at(
+        zero,
+        zero,
+        zero + (GOLF_RADIUS_M + p.height_m),
+        zero + p.speed_mps * math.cos(angle),
+        zero,
+        zero - p.speed_mps * math.sin(angle),
+        zero,
+        spins,
+        zero,
+        xp,
+    )
 
 
 def golf_air(p: GolfParams, s: BallState, xp: Any) -> BallState:
@@ -314,8 +345,11 @@ def ball_energy_j(ball: BallParams, s: BallState) -> Array:
     """Kinetic (translation and rotation) plus potential energy above the resting height."""
     speed_sq = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz
     spin_sq = s.wx * s.wx + s.wy * s.wy + s.wz * s.wz
-    return (0.5 * ball.mass_kg * speed_sq + 0.5 * ball.inertia_kgm2 * spin_sq
-            + ball.mass_kg * GRAVITY_MPS2 * (s.z - ball.radius_m))  # fmt: skip
+    return (
+        0.5 * ball.mass_kg * speed_sq
+        + 0.5 * ball.inertia_kgm2 * spin_sq
+        + ball.mass_kg * GRAVITY_MPS2 * (s.z - ball.radius_m)
+    )
 
 
 def golf_measures(p: GolfParams, s: BallState, xp: Any) -> dict[str, Array]:
@@ -341,11 +375,19 @@ def golf_frame(p: GolfParams, s: BallState) -> Frame:
         ground = GOLF_LANE_M * (2 - row)
         segments.append(Segment(-3.0, ground, 20.0, ground, (120, 160, 90), 2))
         height = float(z[row]) - GOLF_RADIUS_M
-        circles.append(Circle(float(x[row]), ground + height + GOLF_DRAWN_RADIUS_M,
-                              GOLF_DRAWN_RADIUS_M, GOLF_COLORS[row], GOLF_NAMES[row]))  # fmt: skip
+        circles.append(
+            Circle(
+                float(x[row]),
+                ground + height + GOLF_DRAWN_RADIUS_M,
+                GOLF_DRAWN_RADIUS_M,
+                GOLF_COLORS[row],
+                GOLF_NAMES[row],
+            )
+        )
     speeds = ", ".join(f"{name} {v:+.2f}" for name, v in zip(GOLF_NAMES, vx, strict=True))
-    return Frame(circles, segments, [f"forward velocity (m/s): {speeds}",
-                                     "balls drawn 7x their size"])  # fmt: skip
+    return Frame(
+        circles, segments, [f"forward velocity (m/s): {speeds}", "balls drawn 7x their size"]
+    )
 
 
 GOLF_BALL = Scene(
@@ -410,11 +452,18 @@ class RollingParams:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        object.__setattr__(self, "balls", tuple(
-            BallParams(friction=self.friction, rolling_resistance=self.rolling_resistance,
-                       rolling_stop=stop)
-            for stop in (False, True)
-        ))  # fmt: skip
+        object.__setattr__(
+            self,
+            "balls",
+            tuple(
+                BallParams(
+                    friction=self.friction,
+                    rolling_resistance=self.rolling_resistance,
+                    rolling_stop=stop,
+                )
+                for stop in (False, True)
+            ),
+        )
 
     def stop_bound_s(self) -> float:
         """``v0 / (c g)``: when resistance alone stops the ball (drag stops it sooner);
@@ -427,8 +476,9 @@ class RollingParams:
 def rolling_initial(p: RollingParams, xp: Any) -> RollingBalls:
     zero = column((0.0, 0.0), xp)
     r = p.balls[0].radius_m
-    ball = ball_at(zero, zero, zero + r, zero + p.speed_mps, zero, zero, zero,
-                   zero + p.speed_mps / r, zero, xp)  # fmt: skip
+    ball = ball_at(
+        zero, zero, zero + r, zero + p.speed_mps, zero, zero, zero, zero + p.speed_mps / r, zero, xp
+    )
     return RollingBalls(*ball, zero)
 
 
@@ -439,8 +489,7 @@ def rolling_step(p: RollingParams, s: RollingBalls, xp: Any) -> RollingBalls:
     for k, ball in enumerate(p.balls):
         row = BallState(*(value[k : k + 1] for value in s[:13]))
         calm = 0.0 * row.x
-        rows.append(ground_contact(ball, substep(ball, row, calm, calm, p.dt_s, xp),
-                                   p.dt_s, xp)[0])  # fmt: skip
+        rows.append(ground_contact(ball, substep(ball, row, calm, calm, p.dt_s, xp), p.dt_s, xp)[0])
     moved = BallState(*(xp.concat(values) for values in zip(*rows, strict=True)))
     moving = (moved.vx != 0.0) | (moved.vy != 0.0) | (moved.wx != 0.0) | (moved.wy != 0.0)
     return RollingBalls(*moved, s.moving_s + xp.where(moving, p.dt_s, 0.0 * s.moving_s))
@@ -463,8 +512,7 @@ def rolling_frame(p: RollingParams, s: RollingBalls) -> Frame:
     for row in range(2):
         ground = 3.0 * r * (1 - row)
         segments.append(Segment(-1.0, ground, 30.0, ground, (120, 120, 120), 2))
-        circles.append(Circle(float(x[row]), ground + r, r, BLOCK_COLORS[row],
-                              ("off", "on")[row]))  # fmt: skip
+        circles.append(Circle(float(x[row]), ground + r, r, BLOCK_COLORS[row], ("off", "on")[row]))
     return Frame(circles, segments, [f"speed (m/s): off {speed[0]:.3g}, on {speed[1]:.3g}"])
 
 

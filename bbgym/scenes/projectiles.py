@@ -98,7 +98,7 @@ def push_frame(p: PushParams, s: Bodies) -> Frame:
             p.radius_m(m),
             BALL_COLORS[2 * i],
             f"{m:g} kg, {abs(float(s.vx_mps[i])):.2f} m/s",
-        )  # fmt: skip
+        )
         for i, m in enumerate(masses)
     ]
     total = sum(m * float(v) for m, v in zip(masses, s.vx_mps, strict=True))
@@ -178,15 +178,23 @@ def arrow_measures(p: ArrowParams, s: Bodies, xp: Any) -> dict[str, Array]:
 
 
 def arrow_frame(p: ArrowParams, s: Bodies) -> Frame:
-    segments = [Segment(0.0, 0.0, 0.0, p.height_m, ARROW_COLOR, 2),
-                Segment(p.target_distance_m, 0.0, p.target_distance_m, p.height_m - 0.1,
-                        ARROW_COLOR, 2)]  # fmt: skip
+    segments = [
+        Segment(0.0, 0.0, 0.0, p.height_m, ARROW_COLOR, 2),
+        Segment(p.target_distance_m, 0.0, p.target_distance_m, p.height_m - 0.1, ARROW_COLOR, 2),
+    ]
     for i in range(2):
         speed = math.hypot(float(s.vx_mps[i]), float(s.vy_mps[i]))
         tail = 2.0 / max(speed, 1e-9)  # a 2 m shaft: visible at the view's scale
         x, y = float(s.x_m[i]), float(s.y_m[i])
-        segments.append(Segment(x - tail * float(s.vx_mps[i]), y - tail * float(s.vy_mps[i]),
-                                x, y, BALL_COLORS[2 * i]))  # fmt: skip
+        segments.append(
+            Segment(
+                x - tail * float(s.vx_mps[i]),
+                y - tail * float(s.vy_mps[i]),
+                x,
+                y,
+                BALL_COLORS[2 * i],
+            )
+        )
     apple = Circle(p.target_distance_m, p.height_m, 0.05, APPLE_COLOR, "apple")
     drop = p.height_m - float(s.y_m[0])
     aim = math.degrees(p.aim_rad)
@@ -258,8 +266,15 @@ def drop_initial(p: DropParams, xp: Any) -> Bodies:
     )
 
 
-def bounce_step(s: Bodies, radius_m: Array, order: Array, floor: Array, drag_per_mps: Array,
-                dt_s: float, xp: Any) -> Bodies:  # fmt: skip
+def bounce_step(
+    s: Bodies,
+    radius_m: Array,
+    order: Array,
+    floor: Array,
+    drag_per_mps: Array,
+    dt_s: float,
+    xp: Any,
+) -> Bodies:
     """One step of each ball by its own ``order`` and ``floor`` handling (per-row
     constants, above), with quadratic drag at ``drag_per_mps`` times the speed as a rate
     (1/s; the velocity update divides by ``1 + rate dt``: drag taken implicitly, so it
@@ -294,26 +309,43 @@ def energy_line(s: Bodies, radius_m: float) -> str:
     return "energy per kg: " + ", ".join(f"{float(e):.1f}" for e in energy) + " J/kg"
 
 
-def drop_scene(name: str, title: str, claim: str, floors: tuple[float, float, float],
-               labels: tuple[str, str, str], test: str) -> Scene:  # fmt: skip
+def drop_scene(
+    name: str,
+    title: str,
+    claim: str,
+    floors: tuple[float, float, float],
+    labels: tuple[str, str, str],
+    test: str,
+) -> Scene:
     """A three-ball drop: left velocity first, middle position first, right velocity
     first, with the floor handlings ``floors``."""
     orders = (VELOCITY_FIRST, POSITION_FIRST, VELOCITY_FIRST)
 
     def step(p: DropParams, s: Bodies, xp: Any) -> Bodies:
-        return bounce_step(s, p.radius_m, column(orders, xp), column(floors, xp),
-                           0.0, p.dt_s, xp)  # fmt: skip
+        return bounce_step(s, p.radius_m, column(orders, xp), column(floors, xp), 0.0, p.dt_s, xp)
 
     return Scene(
-        name=name, section="§3", title=title, claim=claim, params=DropParams,
-        initial=drop_initial, step=step,
+        name=name,
+        section="§3",
+        title=title,
+        claim=claim,
+        params=DropParams,
+        initial=drop_initial,
+        step=step,
         measures=lambda p, s, xp: height_energy(s, p.radius_m),
-        frame=lambda p, s: Frame(ball_circles(s, p.radius_m, labels),
-                                 lines=[energy_line(s, p.radius_m)]),
-        view_box_m=lambda p: (-5.0 * p.radius_m, 5.0 * p.radius_m, -2.0 * p.radius_m,
-                              p.drop_height_m + 2.0 * p.radius_m),
-        duration_s=lambda p: 60.0, bodies=("left", "middle", "right"), test=test,
-    )  # fmt: skip
+        frame=lambda p, s: Frame(
+            ball_circles(s, p.radius_m, labels), lines=[energy_line(s, p.radius_m)]
+        ),
+        view_box_m=lambda p: (
+            -5.0 * p.radius_m,
+            5.0 * p.radius_m,
+            -2.0 * p.radius_m,
+            p.drop_height_m + 2.0 * p.radius_m,
+        ),
+        duration_s=lambda p: 60.0,
+        bodies=("left", "middle", "right"),
+        test=test,
+    )
 
 
 THREE_BEACHBALLS_1 = drop_scene(
@@ -360,22 +392,38 @@ class DragDropParams:
 
     def balls(self) -> tuple[BallParams, BallParams, BallParams]:
         """The three balls as the envs' :class:`~bbgym.physics.ball.BallParams`."""
-        light = BallParams(radius_m=self.radius_m, drag_coefficient=self.drag_coefficient,
-                           shell_areal_density_kgm2=self.light_areal_density_kgm2)  # fmt: skip
+        light = BallParams(
+            radius_m=self.radius_m,
+            drag_coefficient=self.drag_coefficient,
+            shell_areal_density_kgm2=self.light_areal_density_kgm2,
+        )
         return (
-            BallParams(radius_m=self.radius_m, drag_coefficient=0.0,
-                       shell_areal_density_kgm2=self.light_areal_density_kgm2),
+            BallParams(
+                radius_m=self.radius_m,
+                drag_coefficient=0.0,
+                shell_areal_density_kgm2=self.light_areal_density_kgm2,
+            ),
             light,
-            BallParams(radius_m=self.radius_m, drag_coefficient=self.drag_coefficient,
-                       shell_areal_density_kgm2=self.heavy_areal_density_kgm2),
-        )  # fmt: skip
+            BallParams(
+                radius_m=self.radius_m,
+                drag_coefficient=self.drag_coefficient,
+                shell_areal_density_kgm2=self.heavy_areal_density_kgm2,
+            ),
+        )
 
 
 def drag_drop_step(p: DragDropParams, s: Bodies, xp: Any) -> Bodies:
     # The envs' drag law (rate = rho C_d A |u| / 2 m), at 1 m/s: the rate per speed.
     per_mps = column(tuple(float(drag_rate_per_s(b, 1.0)) for b in p.balls()), xp)
-    return bounce_step(s, p.radius_m, column((VELOCITY_FIRST,) * 3, xp),
-                       column((CLAMP,) * 3, xp), per_mps, p.dt_s, xp)  # fmt: skip
+    return bounce_step(
+        s,
+        p.radius_m,
+        column((VELOCITY_FIRST,) * 3, xp),
+        column((CLAMP,) * 3, xp),
+        per_mps,
+        p.dt_s,
+        xp,
+    )
 
 
 THREE_BEACHBALLS_2 = Scene(
@@ -397,7 +445,7 @@ THREE_BEACHBALLS_2 = Scene(
         5.0 * p.radius_m,
         -2.0 * p.radius_m,
         p.drop_height_m + 2.0 * p.radius_m,
-    ),  # fmt: skip
+    ),
     duration_s=lambda p: 15.0,
     bodies=("no drag", "light", "heavy"),
     test="test_three_beachballs_2_drag_is_divided_by_the_mass",

@@ -50,8 +50,9 @@ class Spinning(NamedTuple):
     angular_velocity_radps: Array
 
 
-def kinematic_spin(vx: Array, vy: Array, nx: Array | float, ny: Array | float,
-                   radius_m: float) -> Array:  # fmt: skip
+def kinematic_spin(
+    vx: Array, vy: Array, nx: Array | float, ny: Array | float, radius_m: float
+) -> Array:
     """§5's kinematic rule: the spin (rad/s) that makes a ball of velocity ``v`` roll on a
     surface of unit normal ``n`` (pointing into the ball): ``omega = v_t / r`` with the
     velocity along the surface ``v_t = (z x n) . v``. Its contact point, at ``-r n``, then
@@ -64,12 +65,24 @@ def kinematic_spin(vx: Array, vy: Array, nx: Array | float, ny: Array | float,
 def turned(s: Spinning, dt_s: float) -> Spinning:
     """The angles advanced by the spins over a step (the text's ``rotmat = diffrot *
     rotmat``, in 2D a sum)."""
-    return Spinning(s.x_m, s.y_m, s.vx_mps, s.vy_mps, s.angle_rad + dt_s * s.angular_velocity_radps,
-                    s.angular_velocity_radps)  # fmt: skip
+    return Spinning(
+        s.x_m,
+        s.y_m,
+        s.vx_mps,
+        s.vy_mps,
+        s.angle_rad + dt_s * s.angular_velocity_radps,
+        s.angular_velocity_radps,
+    )
 
 
-def plane_contact(s: Spinning, radius_m: float, normal: tuple[float, float], at_m: float,
-                  restitution: float, xp: Any) -> Spinning:  # fmt: skip
+def plane_contact(
+    s: Spinning,
+    radius_m: float,
+    normal: tuple[float, float],
+    at_m: float,
+    restitution: float,
+    xp: Any,
+) -> Spinning:
     """A plane (a floor or a wall) of unit ``normal`` (into the box) through the point
     ``at_m`` times the normal: a ball overlapping it is put back on it and, moving in, bounces
     by the envs' :func:`~bbgym.physics.ball.panel_bounce` (the normal velocity reversed
@@ -81,23 +94,33 @@ def plane_contact(s: Spinning, radius_m: float, normal: tuple[float, float], at_
     zero = 0.0 * s.x_m
     ball = ball_at(s.x_m, s.y_m, zero, s.vx_mps, s.vy_mps, zero, zero, zero, zero)
     # Moving out already, only the position is put back (no bounce pulls it in again).
-    out = panel_bounce(ball, radius_m, nx, ny, offset, 1.0, xp.minimum(approach, 0.0),
-                       restitution, overlapping, xp)  # fmt: skip
+    out = panel_bounce(
+        ball, radius_m, nx, ny, offset, 1.0, xp.minimum(approach, 0.0), restitution, overlapping, xp
+    )
     hit = overlapping & (approach < 0.0)
-    spin = xp.where(hit, kinematic_spin(out.vx, out.vy, nx, ny, radius_m),
-                    s.angular_velocity_radps)  # fmt: skip
+    spin = xp.where(hit, kinematic_spin(out.vx, out.vy, nx, ny, radius_m), s.angular_velocity_radps)
     return Spinning(out.x, out.y, out.vx, out.vy, s.angle_rad, spin)
 
 
 def fall(s: Spinning, dt_s: float) -> Spinning:
     """Gravity (semi-implicit: velocity first) and the angles turned by the spins."""
     vy = s.vy_mps - GRAVITY_MPS2 * dt_s
-    return turned(Spinning(s.x_m + dt_s * s.vx_mps, s.y_m + dt_s * vy, s.vx_mps, vy,
-                           s.angle_rad, s.angular_velocity_radps), dt_s)  # fmt: skip
+    return turned(
+        Spinning(
+            s.x_m + dt_s * s.vx_mps,
+            s.y_m + dt_s * vy,
+            s.vx_mps,
+            vy,
+            s.angle_rad,
+            s.angular_velocity_radps,
+        ),
+        dt_s,
+    )
 
 
-def box_step(s: Spinning, radius_m: float, half_width_m: float, restitution: float,
-             dt_s: float, xp: Any) -> Spinning:  # fmt: skip
+def box_step(
+    s: Spinning, radius_m: float, half_width_m: float, restitution: float, dt_s: float, xp: Any
+) -> Spinning:
     """:func:`fall`, then the left wall, the right wall and the floor of an open box (x in
     ``+-half_width_m``): each contact bounces the ball and sets its spin by the rule (the
     floor, last, wins a corner)."""
@@ -107,22 +130,31 @@ def box_step(s: Spinning, radius_m: float, half_width_m: float, restitution: flo
     return plane_contact(s, radius_m, (0.0, 1.0), 0.0, restitution, xp)
 
 
-def spin_circles(s: Spinning, radii: tuple[float, ...], colors: tuple[tuple[int, int, int], ...],
-                 labels: tuple[str, ...] = ()) -> list[Circle]:  # fmt: skip
+def spin_circles(
+    s: Spinning,
+    radii: tuple[float, ...],
+    colors: tuple[tuple[int, int, int], ...],
+    labels: tuple[str, ...] = (),
+) -> list[Circle]:
     """Each ball and, drawn over it, a dot at its angle (its valve: the spin shows)."""
     circles = []
     for k, r in enumerate(radii):
         x, y, angle = float(s.x_m[k]), float(s.y_m[k]), float(s.angle_rad[k])
         label = labels[k] if k < len(labels) else ""
         circles.append(Circle(x, y, r, colors[k % len(colors)], label))
-        circles.append(Circle(x + 0.65 * r * math.cos(angle), y + 0.65 * r * math.sin(angle),
-                              0.2 * r, MARK_COLOR))  # fmt: skip
+        circles.append(
+            Circle(
+                x + 0.65 * r * math.cos(angle), y + 0.65 * r * math.sin(angle), 0.2 * r, MARK_COLOR
+            )
+        )
     return circles
 
 
 def box_walls(half_width_m: float, height_m: float) -> list[Segment]:
-    return [Segment(side * half_width_m, 0.0, side * half_width_m, height_m, WALL_COLOR, 4)
-            for side in (-1.0, 1.0)]  # fmt: skip
+    return [
+        Segment(side * half_width_m, 0.0, side * half_width_m, height_m, WALL_COLOR, 4)
+        for side in (-1.0, 1.0)
+    ]
 
 
 def spin_measures(radius_m: float, s: Spinning) -> dict[str, Array]:
@@ -179,8 +211,11 @@ def box_scene_step(p: RotationBoxParams, s: Spinning, xp: Any) -> Spinning:
 def box_frame(p: RotationBoxParams, s: Spinning) -> Frame:
     circles = spin_circles(s, (p.radius_m,) * p.balls, BALL_COLORS)
     spins = ", ".join(f"{float(w):+.1f}" for w in s.angular_velocity_radps[:4])
-    return Frame(circles, box_walls(0.5 * p.box_width_m, 4.0),
-                 [f"spin (rad/s) {spins}: set at each contact to v_t / r"])  # fmt: skip
+    return Frame(
+        circles,
+        box_walls(0.5 * p.box_width_m, 4.0),
+        [f"spin (rad/s) {spins}: set at each contact to v_t / r"],
+    )
 
 
 def box_height_m(p: RotationBoxParams) -> float:
@@ -205,7 +240,7 @@ ROTATION_BOX = Scene(
         0.5 * p.box_width_m + 0.3,
         -0.3,
         box_height_m(p) + 0.3,
-    ),  # fmt: skip
+    ),
     duration_s=lambda p: 6.0,
     body_names=lambda p: tuple(f"ball {k + 1}" for k in range(p.balls)),
     test="test_rotation_box_spin_is_set_by_the_contact_and_only_there",
@@ -235,8 +270,9 @@ def double2_initial(p: DoubleBounce2Params, xp: Any) -> Spinning:
     reach = p.bottom_radius_m + p.top_radius_m
     rise = math.sqrt(reach**2 - p.offset_m() ** 2)
     zero = column((0.0, 0.0), xp)
-    return Spinning(column((0.0, p.offset_m()), xp), column((bottom, bottom + rise), xp), zero,
-                    zero, zero, zero)  # fmt: skip
+    return Spinning(
+        column((0.0, p.offset_m()), xp), column((bottom, bottom + rise), xp), zero, zero, zero, zero
+    )
 
 
 def double2_fall(p: DoubleBounce2Params, s: Spinning, xp: Any) -> Spinning:
@@ -260,8 +296,9 @@ def double2_collide(p: DoubleBounce2Params, s: Spinning, xp: Any) -> Spinning:
     rel_x, rel_y = s.vx_mps[0:1] - s.vx_mps[1:2], s.vy_mps[0:1] - s.vy_mps[1:2]
     touching = distance < p.bottom_radius_m + p.top_radius_m
     hit = touching & (rel_x * dx + rel_y * dy > 0.0)  # approaching: collide_balls' test
-    out = collide_rows(Bodies(s.x_m, s.y_m, s.vx_mps, s.vy_mps), p.masses(), p.restitution,
-                       touching, xp)  # fmt: skip
+    out = collide_rows(
+        Bodies(s.x_m, s.y_m, s.vx_mps, s.vy_mps), p.masses(), p.restitution, touching, xp
+    )
     nx, ny = dx / xp.maximum(distance, TINY), dy / xp.maximum(distance, TINY)
     # n_bottom = -n (from the top ball down to the bottom one), n_top = n, v_rel flips too:
     # both balls get the same sign.
@@ -277,11 +314,15 @@ def double2_step(p: DoubleBounce2Params, s: Spinning, xp: Any) -> Spinning:
 
 def double2_frame(p: DoubleBounce2Params, s: Spinning) -> Frame:
     radii, masses = (p.bottom_radius_m, p.top_radius_m), p.masses()
-    labels = tuple(f"{m * 1000:.0f} g, {float(w):+.1f} rad/s"
-                   for m, w in zip(masses, s.angular_velocity_radps, strict=True))  # fmt: skip
+    labels = tuple(
+        f"{m * 1000:.0f} g, {float(w):+.1f} rad/s"
+        for m, w in zip(masses, s.angular_velocity_radps, strict=True)
+    )
     circles = spin_circles(s, radii, (BALL_COLORS[0], BALL_COLORS[2]), labels)
-    return Frame(circles, lines=["the contact turns both balls clockwise: v_t / r each, "
-                                 "v_t their velocity along it"])  # fmt: skip
+    return Frame(
+        circles,
+        lines=["the contact turns both balls clockwise: v_t / r each, v_t their velocity along it"],
+    )
 
 
 DOUBLE_BOUNCE_2 = Scene(
@@ -368,8 +409,14 @@ def plank_initial(p: PlankParams, xp: Any) -> Spinning:
     centred on the origin, at rest. Row 0 the ball (no spin of its own), row 1 the
     plank."""
     zero = column((0.0, 0.0), xp)
-    return Spinning(column((p.hit_m(), 0.0), xp), column((1.0 + p.ball_radius_m, 0.0), xp),
-                    zero, column((-p.speed_mps, 0.0), xp), zero, zero)  # fmt: skip
+    return Spinning(
+        column((p.hit_m(), 0.0), xp),
+        column((1.0 + p.ball_radius_m, 0.0), xp),
+        zero,
+        column((-p.speed_mps, 0.0), xp),
+        zero,
+        zero,
+    )
 
 
 def plank_step(p: PlankParams, s: Spinning, xp: Any) -> Spinning:
@@ -409,9 +456,15 @@ def plank_step(p: PlankParams, s: Spinning, xp: Any) -> Spinning:
     m_eff = 1.0 / xp.maximum(inverse_mass, TINY)
     zero = 0.0 * bx
     v_ball, v_point = collide_balls(
-        p.ball_mass_kg, (ball.vx_mps, ball.vy_mps, zero), (bx, by, zero),
-        m_eff, (vx_point, vy_point, zero), (bx + nx, by + ny, zero), p.restitution, xp,
-    )  # fmt: skip
+        p.ball_mass_kg,
+        (ball.vx_mps, ball.vy_mps, zero),
+        (bx, by, zero),
+        m_eff,
+        (vx_point, vy_point, zero),
+        (bx + nx, by + ny, zero),
+        p.restitution,
+        xp,
+    )
     jx = xp.where(touching, m_eff * (v_point[0] - vx_point), 0.0)
     jy = xp.where(touching, m_eff * (v_point[1] - vy_point), 0.0)
     w = w + lever * (along_x * jy - along_y * jx) / inertia
@@ -420,11 +473,13 @@ def plank_step(p: PlankParams, s: Spinning, xp: Any) -> Spinning:
     else:  # the centre's velocity, w z x (centre - axis), the centre -pivot along the plank
         vx, vy = w * pivot * along_y, -w * pivot * along_x
     return Spinning(
-        xp.concat([bx, cx]), xp.concat([by, cy]),
+        xp.concat([bx, cx]),
+        xp.concat([by, cy]),
         xp.concat([xp.where(touching, v_ball[0], ball.vx_mps), vx]),
         xp.concat([xp.where(touching, v_ball[1], ball.vy_mps), vy]),
-        xp.concat([ball.angle_rad, angle]), xp.concat([ball.angular_velocity_radps, w]),
-    )  # fmt: skip
+        xp.concat([ball.angle_rad, angle]),
+        xp.concat([ball.angular_velocity_radps, w]),
+    )
 
 
 def plank_measures(p: PlankParams, s: Spinning, xp: Any) -> dict[str, Array]:
@@ -474,10 +529,22 @@ def plank_duration(p: PlankParams) -> float:
 
 
 def plank_scene(name: str, title: str, claim: str, params: type, test: str) -> Scene:
-    return Scene(name=name, section="§5", title=title, claim=claim, params=params,
-                 initial=plank_initial, step=plank_step, measures=plank_measures,
-                 frame=plank_frame, view_box_m=plank_view, duration_s=plank_duration,
-                 bodies=("ball", "plank"), test=test, floor=False)  # fmt: skip
+    return Scene(
+        name=name,
+        section="§5",
+        title=title,
+        claim=claim,
+        params=params,
+        initial=plank_initial,
+        step=plank_step,
+        measures=plank_measures,
+        frame=plank_frame,
+        view_box_m=plank_view,
+        duration_s=plank_duration,
+        bodies=("ball", "plank"),
+        test=test,
+        floor=False,
+    )
 
 
 PLANK_FREE = plank_scene(
@@ -630,25 +697,43 @@ def many_scene(name: str, title: str, claim: str, match: bool) -> Scene:
     def measures(p: ManyParams, s: Spinning, xp: Any) -> dict[str, Array]:
         g = pairs(s, p.radius_m, xp)
         contacts = row_sum(xp.astype(g.overlap_m > -0.01 * p.radius_m, xp.float64), p.balls)
-        return {"height_m": s.y_m - p.radius_m, "spin_radps": s.angular_velocity_radps,
-                "contacts": contacts, "gear_slip_mps": gear_slip(p, s, xp)}  # fmt: skip
+        return {
+            "height_m": s.y_m - p.radius_m,
+            "spin_radps": s.angular_velocity_radps,
+            "contacts": contacts,
+            "gear_slip_mps": gear_slip(p, s, xp),
+        }
 
     def frame(p: ManyParams, s: Spinning) -> Frame:
         circles = spin_circles(s, (p.radius_m,) * p.balls, BALL_COLORS)
         worst = float(np.max(np.asarray(gear_slip(p, s, np))))
         rule = "matched where they collide" if match else "set by the walls and floor only"
-        return Frame(circles, box_walls(0.5 * p.box_width_m, many_top_m(p)),
-                     [f"spins {rule}; worst slip at a contact {worst:.2f} m/s"])  # fmt: skip
+        return Frame(
+            circles,
+            box_walls(0.5 * p.box_width_m, many_top_m(p)),
+            [f"spins {rule}; worst slip at a contact {worst:.2f} m/s"],
+        )
 
     return Scene(
-        name=name, section="§5", title=title, claim=claim, params=ManyParams,
-        initial=many_initial, step=step, measures=measures, frame=frame,
-        view_box_m=lambda p: (-0.5 * p.box_width_m - 0.3, 0.5 * p.box_width_m + 0.3, -0.3,
-                              many_top_m(p)),
+        name=name,
+        section="§5",
+        title=title,
+        claim=claim,
+        params=ManyParams,
+        initial=many_initial,
+        step=step,
+        measures=measures,
+        frame=frame,
+        view_box_m=lambda p: (
+            -0.5 * p.box_width_m - 0.3,
+            0.5 * p.box_width_m + 0.3,
+            -0.3,
+            many_top_m(p),
+        ),
         duration_s=lambda p: 5.0,
         body_names=lambda p: tuple(f"ball {k + 1}" for k in range(p.balls)),
         test="test_many_beachballs_match_spins_where_they_collide_the_bad_ones_do_not",
-    )  # fmt: skip
+    )
 
 
 MANY_BEACHBALLS = many_scene(
@@ -667,5 +752,11 @@ MANY_BEACHBALLS_BAD = many_scene(
     False,
 )
 
-SCENES = (ROTATION_BOX, DOUBLE_BOUNCE_2, PLANK_FREE, PLANK_ANCHORED, MANY_BEACHBALLS,
-          MANY_BEACHBALLS_BAD)  # fmt: skip
+SCENES = (
+    ROTATION_BOX,
+    DOUBLE_BOUNCE_2,
+    PLANK_FREE,
+    PLANK_ANCHORED,
+    MANY_BEACHBALLS,
+    MANY_BEACHBALLS_BAD,
+)

@@ -128,9 +128,12 @@ def to_numpy(value: Any) -> np.ndarray:
 
 
 def simulate(
-    scene: Scene, params: Mapping[str, Any] | Any = None, steps: int | None = None,
-    backend: str = "numpy", on_step: Callable[[Any, Any], None] | None = None,
-) -> Trajectory:  # fmt: skip
+    scene: Scene,
+    params: Mapping[str, Any] | Any = None,
+    steps: int | None = None,
+    backend: str = "numpy",
+    on_step: Callable[[Any, Any], None] | None = None,
+) -> Trajectory:
     """Run ``scene`` for ``steps`` steps (default its own) on ``backend`` in float64,
     recording its measures at every step; ``on_step(params, state)`` sees each state (the
     initial one first) as a copy in NumPy float64 arrays, whatever the backend."""
@@ -164,6 +167,11 @@ def summary_rows(trajectory: Trajectory, bodies: tuple[str, ...]) -> list[tuple[
     for name, values in trajectory.measures.items():
         for k, body in enumerate(bodies):
             column = values[:, k]
-            rows.append((name, body, *(float(v) for v in (column[0], column[-1], column.min(),
-                                                             column.max()))))  # fmt: skip
+            rows.append(
+                (
+                    name,
+                    body,
+                    *(float(v) for v in (column[0], column[-1], column.min(), column.max())),
+                )
+            )
     return rows

@@ -80,8 +80,9 @@ def grid_offsets(dims: int, neighbours: int) -> list[tuple[int, ...]]:
     raise ValueError(f"neighbours must be one of {counts} in {dims}D, got {neighbours}")
 
 
-def neighbour_table(shape: tuple[int, ...], offsets: list[tuple[int, ...]],
-                    spacing_m: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+def neighbour_table(
+    shape: tuple[int, ...], offsets: list[tuple[int, ...]], spacing_m: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(neighbour, linked, rest_m)`` of a grid of ``shape`` (row-major particle order)."""
     cells = list(itertools.product(*(range(n) for n in shape)))
     index = {cell: i for i, cell in enumerate(cells)}
@@ -98,8 +99,9 @@ def neighbour_table(shape: tuple[int, ...], offsets: list[tuple[int, ...]],
     return neighbour, linked, rest
 
 
-def spring_forces(s: Lattice, x: Array, v: Array, stiffness: float, damping: float,
-                  xp: Any) -> tuple[Array, Array]:  # fmt: skip
+def spring_forces(
+    s: Lattice, x: Array, v: Array, stiffness: float, damping: float, xp: Any
+) -> tuple[Array, Array]:
     """Each particle's force from its springs ``(rows, particles, dims)`` (Hooke's law
     along each spring plus damping along it), and each row's spring energy (each spring
     seen from both ends, so half of the sum of ``k s^2 / 2``)."""
@@ -209,9 +211,15 @@ def lattice_initial(p: SproingParams, xp: Any) -> Lattice:
         return xp.asarray(a, dtype=xp.float64 if dtype is None else dtype)
 
     return Lattice(
-        x_m=to(x), v_mps=to(0.0 * x), start_m=to(x), exploded=to(np.zeros(rows)),
-        neighbour=to(neighbour, xp.int64), linked=to(linked), rest_m=to(rest), free=to(free),
-    )  # fmt: skip
+        x_m=to(x),
+        v_mps=to(0.0 * x),
+        start_m=to(x),
+        exploded=to(np.zeros(rows)),
+        neighbour=to(neighbour, xp.int64),
+        linked=to(linked),
+        rest_m=to(rest),
+        free=to(free),
+    )
 
 
 def lattice_step(p: SproingParams, s: Lattice, xp: Any) -> Lattice:
@@ -238,8 +246,16 @@ def lattice_step(p: SproingParams, s: Lattice, xp: Any) -> Lattice:
     far = xp.max(xp.reshape(xp.abs(x1 - s.start_m), (x1.shape[0], -1)), axis=1)
     exploded = xp.where(far > EXPLODED_SPANS * span, 1.0, s.exploded)
     stop = (exploded > 0.5)[:, None, None]
-    return Lattice(xp.where(stop, s.x_m, x1), xp.where(stop, s.v_mps, v1), s.start_m, exploded,
-                   s.neighbour, s.linked, s.rest_m, s.free)  # fmt: skip
+    return Lattice(
+        xp.where(stop, s.x_m, x1),
+        xp.where(stop, s.v_mps, v1),
+        s.start_m,
+        exploded,
+        s.neighbour,
+        s.linked,
+        s.rest_m,
+        s.free,
+    )
 
 
 def lattice_measures(p: SproingParams, s: Lattice, xp: Any) -> dict[str, Array]:
@@ -281,8 +297,10 @@ def lattice_frame(p: SproingParams, s: Lattice, row: int = 1) -> Frame:
     ]
     radius = 0.15 * p.spacing_m
     circles = [Circle(x[i, 0], x[i, 1], radius, BALL_COLORS[1]) for i in range(len(x))]
-    state = ", ".join(f"{name} {'exploded' if float(np.asarray(s.exploded)[r]) else 'runs'}"
-                      for r, name in enumerate(INTEGRATORS))  # fmt: skip
+    state = ", ".join(
+        f"{name} {'exploded' if float(np.asarray(s.exploded)[r]) else 'runs'}"
+        for r, name in enumerate(INTEGRATORS)
+    )
     return Frame(circles, segments, [f"drawn: {INTEGRATORS[row]}; {state}"])
 
 
@@ -293,14 +311,25 @@ def lattice_box(p: SproingParams) -> tuple[float, float, float, float]:
     return (-2.0 * half, 2.0 * half, -half, half)
 
 
-def lattice_scene(name: str, title: str, claim: str, params: type, seconds: float,
-                  test: str) -> Scene:  # fmt: skip
+def lattice_scene(
+    name: str, title: str, claim: str, params: type, seconds: float, test: str
+) -> Scene:
     return Scene(
-        name=name, section="§7", title=title, claim=claim, params=params,
-        initial=lattice_initial, step=lattice_step, measures=lattice_measures,
-        frame=lattice_frame, view_box_m=lattice_box, duration_s=lambda p: seconds,
-        bodies=INTEGRATORS, test=test, floor=False,
-    )  # fmt: skip
+        name=name,
+        section="§7",
+        title=title,
+        claim=claim,
+        params=params,
+        initial=lattice_initial,
+        step=lattice_step,
+        measures=lattice_measures,
+        frame=lattice_frame,
+        view_box_m=lattice_box,
+        duration_s=lambda p: seconds,
+        bodies=INTEGRATORS,
+        test=test,
+        floor=False,
+    )
 
 
 SPROING = lattice_scene(

@@ -29,8 +29,15 @@ class SceneView(PygameRenderer[tuple[float, Frame]]):
 
     caption = "bbgym scene"
 
-    def __init__(self, scene: Scene, params: Any, render_mode: str = "rgb_array",
-                 width: int = 640, height: int = 400, render_fps: int = 30) -> None:  # fmt: skip
+    def __init__(
+        self,
+        scene: Scene,
+        params: Any,
+        render_mode: str = "rgb_array",
+        width: int = 640,
+        height: int = 400,
+        render_fps: int = 30,
+    ) -> None:
         super().__init__(render_mode, width, height, render_fps)
         self.scene, self.params = scene, params
         self.label_boxes: list[tuple[float, float, float, float]] = []
@@ -56,8 +63,13 @@ class SceneView(PygameRenderer[tuple[float, Frame]]):
             floor_y = self.to_px(0.0, 0.0)[1]
             pg.draw.rect(surface, FLOOR, (0, floor_y, self.width, max(self.height - floor_y, 0)))
         for seg in frame.segments:
-            pg.draw.line(surface, seg.color, self.to_px(seg.x0_m, seg.y0_m),
-                         self.to_px(seg.x1_m, seg.y1_m), seg.width_px)  # fmt: skip
+            pg.draw.line(
+                surface,
+                seg.color,
+                self.to_px(seg.x0_m, seg.y0_m),
+                self.to_px(seg.x1_m, seg.y1_m),
+                seg.width_px,
+            )
         anchors = []
         for ball in frame.circles:
             center = self.to_px(ball.x_m, ball.y_m)

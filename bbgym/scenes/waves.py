@@ -106,10 +106,17 @@ def gerstner_measures(p: GerstnerParams, s: Surface, xp: Any) -> dict[str, Array
 
 def gerstner_frame(p: GerstnerParams, s: Surface) -> Frame:
     x, y = np.asarray(s.x_m)[0], np.asarray(s.y_m)[0]
-    segments = [Segment(float(x[i]), float(y[i]), float(x[i + 1]), float(y[i + 1]), WATER, 2)
-                for i in range(len(x) - 1)]  # fmt: skip
-    marker = Circle(float(x[0]), float(y[0]), 0.08 * p.wavelength_m / 10.0, (230, 70, 60),
-                    "a point of the surface")  # fmt: skip
+    segments = [
+        Segment(float(x[i]), float(y[i]), float(x[i + 1]), float(y[i + 1]), WATER, 2)
+        for i in range(len(x) - 1)
+    ]
+    marker = Circle(
+        float(x[0]),
+        float(y[0]),
+        0.08 * p.wavelength_m / 10.0,
+        (230, 70, 60),
+        "a point of the surface",
+    )
     shape = "loops through itself" if p.steepness > 1.0 else "a curve"
     return Frame([marker], segments, [f"k a = {p.steepness:.2f}: the surface is {shape}"])
 
@@ -131,7 +138,7 @@ GERSTNER = Scene(
         p.wavelengths * p.wavelength_m + 1.0,
         -p.wavelength_m,
         p.wavelength_m,
-    ),  # fmt: skip
+    ),
     # one period (a still surface: 10 s)
     duration_s=lambda p: 2.0 * math.pi / p.angular_speed_radps if p.angular_speed_radps else 10.0,
     bodies=("surface",),

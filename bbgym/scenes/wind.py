@@ -82,14 +82,23 @@ def stopped_on_ground(radius: Array, s: BallState, moved: BallState, xp: Any) ->
     down = moved.z <= radius
     flying = [xp.where(down, 0.0, v) for v in (moved.vx, moved.vy, moved.vz)]
     still = [xp.where(down, old, new) for old, new in ((s.x, moved.x), (s.y, moved.y))]
-    return BallState(still[0], still[1], xp.where(down, radius, moved.z), *flying,
-                     *moved[6:])  # fmt: skip
+    return BallState(still[0], still[1], xp.where(down, radius, moved.z), *flying, *moved[6:])
 
 
 def fall_initial(p: FallParams, xp: Any) -> BallState:
     heights = tuple(p.drop_height_m + b.radius_m for b in p.balls())
-    return ball_at(column((-15.0, -5.0, 5.0, 15.0), xp), 0.0, column(heights, xp), 0.0, 0.0,
-                   0.0, 0.0, 0.0, 0.0, xp=xp)  # fmt: skip
+    return ball_at(
+        column((-15.0, -5.0, 5.0, 15.0), xp),
+        0.0,
+        column(heights, xp),
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        xp=xp,
+    )
 
 
 def fall_step(p: FallParams, s: BallState, xp: Any) -> BallState:
@@ -103,9 +112,16 @@ def fall_measures(p: FallParams, s: BallState, xp: Any) -> dict[str, Array]:
 
 def fall_frame(p: FallParams, s: BallState) -> Frame:
     balls = p.balls()
-    circles = [Circle(float(s.x[k]), float(s.z[k]), b.radius_m, BALL_COLORS[k % 3],
-                      f"{FALL_NAMES[k]}: {-float(s.vz[k]):.1f} m/s")
-               for k, b in enumerate(balls)]  # fmt: skip
+    circles = [
+        Circle(
+            float(s.x[k]),
+            float(s.z[k]),
+            b.radius_m,
+            BALL_COLORS[k % 3],
+            f"{FALL_NAMES[k]}: {-float(s.vz[k]):.1f} m/s",
+        )
+        for k, b in enumerate(balls)
+    ]
     terminal = ", ".join(f"{b.terminal_speed_mps():.1f}" for b in balls)
     return Frame(circles, lines=[f"terminal speeds {terminal} m/s"])
 
@@ -154,8 +170,9 @@ def magnus_initial(p: MagnusParams, xp: Any) -> BallState:
     """Thrown along x; backspin (the ball's top turning back toward the thrower) spins
     about -y, the thrower's right, topspin about +y."""
     spin = column((-p.spin_radps, 0.0, p.spin_radps), xp)
-    return ball_at(column((0.0,) * 3, xp), 0.0, p.launch_height_m, p.speed_mps, 0.0, 0.0, 0.0,
-                   spin, 0.0, xp=xp)  # fmt: skip
+    return ball_at(
+        column((0.0,) * 3, xp), 0.0, p.launch_height_m, p.speed_mps, 0.0, 0.0, 0.0, spin, 0.0, xp=xp
+    )
 
 
 def magnus_step(p: MagnusParams, s: BallState, xp: Any) -> BallState:
@@ -167,11 +184,21 @@ def magnus_measures(p: MagnusParams, s: BallState, xp: Any) -> dict[str, Array]:
 
 
 def magnus_frame(p: MagnusParams, s: BallState) -> Frame:
-    circles = [Circle(float(s.x[k]), float(s.z[k]), BALL.radius_m, BALL_COLORS[k],
-                      f"{MAGNUS_NAMES[k]}: {float(s.x[k]):.1f} m")
-               for k in range(3)]  # fmt: skip
-    return Frame(circles, [Segment(0.0, 0.0, 0.0, p.launch_height_m, (120, 120, 120), 2)],
-                 [f"thrown level at {p.speed_mps:g} m/s, spin {p.spin_radps:g} rad/s"])  # fmt: skip
+    circles = [
+        Circle(
+            float(s.x[k]),
+            float(s.z[k]),
+            BALL.radius_m,
+            BALL_COLORS[k],
+            f"{MAGNUS_NAMES[k]}: {float(s.x[k]):.1f} m",
+        )
+        for k in range(3)
+    ]
+    return Frame(
+        circles,
+        [Segment(0.0, 0.0, 0.0, p.launch_height_m, (120, 120, 120), 2)],
+        [f"thrown level at {p.speed_mps:g} m/s, spin {p.spin_radps:g} rad/s"],
+    )
 
 
 MAGNUS = Scene(
@@ -191,7 +218,7 @@ MAGNUS = Scene(
         1.2 * p.speed_mps * math.sqrt(2.0 * p.launch_height_m / GRAVITY_MPS2) + 0.8,
         -0.3,
         1.3 * p.launch_height_m + 1.0,
-    ),  # fmt: skip
+    ),
     # one and a half drop times from the launch height, and 0.3 s: the backspin ball lands
     # (at 0.75 s of the defaults' 1.13 s) and the clip ends soon after
     duration_s=lambda p: 1.5 * math.sqrt(2.0 * p.launch_height_m / GRAVITY_MPS2) + 0.3,
@@ -283,13 +310,16 @@ class TurbulenceParams:
         lam = BallParams(radius_m=large, drag_coefficient=self.laminar_drag_coefficient)
         turb = BallParams(radius_m=large, drag_coefficient=self.turbulent_drag_coefficient)
         small_lam = BallParams(radius_m=small, drag_coefficient=self.laminar_drag_coefficient)
-        small_turb = BallParams(radius_m=small,
-                                drag_coefficient=self.turbulent_drag_coefficient)  # fmt: skip
+        small_turb = BallParams(radius_m=small, drag_coefficient=self.turbulent_drag_coefficient)
         return (lam, lam), (turb, turb), (lam, turb), (small_lam, small_turb), (lam, lam)
 
     def gusts(self) -> GustParams:
-        return GustParams(self.gust_speed_std, self.gust_shift_std_rad,
-                          self.gust_time_constant_s, self.gust_smoothing_s)  # fmt: skip
+        return GustParams(
+            self.gust_speed_std,
+            self.gust_shift_std_rad,
+            self.gust_time_constant_s,
+            self.gust_smoothing_s,
+        )
 
 
 TURBULENCE_NAMES = ("laminar", "turbulent", "by Reynolds", "small, by Reynolds", "gusty")
@@ -334,11 +364,22 @@ def turbulence_initial(p: TurbulenceParams, xp: Any) -> Turbulence:
     rows = len(TURBULENCE_NAMES)
     random = rng.integers(1, int(MINSTD_MODULUS), size=rows).astype(np.float64)
     noise = rng.standard_normal((2, rows))
-    gust = gust_init(p.gusts(), (xp.asarray(noise[0, :]), xp.asarray(noise[1, :])),
-                     gusty_rows(xp), xp)  # fmt: skip
+    gust = gust_init(
+        p.gusts(), (xp.asarray(noise[0, :]), xp.asarray(noise[1, :])), gusty_rows(xp), xp
+    )
     heights = tuple(p.drop_height_m + pair[0].radius_m for pair in p.ball_pairs())
-    ball = ball_at(column((-20.0, -10.0, 0.0, 10.0, 20.0), xp), 0.0, column(heights, xp), 0.0,
-                   0.0, 0.0, 0.0, 0.0, 0.0, xp=xp)  # fmt: skip
+    ball = ball_at(
+        column((-20.0, -10.0, 0.0, 10.0, 20.0), xp),
+        0.0,
+        column(heights, xp),
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        xp=xp,
+    )
     return Turbulence(*ball, *gust, xp.asarray(random))
 
 
@@ -372,15 +413,17 @@ def turbulence_step(p: TurbulenceParams, s: Turbulence, xp: Any) -> Turbulence:
         if turb is not lam:  # a row the Reynolds number decides
             turbulent = substep(turb, row, wx, wy, p.dt_s, xp)
             crisis = reynolds[k : k + 1] >= p.critical_reynolds
-            laminar = BallState(*(xp.where(crisis, t, la)
-                                  for t, la in zip(turbulent, laminar, strict=True)))  # fmt: skip
+            laminar = BallState(
+                *(xp.where(crisis, t, la) for t, la in zip(turbulent, laminar, strict=True))
+            )
         rows.append(laminar)
     moved = BallState(*(xp.concat(fields) for fields in zip(*rows, strict=True)))
     radius = column(tuple(a.radius_m for a, _ in p.ball_pairs()), xp)
     ball = stopped_on_ground(radius, ball, moved, xp)
     speed_noise, shift_noise, random = normal_pair(s.random, xp)
-    gust = gust_step(GustState(*s[13:17]), p.gusts(), p.dt_s, (speed_noise, shift_noise),
-                     gusty_rows(xp), xp)  # fmt: skip
+    gust = gust_step(
+        GustState(*s[13:17]), p.gusts(), p.dt_s, (speed_noise, shift_noise), gusty_rows(xp), xp
+    )
     return Turbulence(*ball, *gust, random)
 
 
@@ -388,9 +431,12 @@ def turbulence_measures(p: TurbulenceParams, s: Turbulence, xp: Any) -> dict[str
     pairs = p.ball_pairs()
     reynolds = turbulence_reynolds(p, s, xp)
     drag = sphere_drag_coefficient(
-        reynolds, column(tuple(a.drag_coefficient for a, _ in pairs), xp),
-        column(tuple(b.drag_coefficient for _, b in pairs), xp), p.critical_reynolds, xp,
-    )  # fmt: skip
+        reynolds,
+        column(tuple(a.drag_coefficient for a, _ in pairs), xp),
+        column(tuple(b.drag_coefficient for _, b in pairs), xp),
+        p.critical_reynolds,
+        xp,
+    )
     radius = column(tuple(a.radius_m for a, _ in pairs), xp)
     return {
         "fall_speed_mps": 0.0 - s.vz,
@@ -405,14 +451,26 @@ def turbulence_frame(p: TurbulenceParams, s: Turbulence) -> Frame:
     circles, segments = [], []
     for k, (lam, _) in enumerate(p.ball_pairs()):
         x, z = float(s.x[k]), float(s.z[k])
-        circles.append(Circle(x, z, lam.radius_m, BALL_COLORS[k % 3],
-                              f"{TURBULENCE_NAMES[k]}: {-float(s.vz[k]):.1f} m/s"))  # fmt: skip
+        circles.append(
+            Circle(
+                x,
+                z,
+                lam.radius_m,
+                BALL_COLORS[k % 3],
+                f"{TURBULENCE_NAMES[k]}: {-float(s.vz[k]):.1f} m/s",
+            )
+        )
         # the velocity, a second's worth: the balls are small in a 100 m drop
         segments.append(Segment(x, z, x + float(s.vx[k]), z + float(s.vz[k]), (90, 90, 90), 2))
-    return Frame(circles, segments,
-                 [f"C_d {p.laminar_drag_coefficient:g} below Re {p.critical_reynolds:.3g}, "
-                  f"{p.turbulent_drag_coefficient:g} above; wind {p.wind_mps:g} m/s, "
-                  f"gusts {p.gust_speed_std:g} of it"])  # fmt: skip
+    return Frame(
+        circles,
+        segments,
+        [
+            f"C_d {p.laminar_drag_coefficient:g} below Re {p.critical_reynolds:.3g}, "
+            f"{p.turbulent_drag_coefficient:g} above; wind {p.wind_mps:g} m/s, "
+            f"gusts {p.gust_speed_std:g} of it"
+        ],
+    )
 
 
 TURBULENCE = Scene(
@@ -463,14 +521,20 @@ class FallingWallParams:
     def __post_init__(self) -> None:
         check_fields(self)
         if self.base_depth_m < self.thickness_m:
-            raise ValueError(f"{type(self).__name__}.base_depth_m must be >= thickness_m "
-                             f"({self.thickness_m}), got {self.base_depth_m}")  # fmt: skip
+            raise ValueError(
+                f"{type(self).__name__}.base_depth_m must be >= thickness_m "
+                f"({self.thickness_m}), got {self.base_depth_m}"
+            )
 
     def wall(self) -> WallParams:
         """The env's wall with these dimensions (its face's drag, friction and pegs as the
         Topple envs have them)."""
-        return WallParams(height_m=self.height_m, thickness_m=self.thickness_m,
-                          base_depth_m=self.base_depth_m, mass_kg=self.mass_kg)  # fmt: skip
+        return WallParams(
+            height_m=self.height_m,
+            thickness_m=self.thickness_m,
+            base_depth_m=self.base_depth_m,
+            mass_kg=self.mass_kg,
+        )
 
     def balance_rad(self) -> float:
         """The lean that puts the centre of mass over the foot's edge: ``tan = b / (h/2)``."""
@@ -515,8 +579,11 @@ def falling_wall_measures(p: FallingWallParams, s: WallState, xp: Any) -> dict[s
     turning = turning - upright_torque * sn
     inertia_cm = w.mass_kg * (w.height_m**2 + w.thickness_m**2) / 12.0
     speed_sq = s.loose_vx * s.loose_vx + s.loose_vz * s.loose_vz
-    flying = (0.5 * w.mass_kg * speed_sq + 0.5 * inertia_cm * s.loose_rate * s.loose_rate
-              + w.mass_kg * GRAVITY_MPS2 * s.loose_z)  # fmt: skip
+    flying = (
+        0.5 * w.mass_kg * speed_sq
+        + 0.5 * inertia_cm * s.loose_rate * s.loose_rate
+        + w.mass_kg * GRAVITY_MPS2 * s.loose_z
+    )
     loose = s.status == LOOSE
     return {
         "lean_deg": xp.where(loose, s.loose_angle, s.angle) * (180.0 / math.pi),
@@ -532,23 +599,32 @@ def falling_wall_frame(p: FallingWallParams, s: WallState) -> Frame:
     for k, name in enumerate(WALL_NAMES):
         color = WALL_COLORS[k]
         base = float(s.base_x[k])
-        segments.append(Segment(base - w.half_base_m, 0.0, base + w.half_base_m, 0.0,
-                                (60, 60, 60), 5))  # fmt: skip
+        segments.append(
+            Segment(base - w.half_base_m, 0.0, base + w.half_base_m, 0.0, (60, 60, 60), 5)
+        )
         if s.status[k] == LOOSE:  # the panel, centred where it flies, along its angle
             x, z, a = float(s.loose_x[k]), float(s.loose_z[k]), float(s.loose_angle[k])
             dx, dz = 0.5 * w.height_m * math.sin(a), 0.5 * w.height_m * math.cos(a)
             segments.append(Segment(x - dx, z - dz, x + dx, z + dz, color, 6))
         else:
             x0, z0 = float(foot_x[k]), float(foot_z[k])
-            segments.append(Segment(x0, z0, x0 + w.height_m * float(sn[k]),
-                                    z0 + w.height_m * float(c[k]), color, 6))  # fmt: skip
+            segments.append(
+                Segment(
+                    x0, z0, x0 + w.height_m * float(sn[k]), z0 + w.height_m * float(c[k]), color, 6
+                )
+            )
         lean = math.degrees(float(s.loose_angle[k] if s.status[k] == LOOSE else s.angle[k]))
         label = f"{name}: {lean:.0f} deg" + (", torn loose" if s.status[k] == LOOSE else "")
         circles.append(Circle(float(pivot_x[k]), 0.0, 0.06, color, label))
     winds = ", ".join(f"{v:g}" for v in p.winds()[1:])
-    return Frame(circles, segments,
-                 [f"winds {winds} m/s; tips at {w.tipping_wind_speed_mps():.1f}, "
-                  f"tears loose at {w.breakaway_wind_speed_mps():.1f} m/s"])  # fmt: skip
+    return Frame(
+        circles,
+        segments,
+        [
+            f"winds {winds} m/s; tips at {w.tipping_wind_speed_mps():.1f}, "
+            f"tears loose at {w.breakaway_wind_speed_mps():.1f} m/s"
+        ],
+    )
 
 
 FALLING_WALL = Scene(
@@ -570,7 +646,7 @@ FALLING_WALL = Scene(
         WALL_SPACING_M * 3.0 + p.height_m + 1.5,
         -0.3,
         1.5 * p.height_m,
-    ),  # fmt: skip
+    ),
     duration_s=lambda p: 3.0,
     bodies=WALL_NAMES,
     floor=True,

@@ -35,6 +35,13 @@ from bbgym.envs.race.solo import SOLO_ENV_ID, BeachballRaceSoloEnv
 register_race_pettingzoo()
 
 __all__ = [
-    "ENV_ID", "SOLO_ENV_ID", "BeachballRaceEnv", "BeachballRaceFleetEnv", "BeachballRaceMatchEnv",
-    "BeachballRaceSoloEnv", "env", "parallel_env", "play_matches",
-]  # fmt: skip
+    "ENV_ID",
+    "SOLO_ENV_ID",
+    "BeachballRaceEnv",
+    "BeachballRaceFleetEnv",
+    "BeachballRaceMatchEnv",
+    "BeachballRaceSoloEnv",
+    "env",
+    "parallel_env",
+    "play_matches",
+]

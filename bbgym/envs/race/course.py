@@ -64,9 +64,13 @@ class Course(NamedTuple):
 
 
 def lay_course(
-    wind_from_rad: Array, line_length_m: float, leg_length_m: float, gate_depth_m: float,
-    gate_width_m: float, xp: Any,
-) -> Course:  # fmt: skip
+    wind_from_rad: Array,
+    line_length_m: float,
+    leg_length_m: float,
+    gate_depth_m: float,
+    gate_width_m: float,
+    xp: Any,
+) -> Course:
     """The course laid square to a race's mean wind ``wind_from_rad`` (``(races,)``)."""
     ux, uy = xp.cos(wind_from_rad)[:, None], xp.sin(wind_from_rad)[:, None]
     return Course(
@@ -82,9 +86,17 @@ def lay_course(
 
 
 def crossed_line(
-    center_x: Array, center_y: Array, normal_x: Array, normal_y: Array, half_m: float,
-    x0: Array, y0: Array, x1: Array, y1: Array, xp: Any,
-) -> tuple[Array, Array]:  # fmt: skip
+    center_x: Array,
+    center_y: Array,
+    normal_x: Array,
+    normal_y: Array,
+    half_m: float,
+    x0: Array,
+    y0: Array,
+    x1: Array,
+    y1: Array,
+    xp: Any,
+) -> tuple[Array, Array]:
     """Whether a boat that moved from ``(x0, y0)`` to ``(x1, y1)`` crossed the segment of
     half-length ``half_m`` centred at ``center`` and square to ``normal``, going the way
     ``normal`` points (from its back to its front side; at the segment's ends included),
@@ -98,8 +110,7 @@ def crossed_line(
     return crossing & (xp.abs(lateral) <= half_m), t
 
 
-def rounded_windward(course: Course, x0: Array, y0: Array, x1: Array, y1: Array,
-                     xp: Any) -> Array:  # fmt: skip
+def rounded_windward(course: Course, x0: Array, y0: Array, x1: Array, y1: Array, xp: Any) -> Array:
     """Whether a boat rounded the windward mark, leaving it to port: it crossed the ray
     from the mark straight upwind from its starboard side to its port side (passing above
     the mark, heading across the wind to the left, as a boat rounding counterclockwise
@@ -116,8 +127,9 @@ def rounded_windward(course: Course, x0: Array, y0: Array, x1: Array, y1: Array,
     return crossing & (above > 0.0)
 
 
-def passed_waypoint(course: Course, kind: Array, x0: Array, y0: Array, x1: Array, y1: Array,
-                    xp: Any) -> tuple[Array, Array]:  # fmt: skip
+def passed_waypoint(
+    course: Course, kind: Array, x0: Array, y0: Array, x1: Array, y1: Array, xp: Any
+) -> tuple[Array, Array]:
     """Whether each boat, moving from ``(x0, y0)`` to ``(x1, y1)``, passed the waypoint of
     ``kind`` it is sailing to (:data:`START`: the line upwind; :data:`WINDWARD`: rounded
     to port; :data:`GATE`: through it downwind; :data:`FINISH`: the line downwind), and
@@ -126,13 +138,15 @@ def passed_waypoint(course: Course, kind: Array, x0: Array, y0: Array, x1: Array
     zero = 0.0 * ux
     up_line, _ = crossed_line(zero, zero, ux, uy, h, x0, y0, x1, y1, xp)
     down_line, t = crossed_line(zero, zero, -ux, -uy, h, x0, y0, x1, y1, xp)
-    gate, _ = crossed_line(course.gate_x_m, course.gate_y_m, -ux, -uy, course.gate_half_m,
-                           x0, y0, x1, y1, xp)  # fmt: skip
+    gate, _ = crossed_line(
+        course.gate_x_m, course.gate_y_m, -ux, -uy, course.gate_half_m, x0, y0, x1, y1, xp
+    )
     windward = rounded_windward(course, x0, y0, x1, y1, xp)
     passed = xp.where(
-        kind == START, up_line,
+        kind == START,
+        up_line,
         xp.where(kind == WINDWARD, windward, xp.where(kind == GATE, gate, down_line)),
-    )  # fmt: skip
+    )
     return passed, t
 
 

@@ -17,8 +17,9 @@ try:
 except ImportError as error:  # the fix, not a bare ModuleNotFoundError
     from bbgym._extras import install_hint
 
-    raise ImportError(f"BeachballRace needs PettingZoo (the 'race' extra): "
-                      f"{install_hint('race')}") from error  # fmt: skip
+    raise ImportError(
+        f"BeachballRace needs PettingZoo (the 'race' extra): {install_hint('race')}"
+    ) from error
 
 from bbgym.envs.common import check_box_action
 from bbgym.envs.functional import tree_map
@@ -210,8 +211,10 @@ class BeachballRaceEnv(ParallelEnv):
 
     def __init__(self, render_mode: str | None = None, **kwargs: Any) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode must be None or one of "
-                             f"{self.metadata['render_modes']}, got {render_mode!r}")  # fmt: skip
+            raise ValueError(
+                f"render_mode must be None or one of "
+                f"{self.metadata['render_modes']}, got {render_mode!r}"
+            )
         self._renderer: Any = None
         self.task = RaceTask(boat=race_boat(kwargs.pop("boat", None)), **kwargs)
         self.render_mode = render_mode
@@ -262,8 +265,7 @@ class BeachballRaceEnv(ParallelEnv):
             raise TypeError(f"actions must be a dict keyed by agent names, got a {kind}")
         for agent in actions:
             if agent not in self.agents:
-                raise ValueError(f"actions[{agent!r}]: no such boat racing; racing: "
-                                 f"{self.agents}")  # fmt: skip
+                raise ValueError(f"actions[{agent!r}]: no such boat racing; racing: {self.agents}")
         action = np.zeros((self.task.num_boats, self.task.action_space.shape[0]))
         for agent in self.agents:
             if agent not in actions:
@@ -311,8 +313,7 @@ class BeachballRaceEnv(ParallelEnv):
         from bbgym.envs.race.view import RaceRenderer, race_scene
 
         if self._renderer is None:
-            self._renderer = RaceRenderer(self.render_mode, 640, 480,
-                                          self.metadata["render_fps"])  # fmt: skip
+            self._renderer = RaceRenderer(self.render_mode, 640, 480, self.metadata["render_fps"])
         return self._renderer.render(race_scene(self.task, self.state_))
 
     def close(self) -> None:

@@ -49,9 +49,17 @@ class BeachballRaceFleetEnv(VectorEnv):
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_races: int = 16, *, backend: str = "numpy", device: str | None = None,
-                 dtype: str = "float64", output: str = "numpy", compile: bool = True,
-                 **kwargs: Any) -> None:  # fmt: skip
+    def __init__(
+        self,
+        num_races: int = 16,
+        *,
+        backend: str = "numpy",
+        device: str | None = None,
+        dtype: str = "float64",
+        output: str = "numpy",
+        compile: bool = True,
+        **kwargs: Any,
+    ) -> None:
         if isinstance(num_races, bool) or not isinstance(num_races, (int, np.integer)):
             raise TypeError(f"num_races must be an int, got {num_races!r}")
         if num_races < 1:
@@ -115,14 +123,19 @@ class BeachballRaceFleetEnv(VectorEnv):
         each boat's reward and whether it is out, each race's time being up."""
         xp = self.xp
         moved = self.task.transition(state, action, gust_noise, xp)
-        return (moved, self.task.reward(moved, xp), self.task.terminal(moved, xp),
-                self.task.timed_out(moved, xp))  # fmt: skip
+        return (
+            moved,
+            self.task.reward(moved, xp),
+            self.task.terminal(moved, xp),
+            self.task.timed_out(moved, xp),
+        )
 
     def _observation_of(self, state: RaceState) -> Any:
         return self.task.observation(state, self.xp)
 
-    def reset(self, *, seed: int | list[int | None] | None = None,
-              options: dict[str, Any] | None = None) -> tuple:  # fmt: skip
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple:
         if not isinstance(seed, (int, np.integer)) and seed is not None:
             seed = list(seed)
             if len(seed) == self.num_envs:  # a seed per boat: each race takes its first's
@@ -142,8 +155,9 @@ class BeachballRaceFleetEnv(VectorEnv):
         if hasattr(actions, "detach") and self.xp is not np:  # a learner's tensor, kept there
             action = actions.to(device=self.backend.device, dtype=self.backend.float_dtype)
             if tuple(action.shape) != self.action_space.shape:
-                raise ValueError(f"actions must have shape {self.action_space.shape}, "
-                                 f"got {tuple(action.shape)}")  # fmt: skip
+                raise ValueError(
+                    f"actions must have shape {self.action_space.shape}, got {tuple(action.shape)}"
+                )
             action = action.clamp(-1.0, 1.0)  # a NaN check would cost a sync on a GPU
         else:
             try:
@@ -152,8 +166,12 @@ class BeachballRaceFleetEnv(VectorEnv):
             except ValueError as error:
                 raise ValueError(f"actions: {error}") from None
         restarting = self._ended.copy()
-        gust_noise = np.stack([g.standard_normal(size=2) if not restarting[r] else np.zeros(2)
-                               for r, g in enumerate(self._generators)])  # fmt: skip
+        gust_noise = np.stack(
+            [
+                g.standard_normal(size=2) if not restarting[r] else np.zeros(2)
+                for r, g in enumerate(self._generators)
+            ]
+        )
         before = self.state
         noise = self._array(gust_noise)
         compiling = self._cold and self.backend.name == "torch" and self.backend.compile
@@ -182,8 +200,13 @@ class BeachballRaceFleetEnv(VectorEnv):
             ended[restarting] = False
         self._ended = ended
         obs = self._observe(sitting_out & ~restarting[:, None])
-        return (obs, self._output(reward.reshape(-1)), self._output(terminated.reshape(-1)),
-                self._output(truncated.reshape(-1)), self._info())  # fmt: skip
+        return (
+            obs,
+            self._output(reward.reshape(-1)),
+            self._output(terminated.reshape(-1)),
+            self._output(truncated.reshape(-1)),
+            self._info(),
+        )
 
     def reset_envs(self, mask: Any) -> np.ndarray:
         """Restart at once what a step just ended, for a learner that restarts an env on

@@ -52,14 +52,22 @@ class BeachballRaceMatchEnv(VectorEnv):
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_races: int = 16, learners: int = 2, residual: bool = False,
-                 relative: bool = False, **kwargs: Any) -> None:  # fmt: skip
+    def __init__(
+        self,
+        num_races: int = 16,
+        learners: int = 2,
+        residual: bool = False,
+        relative: bool = False,
+        **kwargs: Any,
+    ) -> None:
         from bbgym.agents import RaceRacer
 
         self.fleet = BeachballRaceFleetEnv(num_races, **kwargs)
         if self.fleet.backend.output != "numpy":
-            raise ValueError("output must be 'numpy' for a match (the scripted racer reads "
-                             f"NumPy observations), got {self.fleet.backend.output!r}")  # fmt: skip
+            raise ValueError(
+                "output must be 'numpy' for a match (the scripted racer reads "
+                f"NumPy observations), got {self.fleet.backend.output!r}"
+            )
         boats = self.fleet.num_boats
         if isinstance(learners, bool) or not isinstance(learners, (int, np.integer)):
             raise TypeError(f"learners must be an int, got {learners!r}")
@@ -69,8 +77,10 @@ class BeachballRaceMatchEnv(VectorEnv):
             if not isinstance(flag, (bool, np.bool_)):
                 raise TypeError(f"{name} must be a bool, got {flag!r}")
         if relative and learners == boats:
-            raise ValueError(f"relative=True needs a scripted boat in each race: learners must "
-                             f"be below num_boats={boats}, got {learners}")  # fmt: skip
+            raise ValueError(
+                f"relative=True needs a scripted boat in each race: learners must "
+                f"be below num_boats={boats}, got {learners}"
+            )
         self.num_races, self.num_boats = self.fleet.num_races, boats
         self.learners, self.residual = int(learners), bool(residual)
         self.relative = bool(relative)
@@ -96,8 +106,9 @@ class BeachballRaceMatchEnv(VectorEnv):
     def task(self) -> Any:
         return self.fleet.task
 
-    def reset(self, *, seed: int | list[int | None] | None = None,
-              options: dict[str, Any] | None = None) -> tuple:  # fmt: skip
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple:
         if seed is not None and not isinstance(seed, (int, np.integer)):
             seed = list(seed)
             if len(seed) == self.num_envs:  # a seed per learning boat: each race its first's
@@ -125,8 +136,13 @@ class BeachballRaceMatchEnv(VectorEnv):
             races = reward.reshape(self.num_races, self.num_boats)
             scripted = np.where(self.mask, 0.0, races).sum(axis=1) / (~self.mask).sum(axis=1)
             learned = learned - scripted[self.rows // self.num_boats]
-        return (self._observe(), learned, terminated[self.rows], truncated[self.rows],
-                self._pick(info))  # fmt: skip
+        return (
+            self._observe(),
+            learned,
+            terminated[self.rows],
+            truncated[self.rows],
+            self._pick(info),
+        )
 
     def reset_envs(self, mask: Any) -> np.ndarray:
         """Restart at once what a step ended (the fleet's :meth:`reset_envs`, ``mask`` over
@@ -159,8 +175,11 @@ class BeachballRaceMatchEnv(VectorEnv):
         """The learning boats' rows of the fleet's infos (nested ones too)."""
 
         def rows(tree: dict[str, Any]) -> dict[str, Any]:
-            return {k: rows(v) if isinstance(v, dict) else v[self.rows]
-                    for k, v in tree.items() if not k.startswith("_")}  # fmt: skip
+            return {
+                k: rows(v) if isinstance(v, dict) else v[self.rows]
+                for k, v in tree.items()
+                if not k.startswith("_")
+            }
 
         return vector_info(rows(info), self.num_envs)
 
@@ -192,8 +211,9 @@ class MatchResult(NamedTuple):
         return self.ahead / max(self.pairings, 1)
 
 
-def score_matches(place: np.ndarray, finished: np.ndarray, fouls: np.ndarray,
-                  learned: np.ndarray) -> MatchResult:  # fmt: skip
+def score_matches(
+    place: np.ndarray, finished: np.ndarray, fouls: np.ndarray, learned: np.ndarray
+) -> MatchResult:
     """Score finished races ``(races, boats)``: each learned boat against each scripted one
     of its race."""
     finished = finished.astype(bool)
@@ -210,14 +230,26 @@ def score_matches(place: np.ndarray, finished: np.ndarray, fouls: np.ndarray,
         return float(np.mean(values)) if values.size else float("nan")
 
     return MatchResult(
-        pairings, ahead, behind, mean(finished[learned]), mean(finished[~learned]),
-        mean(fouls[learned]), mean(fouls[~learned]), mean(place[learned & finished]),
+        pairings,
+        ahead,
+        behind,
+        mean(finished[learned]),
+        mean(finished[~learned]),
+        mean(fouls[learned]),
+        mean(fouls[~learned]),
+        mean(place[learned & finished]),
         mean(place[~learned & finished]),
-    )  # fmt: skip
+    )
 
 
-def play_matches(policy: Any, num_races: int = 100, seed: int = 0, learners: int = 2,
-                 residual: bool = False, **kwargs: Any) -> MatchResult:  # fmt: skip
+def play_matches(
+    policy: Any,
+    num_races: int = 100,
+    seed: int = 0,
+    learners: int = 2,
+    residual: bool = False,
+    **kwargs: Any,
+) -> MatchResult:
     """Sail ``num_races`` races (race ``r`` seeded ``seed + r``, as the PettingZoo env
     reset with that seed) with ``policy(observations) -> actions`` for the learning boats
     (:class:`BeachballRaceMatchEnv`'s, ``residual`` as there) and score them with

@@ -45,9 +45,15 @@ def clear_astern(length_m: float, x: Array, y: Array, heading: Array, xp: Any) -
 
 
 def keeps_clear(
-    length_m: float, course: rc.Course, wind_from_rad: Array, kind: Array, x: Array, y: Array,
-    heading: Array, xp: Any,
-) -> Array:  # fmt: skip
+    length_m: float,
+    course: rc.Course,
+    wind_from_rad: Array,
+    kind: Array,
+    x: Array,
+    y: Array,
+    heading: Array,
+    xp: Any,
+) -> Array:
     """``[.., i, j]``: boat ``i`` must keep clear of boat ``j`` (module docstring).
     ``wind_from_rad`` is each boat's true wind's direction, ``kind`` the waypoint each
     boat sails to (:mod:`bbgym.envs.race.course`)."""

@@ -57,8 +57,13 @@ class BeachballRaceSoloEnv(gym.Env):
         info = self._info(infos[LEARNER])
         if terminations[LEARNER] or truncations[LEARNER]:
             self._observations = {}
-        return (observations[LEARNER], rewards[LEARNER], terminations[LEARNER],
-                truncations[LEARNER], info)  # fmt: skip
+        return (
+            observations[LEARNER],
+            rewards[LEARNER],
+            terminations[LEARNER],
+            truncations[LEARNER],
+            info,
+        )
 
     def _info(self, info: dict[str, Any]) -> dict[str, Any]:
         return info | {"won": info["place"] == 1}

@@ -108,24 +108,42 @@ ARGUMENT_TABLE = (
         "`capsize_penalty`, `time_penalty`, `foul_penalty`",
         f"{REWARD_WEIGHT}",
     ),
-    ("`boat`", "a mapping of `sail_model`, `dinghy`, `initial_sheet`, `initial_speed_range` "
-               "(the sail env's accepted values)"),
+    (
+        "`boat`",
+        "a mapping of `sail_model`, `dinghy`, `initial_sheet`, `initial_speed_range` "
+        "(the sail env's accepted values)",
+    ),
     ("`shadow_params`", "a mapping of its fields (table below), or the dataclass"),
-)  # fmt: skip
+)
 """The documentation's table of the race's accepted arguments and options (the Race
 page's generated table)."""
 RELATIVE_SCALE_M = 50.0
 """Neighbours' positions are divided by this: boats within 50 m are inside [-1, 1]."""
 RACE_COLUMNS = (
-    "time_to_gun", "race_time", "started", "ocs", "waypoints_passed", "penalty_owed",
-    "committee_cos", "committee_sin", "committee_distance", "pin_cos", "pin_sin",
+    "time_to_gun",
+    "race_time",
+    "started",
+    "ocs",
+    "waypoints_passed",
+    "penalty_owed",
+    "committee_cos",
+    "committee_sin",
+    "committee_distance",
+    "pin_cos",
+    "pin_sin",
     "pin_distance",
-)  # fmt: skip
+)
 """The race's columns, after the sail env's (the env's docstring table)."""
 NEIGHBOUR_COLUMNS = (
-    "present", "ahead", "port", "speed_ahead", "speed_port", "heading_cos", "heading_sin",
+    "present",
+    "ahead",
+    "port",
+    "speed_ahead",
+    "speed_port",
+    "heading_cos",
+    "heading_sin",
     "right_of_way",
-)  # fmt: skip
+)
 """Each neighbour's columns, after the race's: ``right_of_way`` is -1 where this boat must
 keep clear of it, 1 where it must keep clear of this boat."""
 RACE_OBS_SIZE = len(RACE_COLUMNS)
@@ -302,14 +320,20 @@ class RaceTask:
         self.gate_depth_m = check_number("gate_depth_m", gate_depth_m, GATE_DEPTH_M)
         self.gate_width_m = check_number("gate_width_m", gate_width_m, GATE_WIDTH_M)
         self.countdown_s = check_number("countdown_s", countdown_s, COUNTDOWN_S)
-        self.start_depth_range = check_range("start_depth_range", start_depth_range,
-                                             START_DEPTH_M)  # fmt: skip
+        self.start_depth_range = check_range("start_depth_range", start_depth_range, START_DEPTH_M)
         self.max_race_time_s = check_number("max_race_time_s", max_race_time_s, RACE_TIME_S)
         self.shadow = check_bool("shadow", shadow)
         self.shadow_params = build_params(ShadowParams, "shadow_params", shadow_params)
         self.shadow_area_m2 = profile_area_m2(self.shadow_params)
-        for name in ("progress_weight", "waypoint_bonus", "finish_bonus", "ocs_penalty",
-                     "capsize_penalty", "time_penalty", "foul_penalty"):  # fmt: skip
+        for name in (
+            "progress_weight",
+            "waypoint_bonus",
+            "finish_bonus",
+            "ocs_penalty",
+            "capsize_penalty",
+            "time_penalty",
+            "foul_penalty",
+        ):
             setattr(self, name, check_number(name, locals()[name], REWARD_WEIGHT))
         self.collisions = check_bool("collisions", collisions)
         self.restitution = check_number("restitution", restitution, RESTITUTION)
@@ -330,8 +354,11 @@ class RaceTask:
         p = self.sail.params
         self.hulls = hulls(p.hull_length_m, p.hull_beam_m, p.mass_kg, p.yaw_inertia_kgm2)
         self.progress_scale_m = BOAT_SPEED_SCALE_MPS * self.ctrl_dt
-        size = (self.sail.observation_space.shape[0] + RACE_OBS_SIZE
-                + NEIGHBOUR_OBS_SIZE * self.neighbours)  # fmt: skip
+        size = (
+            self.sail.observation_space.shape[0]
+            + RACE_OBS_SIZE
+            + NEIGHBOUR_OBS_SIZE * self.neighbours
+        )
         self.observation_space = spaces.Box(-1.0, 1.0, (size,), np.float32)
         self.action_space = self.sail.action_space
         self.race_column = size - RACE_OBS_SIZE - NEIGHBOUR_OBS_SIZE * self.neighbours
@@ -361,8 +388,14 @@ class RaceTask:
         return checked
 
     def course(self, state: RaceState, xp: Any) -> rc.Course:
-        return rc.lay_course(state.wind_from_rad, self.line_length_m, self.leg_length_m,
-                             self.gate_depth_m, self.gate_width_m, xp)  # fmt: skip
+        return rc.lay_course(
+            state.wind_from_rad,
+            self.line_length_m,
+            self.leg_length_m,
+            self.gate_depth_m,
+            self.gate_width_m,
+            xp,
+        )
 
     def initial(self, uniform: Any, normal: Any, options: Mapping[str, Any], xp: Any) -> RaceState:
         """Fresh races from their draws: ``uniform`` ``(races, 2 + 4 K)`` in [0, 1) (the
@@ -371,23 +404,32 @@ class RaceTask:
         ``options`` pin the wind."""
         k = self.num_boats
         races = uniform.shape[0]
-        per_race = [xp.reshape(xp.repeat(uniform[:, j : j + 1], k, axis=1), (-1,))
-                    for j in range(2)]  # fmt: skip
-        boat_draws = [xp.reshape(uniform[:, 2 + j * k : 2 + (j + 1) * k], (-1,))
-                      for j in range(4)]  # fmt: skip
+        per_race = [
+            xp.reshape(xp.repeat(uniform[:, j : j + 1], k, axis=1), (-1,)) for j in range(2)
+        ]
+        boat_draws = [xp.reshape(uniform[:, 2 + j * k : 2 + (j + 1) * k], (-1,)) for j in range(4)]
         half = 0.5 + 0.0 * boat_draws[0]
         gust = [xp.reshape(xp.repeat(normal[:, j : j + 1], k, axis=1), (-1,)) for j in range(2)]
         # The sail core's boats: the race's wind, each boat's heading and speed.
-        noise = InitialNoise([per_race[0], per_race[1], half, half, boat_draws[2],
-                              boat_draws[3]], gust)  # fmt: skip
+        noise = InitialNoise(
+            [per_race[0], per_race[1], half, half, boat_draws[2], boat_draws[3]], gust
+        )
         boats = self.sail.initial(noise, {key: options[key] for key in options}, xp)
         wind_speed = xp.reshape(boats.scenario.wind_speed_mps, (races, k))[:, 0]
         wind_from = xp.reshape(boats.scenario.wind_from_rad, (races, k))[:, 0]
-        course = rc.lay_course(wind_from, self.line_length_m, self.leg_length_m,
-                               self.gate_depth_m, self.gate_width_m, xp)  # fmt: skip
+        course = rc.lay_course(
+            wind_from,
+            self.line_length_m,
+            self.leg_length_m,
+            self.gate_depth_m,
+            self.gate_width_m,
+            xp,
+        )
         # Each boat in its own slot along the line, a draw deep behind it.
-        slot = (xp.reshape(xp.arange(k, dtype=uniform.dtype), (1, k))
-                + xp.reshape(boat_draws[0], (races, k))) / k  # fmt: skip
+        slot = (
+            xp.reshape(xp.arange(k, dtype=uniform.dtype), (1, k))
+            + xp.reshape(boat_draws[0], (races, k))
+        ) / k
         lateral = (2.0 * slot - 1.0) * course.line_half_m
         d_lo, d_hi = self.start_depth_range
         depth = d_lo + (d_hi - d_lo) * xp.reshape(boat_draws[1], (races, k))
@@ -397,20 +439,41 @@ class RaceTask:
         start = xp.zeros_like(x, dtype=xp.int64)
         target_x, target_y = rc.steer_target(course, start, x, y, xp)
         boat = replaced(boats.boat, x_m=xp.reshape(x, (-1,)), y_m=xp.reshape(y, (-1,)))
-        scenario = replaced(boats.scenario, mark_x_m=xp.reshape(target_x, (-1,)),
-                            mark_y_m=xp.reshape(target_y, (-1,)))  # fmt: skip
+        scenario = replaced(
+            boats.scenario,
+            mark_x_m=xp.reshape(target_x, (-1,)),
+            mark_y_m=xp.reshape(target_y, (-1,)),
+        )
         boats = replaced(boats, boat=boat, scenario=scenario)
         zeros = 0.0 * x
         none = xp.zeros_like(x, dtype=xp.int64)
         return RaceState(
-            boats=boats, wind_speed_mps=wind_speed, wind_from_rad=wind_from,
-            clock_s=0.0 * wind_speed - self.countdown_s, leg=none, ocs=no,
-            crossed_s=zeros + math.inf, finished=no, place=none, capsized=no,
-            fouling=xp.zeros((races, k, k), dtype=xp.bool), fouls=none, turns_owed=none,
-            turned_rad=zeros, penalty_s=zeros, touched=no, wind_factor=zeros + 1.0,
-            wind_bend_rad=zeros, progress=zeros, waypoint=zeros, finish=zeros,
-            ocs_penalty=zeros, capsize=zeros, foul=zeros, time=zeros,
-        )  # fmt: skip
+            boats=boats,
+            wind_speed_mps=wind_speed,
+            wind_from_rad=wind_from,
+            clock_s=0.0 * wind_speed - self.countdown_s,
+            leg=none,
+            ocs=no,
+            crossed_s=zeros + math.inf,
+            finished=no,
+            place=none,
+            capsized=no,
+            fouling=xp.zeros((races, k, k), dtype=xp.bool),
+            fouls=none,
+            turns_owed=none,
+            turned_rad=zeros,
+            penalty_s=zeros,
+            touched=no,
+            wind_factor=zeros + 1.0,
+            wind_bend_rad=zeros,
+            progress=zeros,
+            waypoint=zeros,
+            finish=zeros,
+            ocs_penalty=zeros,
+            capsize=zeros,
+            foul=zeros,
+            time=zeros,
+        )
 
     # -- dynamics ---------------------------------------------------------------------------
     def flat(self, array: Array, xp: Any) -> Array:
@@ -426,8 +489,9 @@ class RaceTask:
         boats, k = state.boats, self.num_boats
         speed = xp.repeat(state.wind_speed_mps[:, None], k, axis=1)
         wind_from = xp.repeat(state.wind_from_rad[:, None], k, axis=1)
-        wind_x, wind_y, _, _ = wind_vector(self.flat(speed, xp), self.flat(wind_from, xp),
-                                           boats.gust, xp)  # fmt: skip
+        wind_x, wind_y, _, _ = wind_vector(
+            self.flat(speed, xp), self.flat(wind_from, xp), boats.gust, xp
+        )
         ones = 1.0 + 0.0 * state.wind_bend_rad
         if not self.shadow or k == 1:
             return ones, 0.0 * ones
@@ -441,10 +505,19 @@ class RaceTask:
         flow_x, flow_y = wind_x - boat.vx_mps, wind_y - boat.vy_mps
         pb = self.per_boat
         dvx, dvy = shadow_velocity(
-            self.shadow_params, pb(boat.x_m, xp), pb(boat.y_m, xp), pb(force_x, xp),
-            pb(force_y, xp), pb(flow_x, xp), pb(flow_y, xp), xp.logical_not(state.stopped),
-            pb(boat.x_m, xp), pb(boat.y_m, xp), xp, self.shadow_area_m2,
-        )  # fmt: skip
+            self.shadow_params,
+            pb(boat.x_m, xp),
+            pb(boat.y_m, xp),
+            pb(force_x, xp),
+            pb(force_y, xp),
+            pb(flow_x, xp),
+            pb(flow_y, xp),
+            xp.logical_not(state.stopped),
+            pb(boat.x_m, xp),
+            pb(boat.y_m, xp),
+            xp,
+            self.shadow_area_m2,
+        )
         wx, wy = pb(wind_x, xp), pb(wind_y, xp)
         new_x, new_y = shadowed_wind(wx, wy, dvx, dvy, xp)
         factor = xp.hypot(new_x, new_y) / xp.maximum(xp.hypot(wx, wy), 1e-12)
@@ -466,8 +539,9 @@ class RaceTask:
         speed = xp.repeat(state.wind_speed_mps[:, None], k, axis=1) * factor
         wind_from = xp.repeat(state.wind_from_rad[:, None], k, axis=1) + bend
         boats = state.boats
-        scenario = replaced(boats.scenario, wind_speed_mps=flat(speed, xp),
-                            wind_from_rad=flat(wind_from, xp))  # fmt: skip
+        scenario = replaced(
+            boats.scenario, wind_speed_mps=flat(speed, xp), wind_from_rad=flat(wind_from, xp)
+        )
         boats = replaced(boats, scenario=scenario)
         noise = [flat(xp.repeat(gust_noise[:, j : j + 1], k, axis=1), xp) for j in range(2)]
         moved, touched = self.sail_fleet(boats, action, noise, state.stopped, xp)
@@ -486,8 +560,16 @@ class RaceTask:
         # Fouls: a boat that must keep clear, inside keep_clear_m of the other's hull.
         heading = pb(moved.boat.heading_rad, xp)
         gap = hull_contacts(self.hulls, x1, y1, heading, xp).gap_m
-        must = rules.keeps_clear(self.sail.params.hull_length_m, course,
-                                 self.wind_from(moved, xp), kind, x1, y1, heading, xp)  # fmt: skip
+        must = rules.keeps_clear(
+            self.sail.params.hull_length_m,
+            course,
+            self.wind_from(moved, xp),
+            kind,
+            x1,
+            y1,
+            heading,
+            xp,
+        )
         pairs = sailing[:, :, None] & sailing[:, None, :]
         fouling = must & pairs & (gap < self.keep_clear_m)
         new_fouls = xp.sum(xp.astype(fouling & xp.logical_not(state.fouling), xp.int64), axis=2)
@@ -504,8 +586,9 @@ class RaceTask:
         passed = passed & sailing & after_gun & xp.logical_not(ocs) & (state.turns_owed == 0)
         leg = state.leg + xp.astype(passed, xp.int64)
         crossing = passed & (leg >= len(self.kinds))
-        crossed_s = xp.where(crossing, state.clock_s[:, None] + fraction * self.ctrl_dt,
-                             state.crossed_s)  # fmt: skip
+        crossed_s = xp.where(
+            crossing, state.clock_s[:, None] + fraction * self.ctrl_dt, state.crossed_s
+        )
         capsized = state.capsized | (
             pb(moved.boat.capsized, xp) & sailing & xp.logical_not(crossing)
         )
@@ -519,10 +602,11 @@ class RaceTask:
         earlier = finishing[:, None, :] & (
             (due[:, None, :] < due[:, :, None])
             | ((due[:, None, :] == due[:, :, None]) & (order[None, None, :] < order[None, :, None]))
-        )  # fmt: skip
+        )
         before = xp.sum(xp.astype(state.finished, xp.int64), axis=1)[:, None]
-        place = xp.where(finishing, before + 1 + xp.sum(xp.astype(earlier, xp.int64), axis=2),
-                         state.place)  # fmt: skip
+        place = xp.where(
+            finishing, before + 1 + xp.sum(xp.astype(earlier, xp.int64), axis=2), state.place
+        )
 
         # Rewards: progress to the point steered for (while sailing, after the gun).
         d0 = xp.hypot(target_x - x0, target_y - y0)
@@ -539,22 +623,38 @@ class RaceTask:
         next_x, next_y = rc.steer_target(course, self.kind(leg, xp), x1, y1, xp)
         scenario = replaced(moved.scenario, mark_x_m=flat(next_x, xp), mark_y_m=flat(next_y, xp))
         return RaceState(
-            boats=replaced(moved, scenario=scenario), wind_speed_mps=state.wind_speed_mps,
-            wind_from_rad=state.wind_from_rad, clock_s=clock, leg=leg, ocs=ocs,
-            crossed_s=crossed_s, finished=finished, place=place, capsized=capsized,
-            fouling=fouling, fouls=state.fouls + new_fouls, turns_owed=owed, turned_rad=turned,
-            penalty_s=penalty_s, touched=touched, wind_factor=factor, wind_bend_rad=bend,
-            progress=progress, waypoint=waypoint,
+            boats=replaced(moved, scenario=scenario),
+            wind_speed_mps=state.wind_speed_mps,
+            wind_from_rad=state.wind_from_rad,
+            clock_s=clock,
+            leg=leg,
+            ocs=ocs,
+            crossed_s=crossed_s,
+            finished=finished,
+            place=place,
+            capsized=capsized,
+            fouling=fouling,
+            fouls=state.fouls + new_fouls,
+            turns_owed=owed,
+            turned_rad=turned,
+            penalty_s=penalty_s,
+            touched=touched,
+            wind_factor=factor,
+            wind_bend_rad=bend,
+            progress=progress,
+            waypoint=waypoint,
             finish=xp.where(finishing, self.finish_bonus * share, zero),
             ocs_penalty=xp.where(over_early, -self.ocs_penalty, zero),
-            capsize=xp.where(capsized & racing & xp.logical_not(state.capsized),
-                             -self.capsize_penalty, zero),  # fmt: skip
+            capsize=xp.where(
+                capsized & racing & xp.logical_not(state.capsized), -self.capsize_penalty, zero
+            ),
             foul=-self.foul_penalty * xp.astype(new_fouls, zero.dtype),
             time=xp.where(finish_start, -self.time_penalty, zero),
-        )  # fmt: skip
+        )
 
-    def sail_fleet(self, boats: SailState, action: Any, noise: Any, stopped: Array,
-                   xp: Any) -> tuple[SailState, Array]:  # fmt: skip
+    def sail_fleet(
+        self, boats: SailState, action: Any, noise: Any, stopped: Array, xp: Any
+    ) -> tuple[SailState, Array]:
         """The sail core's transition of every boat, the hulls that touch bouncing off each
         other after every substep (boats ``stopped`` take no part). Returns the boats and
         which touched another during the step ``(races, K)``."""
@@ -569,13 +669,26 @@ class RaceTask:
             carry = self.sail.substep(carry, xp)
             boat = carry[0].boat
             x, y, vx, vy, yaw_rate, touching = collide(
-                self.hulls, self.restitution, pb(boat.x_m, xp), pb(boat.y_m, xp),
-                pb(boat.heading_rad, xp), pb(boat.vx_mps, xp), pb(boat.vy_mps, xp),
-                pb(boat.yaw_rate_rps, xp), active, xp,
-            )  # fmt: skip
+                self.hulls,
+                self.restitution,
+                pb(boat.x_m, xp),
+                pb(boat.y_m, xp),
+                pb(boat.heading_rad, xp),
+                pb(boat.vx_mps, xp),
+                pb(boat.vy_mps, xp),
+                pb(boat.yaw_rate_rps, xp),
+                active,
+                xp,
+            )
             touched = touched | xp.any(touching, axis=2)
-            boat = replaced(boat, x_m=flat(x, xp), y_m=flat(y, xp), vx_mps=flat(vx, xp),
-                            vy_mps=flat(vy, xp), yaw_rate_rps=flat(yaw_rate, xp))  # fmt: skip
+            boat = replaced(
+                boat,
+                x_m=flat(x, xp),
+                y_m=flat(y, xp),
+                vx_mps=flat(vx, xp),
+                vy_mps=flat(vy, xp),
+                yaw_rate_rps=flat(yaw_rate, xp),
+            )
             carry = (replaced(carry[0], boat=boat), *carry[1:])
         moved, _ = self.sail.end(boats, carry, xp)
         return moved, touched
@@ -642,10 +755,15 @@ class RaceTask:
         (:func:`bbgym.envs.race.rules.keeps_clear`)."""
         boat, pb = state.boats.boat, self.per_boat
         return rules.keeps_clear(
-            self.sail.params.hull_length_m, self.course(state, xp),
-            self.wind_from(state.boats, xp), self.kind(state.leg, xp), pb(boat.x_m, xp),
-            pb(boat.y_m, xp), pb(boat.heading_rad, xp), xp,
-        )  # fmt: skip
+            self.sail.params.hull_length_m,
+            self.course(state, xp),
+            self.wind_from(state.boats, xp),
+            self.kind(state.leg, xp),
+            pb(boat.x_m, xp),
+            pb(boat.y_m, xp),
+            pb(boat.heading_rad, xp),
+            xp,
+        )
 
     def neighbour_columns(self, state: RaceState, xp: Any) -> Array:
         """The nearest ``neighbours`` other boats still sailing, nearest first, each as
@@ -665,17 +783,27 @@ class RaceTask:
         order = xp.argsort(distance, axis=2)[:, :, : self.neighbours]
         cos_h, sin_h = xp.cos(heading)[:, :, None], xp.sin(heading)[:, :, None]
         ahead, left = split_along(dx, dy, cos_h, sin_h)
-        v_ahead, v_left = split_along(vx[:, None, :] - vx[:, :, None],
-                                      vy[:, None, :] - vy[:, :, None], cos_h, sin_h)  # fmt: skip
+        v_ahead, v_left = split_along(
+            vx[:, None, :] - vx[:, :, None], vy[:, None, :] - vy[:, :, None], cos_h, sin_h
+        )
         turn = heading[:, None, :] - heading[:, :, None]
         must = self.right_of_way(state, xp)
         way = xp.astype(xp.matrix_transpose(must), x.dtype) - xp.astype(must, x.dtype)
         here = xp.astype(present, x.dtype)
-        pick = [here, ahead / RELATIVE_SCALE_M, left / RELATIVE_SCALE_M,
-                v_ahead / BOAT_SPEED_SCALE_MPS, v_left / BOAT_SPEED_SCALE_MPS,
-                xp.cos(turn), xp.sin(turn), way]  # fmt: skip
-        columns = [xp.take_along_axis(c, order, axis=2) * xp.take_along_axis(here, order, axis=2)
-                   for c in pick]  # fmt: skip
+        pick = [
+            here,
+            ahead / RELATIVE_SCALE_M,
+            left / RELATIVE_SCALE_M,
+            v_ahead / BOAT_SPEED_SCALE_MPS,
+            v_left / BOAT_SPEED_SCALE_MPS,
+            xp.cos(turn),
+            xp.sin(turn),
+            way,
+        ]
+        columns = [
+            xp.take_along_axis(c, order, axis=2) * xp.take_along_axis(here, order, axis=2)
+            for c in pick
+        ]
         # (races, K, neighbours, 8) -> (races, K, 8 * neighbours), neighbour by neighbour
         stacked = xp.stack(columns, axis=3)
         return xp.reshape(stacked, (stacked.shape[0], k, -1))

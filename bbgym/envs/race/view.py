@@ -24,9 +24,15 @@ SHADOW_ALPHA = 70
 TEXT_COLOR: Color = (250, 250, 250)
 PANEL_COLOR: Color = (16, 60, 96)
 BOAT_COLORS: tuple[Color, ...] = (
-    (250, 250, 250), (255, 205, 60), (240, 90, 80), (120, 220, 120),
-    (200, 140, 255), (90, 210, 240), (255, 150, 200), (190, 190, 120),
-)  # fmt: skip
+    (250, 250, 250),
+    (255, 205, 60),
+    (240, 90, 80),
+    (120, 220, 120),
+    (200, 140, 255),
+    (90, 210, 240),
+    (255, 150, 200),
+    (190, 190, 120),
+)
 BOAT_DRAW_SCALE = 2.0
 """Boats are drawn this many times their size (the course is two hundred metres tall)."""
 MARGIN_M = 15.0
@@ -240,8 +246,9 @@ def race_scene(task: object, state: object, race: int = 0) -> RaceScene:
     k = task.num_boats
     rows = range(race * k, (race + 1) * k)
     boats = state.boats
-    wind_x, wind_y, _, _ = wind_vector(boats.scenario.wind_speed_mps,
-                                       boats.scenario.wind_from_rad, boats.gust, np)  # fmt: skip
+    wind_x, wind_y, _, _ = wind_vector(
+        boats.scenario.wind_speed_mps, boats.scenario.wind_from_rad, boats.gust, np
+    )
     course = task.course(state, np)
     ux, uy = float(course.upwind_x[race, 0]), float(course.upwind_y[race, 0])
     ax, ay = -uy, ux
@@ -261,11 +268,18 @@ def race_scene(task: object, state: object, race: int = 0) -> RaceScene:
             cone = tuple(
                 (position[0] + u * fx - v * fy, position[1] + u * fy + v * fx) for u, v in corners
             )
-        views.append(BoatView(
-            number=i, position_m=position, heading_rad=boat.heading_rad,
-            boom_angle_rad=boat.boom_rad, capsized=bool(boat.capsized),
-            stopped=bool(stopped[i]), place=int(place[i]), cone=cone,
-        ))  # fmt: skip
+        views.append(
+            BoatView(
+                number=i,
+                position_m=position,
+                heading_rad=boat.heading_rad,
+                boom_angle_rad=boat.boom_rad,
+                capsized=bool(boat.capsized),
+                stopped=bool(stopped[i]),
+                place=int(place[i]),
+                cone=cone,
+            )
+        )
     h = course.line_half_m
     gate_x, gate_y, g = (
         float(course.gate_x_m[race, 0]),
@@ -275,12 +289,18 @@ def race_scene(task: object, state: object, race: int = 0) -> RaceScene:
     depth = task.start_depth_range[1]
     p = task.sail.params
     return RaceScene(
-        clock_s=float(state.clock_s[race]), upwind=(ux, uy),
+        clock_s=float(state.clock_s[race]),
+        upwind=(ux, uy),
         wind_speed_mps=float(state.wind_speed_mps[race]),
-        committee_m=(-h * ax, -h * ay), pin_m=(h * ax, h * ay),
+        committee_m=(-h * ax, -h * ay),
+        pin_m=(h * ax, h * ay),
         windward_m=(float(course.windward_x_m[race, 0]), float(course.windward_y_m[race, 0])),
         gate_m=((gate_x - g * ax, gate_y - g * ay), (gate_x + g * ax, gate_y + g * ay)),
-        top_m=task.leg_length_m + 10.0, bottom_m=max(depth, task.gate_depth_m) + 5.0,
-        half_width_m=max(h, g) + 10.0, boats=tuple(views), hull_length_m=p.hull_length_m,
-        hull_beam_m=p.hull_beam_m, boom_length_m=p.boom_length_m,
-    )  # fmt: skip
+        top_m=task.leg_length_m + 10.0,
+        bottom_m=max(depth, task.gate_depth_m) + 5.0,
+        half_width_m=max(h, g) + 10.0,
+        boats=tuple(views),
+        hull_length_m=p.hull_length_m,
+        hull_beam_m=p.hull_beam_m,
+        boom_length_m=p.boom_length_m,
+    )

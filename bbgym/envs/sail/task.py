@@ -228,9 +228,11 @@ class SailTask(TaskCore):
         # constructor's range and the reset option, so the two always agree.
         self.mark_distance = interval(self.mark_radius, MARK_DISTANCE_MAX_M, low_open=True)
         self.mark_distance_range = check_range(
-            "mark_distance_range", mark_distance_range, self.mark_distance,
+            "mark_distance_range",
+            mark_distance_range,
+            self.mark_distance,
             why=f"a mark lies beyond mark_radius = {self.mark_radius:g} m",
-        )  # fmt: skip
+        )
         self.initial_speed_range = check_range(
             "initial_speed_range", initial_speed_range, INITIAL_SPEED_MPS
         )

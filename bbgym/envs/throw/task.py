@@ -290,14 +290,18 @@ class ThrowTask(TaskCore):
         # A target lies outside its own ring around the thrower and with its ring inside the
         # field: one interval for the constructor's range and the reset option alike.
         self.target_distance = interval(
-            self.target_radius, self.field_radius - self.target_radius, low_open=True,
+            self.target_radius,
+            self.field_radius - self.target_radius,
+            low_open=True,
             high_open=True,
-        )  # fmt: skip
+        )
         self.target_distance_range = check_range(
-            "target_distance_range", target_distance_range, self.target_distance,
+            "target_distance_range",
+            target_distance_range,
+            self.target_distance,
             why=f"a target lies beyond target_radius = {self.target_radius:g} m, its ring "
             f"within field_radius = {self.field_radius:g} m",
-        )  # fmt: skip
+        )
         self.target_bearing_range = check_range(
             "target_bearing_range", target_bearing_range, BEARING_RAD
         )
@@ -405,13 +409,26 @@ class ThrowTask(TaskCore):
         sock_x, sock_y = self.windsock(scenario, gust, noise.stream, xp)
         no = zero > 0.0
         return ThrowState(
-            scenario=scenario, gust=gust, sock_x=sock_x, sock_y=sock_y,
+            scenario=scenario,
+            gust=gust,
+            sock_x=sock_x,
+            sock_y=sock_y,
             throws_left=xp.zeros_like(zero, dtype=xp.int64) + self.throws_per_episode,
-            thrown=no, action=LastAction(*(zero for _ in range(6))), landing_x=zero,
-            landing_y=zero, miss_distance=zero, flight_time=zero, apex_height=zero,
-            spin_parameter=zero, hit_screen=no, wind_x=zero, wind_y=zero, is_success=no,
-            closeness=zero, hit=zero,
-        )  # fmt: skip
+            thrown=no,
+            action=LastAction(*(zero for _ in range(6))),
+            landing_x=zero,
+            landing_y=zero,
+            miss_distance=zero,
+            flight_time=zero,
+            apex_height=zero,
+            spin_parameter=zero,
+            hit_screen=no,
+            wind_x=zero,
+            wind_y=zero,
+            is_success=no,
+            closeness=zero,
+            hit=zero,
+        )
 
     def screen_geometry(self, scenario: ThrowScenario, xp: Any = np) -> Screen:
         """The screen stands across the line to the target at ``screen_position`` of it."""
@@ -488,17 +505,35 @@ class ThrowTask(TaskCore):
             flight = carry.flight
             for _ in range(substeps):
                 flight, _ = event_flight_step(
-                    self.ball, flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
-                    self.max_flight_time, self.field_radius, xp, orient=False,
-                )  # fmt: skip
+                    self.ball,
+                    flight,
+                    carry.wind_x,
+                    carry.wind_y,
+                    carry.screen,
+                    self.sim_dt,
+                    self.max_flight_time,
+                    self.field_radius,
+                    xp,
+                    orient=False,
+                )
             return replaced(carry, flight=flight)
         recording = carry.poses is not None
         first = sample_count(carry.flight.substep, xp) if recording else 0
         flight, poses = flight_chunk(
-            self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
-            substeps, self.flight_substeps, self.record_every, recording, xp,
-            self.max_roll_time, self.field_radius,
-        )  # fmt: skip
+            self.ball,
+            carry.flight,
+            carry.wind_x,
+            carry.wind_y,
+            carry.screen,
+            self.sim_dt,
+            substeps,
+            self.flight_substeps,
+            self.record_every,
+            recording,
+            xp,
+            self.max_roll_time,
+            self.field_radius,
+        )
         if recording:  # (never on a compiled step: the substep number is read on the host)
             poses = carry.poses + recorded_poses(
                 poses, first, self.record_every, self.flight_substeps
@@ -509,8 +544,9 @@ class ThrowTask(TaskCore):
         """Every ball has finished its flight."""
         return carry.flight.done
 
-    def transition(self, state: ThrowState, action: Any, noise: Any, xp: Any,
-                   record: bool = False) -> tuple[ThrowState, ThrowEvents]:  # fmt: skip
+    def transition(
+        self, state: ThrowState, action: Any, noise: Any, xp: Any, record: bool = False
+    ) -> tuple[ThrowState, ThrowEvents]:
         """One throw. On the host (Python floats, NumPy) :func:`~bbgym.physics.flight.fly`
         flies it, on other namespaces the chunks do; the results are the same."""
         if xp is not floats and xp is not np:
@@ -519,10 +555,19 @@ class ThrowTask(TaskCore):
         if self.events:
             return self.end(state, self._fly_events(carry, record, xp), xp)
         flight, poses = fly(
-            self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
-            self.flight_substeps, self.record_every, record, xp, self.max_roll_time,
+            self.ball,
+            carry.flight,
+            carry.wind_x,
+            carry.wind_y,
+            carry.screen,
+            self.sim_dt,
+            self.flight_substeps,
+            self.record_every,
+            record,
+            xp,
+            self.max_roll_time,
             self.field_radius,
-        )  # fmt: skip
+        )
         recorded = carry.poses + poses if record else None
         return self.end(state, replaced(carry, flight=flight, poses=recorded), xp)
 
@@ -530,15 +575,31 @@ class ThrowTask(TaskCore):
         """A throw's RK4 flight on the host; when recording, the poses (one per step)
         go on with the bounces and roll after the touchdown, for display."""
         flight, poses = fly_events(
-            self.ball, carry.flight, carry.wind_x, carry.wind_y, carry.screen, self.sim_dt,
-            self.max_flight_time, self.field_radius, record, xp,
-        )  # fmt: skip
+            self.ball,
+            carry.flight,
+            carry.wind_x,
+            carry.wind_y,
+            carry.screen,
+            self.sim_dt,
+            self.max_flight_time,
+            self.field_radius,
+            record,
+            xp,
+        )
         if not record:
             return replaced(carry, flight=flight)
         poses, steps = roll_display(
-            self.ball, flight, carry.poses + poses, carry.wind_x, carry.wind_y, carry.screen,
-            self.max_roll_time, self.field_radius, RECORD_DT_S, xp,
-        )  # fmt: skip
+            self.ball,
+            flight,
+            carry.poses + poses,
+            carry.wind_x,
+            carry.wind_y,
+            carry.screen,
+            self.max_roll_time,
+            self.field_radius,
+            RECORD_DT_S,
+            xp,
+        )
         # the recorded rows: each ball's own, the longest's number for the batch
         counted = replaced(flight, steps=steps, samples=xp.zeros_like(steps) + len(poses))
         return replaced(carry, flight=counted, poses=poses)
@@ -559,19 +620,31 @@ class ThrowTask(TaskCore):
         gust = gust_step(state.gust, self.gust_params, self.throw_interval, gust_noise, gusts, xp)
         sock_x, sock_y = self.windsock(sc, gust, sock_noise, xp)
         new = ThrowState(
-            scenario=sc, gust=gust, sock_x=sock_x, sock_y=sock_y,
+            scenario=sc,
+            gust=gust,
+            sock_x=sock_x,
+            sock_y=sock_y,
             throws_left=state.throws_left - 1,
             thrown=xp.full_like(state.sock_x, True, dtype=xp.bool),
-            action=carry.action, landing_x=result.landing_x, landing_y=result.landing_y,
-            miss_distance=miss, flight_time=result.flight_time_s,
-            apex_height=result.apex_height_m, spin_parameter=result.spin_parameter,
-            hit_screen=result.hit_screen, wind_x=carry.wind_x, wind_y=carry.wind_y,
-            is_success=hit, closeness=terms["closeness"], hit=terms["hit"],
-        )  # fmt: skip
+            action=carry.action,
+            landing_x=result.landing_x,
+            landing_y=result.landing_y,
+            miss_distance=miss,
+            flight_time=result.flight_time_s,
+            apex_height=result.apex_height_m,
+            spin_parameter=result.spin_parameter,
+            hit_screen=result.hit_screen,
+            wind_x=carry.wind_x,
+            wind_y=carry.wind_y,
+            is_success=hit,
+            closeness=terms["closeness"],
+            hit=terms["hit"],
+        )
         events = ThrowEvents(
-            noise_used=xp.astype(gusts, xp.int64) + 1, trajectory=result.trajectory,
+            noise_used=xp.astype(gusts, xp.int64) + 1,
+            trajectory=result.trajectory,
             steps=result.steps,
-        )  # fmt: skip
+        )
         return new, events
 
     def score(self, result: Any, scenario: ThrowScenario, xp: Any = np) -> tuple[Any, Any, dict]:
@@ -585,9 +658,13 @@ class ThrowTask(TaskCore):
         return miss, hit, terms
 
     def throw(
-        self, velocity: np.ndarray, spin: np.ndarray, scenario: ThrowScenario, gust: GustState,
+        self,
+        velocity: np.ndarray,
+        spin: np.ndarray,
+        scenario: ThrowScenario,
+        gust: GustState,
         xp: Any = np,
-    ) -> tuple[Any, Any, Any]:  # fmt: skip
+    ) -> tuple[Any, Any, Any]:
         """Simulate one throw per env from launch velocities and spins ``(batch, 3)``
         (NumPy; what a planner asks); returns ``(result, wind_x, wind_y)``. The same
         flight as a step's (:func:`simulate_throw` drives the same masked substeps)."""
@@ -595,15 +672,32 @@ class ThrowTask(TaskCore):
         start = ball_at(0.0, 0.0, self.launch_height, *velocity.T, *spin.T, xp=xp)
         if self.events:
             result = simulate_event_throw(
-                self.ball, start, wind_x, wind_y, self.screen_geometry(scenario, xp),
-                self.sim_dt, self.max_flight_time, self.max_roll_time, self.field_radius,
-                RECORD_DT_S, xp=xp,
-            )  # fmt: skip
+                self.ball,
+                start,
+                wind_x,
+                wind_y,
+                self.screen_geometry(scenario, xp),
+                self.sim_dt,
+                self.max_flight_time,
+                self.max_roll_time,
+                self.field_radius,
+                RECORD_DT_S,
+                xp=xp,
+            )
             return result, wind_x, wind_y
         result = simulate_throw(
-            self.ball, start, wind_x, wind_y, self.screen_geometry(scenario, xp), self.sim_dt,
-            self.max_flight_time, self.max_roll_time, self.field_radius, RECORD_DT_S, xp=xp,
-        )  # fmt: skip
+            self.ball,
+            start,
+            wind_x,
+            wind_y,
+            self.screen_geometry(scenario, xp),
+            self.sim_dt,
+            self.max_flight_time,
+            self.max_roll_time,
+            self.field_radius,
+            RECORD_DT_S,
+            xp=xp,
+        )
         return result, wind_x, wind_y
 
     # -- what the agent sees --------------------------------------------------------------------

@@ -261,8 +261,11 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
         info: dict[str, Any] = {"wall_state": np.asarray(STATE_NAMES, dtype=object)[status]}
         if self.backend.name == "numpy":
             task = self.task
-            info.update(step_records(self.events, task.record_every, self._fresh_mask(),
-                                 task.record_capacity))  # fmt: skip
+            info.update(
+                step_records(
+                    self.events, task.record_every, self._fresh_mask(), task.record_capacity
+                )
+            )
         return info
 
     def _vector_info(self, info: dict[str, Any]) -> dict[str, Any]:

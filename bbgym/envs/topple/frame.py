@@ -268,17 +268,33 @@ def banner(scene: ToppleScene, frame: FrameState | None = None) -> Banner | None
     throws = f"{used} throw" + ("" if used == 1 else "s")
     if frame.state == "loose":
         color = STATE_COLORS["loose"]
-        return Banner(STATE_LABELS["loose"], f"wall down after {throws}", color,
-                      BANNER_EDGE_COLOR, True)  # fmt: skip
+        return Banner(
+            STATE_LABELS["loose"], f"wall down after {throws}", color, BANNER_EDGE_COLOR, True
+        )
     if frame.state == "fallen_away":
-        return Banner("WALL DOWN!", f"it fell away after {throws}", SUCCESS_BANNER_COLOR,
-                      SUCCESS_BANNER_EDGE_COLOR, True)  # fmt: skip
+        return Banner(
+            "WALL DOWN!",
+            f"it fell away after {throws}",
+            SUCCESS_BANNER_COLOR,
+            SUCCESS_BANNER_EDGE_COLOR,
+            True,
+        )
     if frame.state == "fallen_toward":
-        return Banner("FAILED: wall fell toward you", f"after {throws}", FAILURE_BANNER_COLOR,
-                      FAILURE_BANNER_EDGE_COLOR, False)  # fmt: skip
+        return Banner(
+            "FAILED: wall fell toward you",
+            f"after {throws}",
+            FAILURE_BANNER_COLOR,
+            FAILURE_BANNER_EDGE_COLOR,
+            False,
+        )
     if scene.throws_left <= 0 and is_final_frame(scene, frame):
-        return Banner("FAILED: out of throws", f"wall still standing after {throws}",
-                      FAILURE_BANNER_COLOR, FAILURE_BANNER_EDGE_COLOR, False)  # fmt: skip
+        return Banner(
+            "FAILED: out of throws",
+            f"wall still standing after {throws}",
+            FAILURE_BANNER_COLOR,
+            FAILURE_BANNER_EDGE_COLOR,
+            False,
+        )
     return None
 
 

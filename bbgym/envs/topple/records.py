@@ -16,16 +16,24 @@ from bbgym.physics.wall import (
     LOOSE,
 )
 
-SAMPLE_KEYS = ("ball_trajectory", "ball_orientations", "wall_angle_samples", "loose_samples",
-               "loose_mask")  # fmt: skip
+SAMPLE_KEYS = (
+    "ball_trajectory",
+    "ball_orientations",
+    "wall_angle_samples",
+    "loose_samples",
+    "loose_mask",
+)
 """The info entries of a step's samples, ``(C, ...)`` each (see :func:`step_records`)."""
 LENGTH_KEYS = ("samples_length", "ball_trajectory_length")
 
 
 def step_records(
-    events: ToppleEvents | None, every: int, fresh: np.ndarray, capacity: int,
+    events: ToppleEvents | None,
+    every: int,
+    fresh: np.ndarray,
+    capacity: int,
     only: int | None = None,
-) -> dict[str, np.ndarray]:  # fmt: skip
+) -> dict[str, np.ndarray]:
     """The envs' samples of the last transition (for info and rendering; env ``only`` alone
     if given), fixed-shape: of the substeps' samples every ``every``-th, the first
     ``samples[i]`` of them (those taken while env ``i`` ran; none for the envs reset since,

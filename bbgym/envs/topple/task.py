@@ -239,10 +239,12 @@ class ToppleTask(TaskCore):
         # the reset option alike.
         self.wall_distance = validation.interval(self.wall.half_base_m + 1.0, WALL_DISTANCE_MAX_M)
         self.wall_distance_range = check_range(
-            "wall_distance_range", wall_distance_range, self.wall_distance,
+            "wall_distance_range",
+            wall_distance_range,
+            self.wall_distance,
             why=f"the wall's foot, half of wall.base_depth_m = {self.wall.base_depth_m:g} m, "
             "stands at least 1 m from the thrower",
-        )  # fmt: skip
+        )
         self.wind_speed_range = check_range("wind_speed_range", wind_speed_range, WIND_SPEED_MPS)
         self.wind_from_range = check_range("wind_from_range", wind_from_range, WIND_FROM_RAD)
         # (A turn computed as low + 2 pi may round a hair beyond it: allowed.)
@@ -263,9 +265,11 @@ class ToppleTask(TaskCore):
             why=f"at least ball.radius_m = {self.ball.radius_m:g} m",
         )
         self.wait_speed = check_number(
-            "wait_speed", wait_speed, validation.interval(0.0, self.max_speed),
+            "wait_speed",
+            wait_speed,
+            validation.interval(0.0, self.max_speed),
             why=f"at most max_speed = {self.max_speed:g} m/s",
-        )  # fmt: skip
+        )
         self.sim_dt = check_number("sim_dt", sim_dt, BALL_SIM_DT_S)
         self.interval_integrator = check_choice(
             "interval_integrator", interval_integrator, INTEGRATORS
@@ -275,10 +279,12 @@ class ToppleTask(TaskCore):
         stable for, :func:`~bbgym.envs.ball.check_rk4_ball`)."""
         self.interval = check_number("interval", interval, INTERVAL_S)
         self.gust_dt = check_number(
-            "gust_dt", gust_dt, validation.interval(0.0, self.interval, low_open=True),
+            "gust_dt",
+            gust_dt,
+            validation.interval(0.0, self.interval, low_open=True),
             why=f"at most interval = {self.interval:g} s: pass a longer interval or a shorter "
             "gust_dt",
-        )  # fmt: skip
+        )
         self.n_substeps = check_multiple("interval", self.interval, "sim_dt", self.sim_dt)
         self.gust_every = check_multiple("gust_dt", self.gust_dt, "sim_dt", self.sim_dt)
         self.record_every = max(1, round(RECORD_DT_S / self.sim_dt))
@@ -306,11 +312,17 @@ class ToppleTask(TaskCore):
         # the host's (floats, NumPy: no compiler) ``gust_every``: one gust update per
         # chunk, at its start (or per sample), each masked test known when tracing.
         self.interval_params = IntervalParams(
-            wall=self.wall, ball=self.ball, gust=self.gust_params, sim_dt=self.sim_dt,
-            gust_dt=self.gust_dt, n_substeps=self.n_substeps, gust_every=self.gust_every,
-            record_every=self.record_every, chunk_substeps=COMPILED_CHUNK_SUBSTEPS,
+            wall=self.wall,
+            ball=self.ball,
+            gust=self.gust_params,
+            sim_dt=self.sim_dt,
+            gust_dt=self.gust_dt,
+            n_substeps=self.n_substeps,
+            gust_every=self.gust_every,
+            record_every=self.record_every,
+            chunk_substeps=COMPILED_CHUNK_SUBSTEPS,
             integrator=self.interval_integrator,
-        )  # fmt: skip
+        )
         ge, re = self.gust_every, self.record_every
         self.host_interval_params = replace(
             self.interval_params, chunk_substeps=ge if ge % re == 0 else re
@@ -397,9 +409,14 @@ class ToppleTask(TaskCore):
         carry = self.begin(state, action, noise, xp, record)
         sc = carry.scenario
         interval = run_interval(
-            self.host_interval_params, carry.interval, sc.wind_speed, sc.wind_from,
-            sc.gusts, carry.noise, xp,
-        )  # fmt: skip
+            self.host_interval_params,
+            carry.interval,
+            sc.wind_speed,
+            sc.wind_from,
+            sc.gusts,
+            carry.noise,
+            xp,
+        )
         return self.end(state, replaced(carry, interval=interval), xp)
 
     def begin(
@@ -427,9 +444,17 @@ class ToppleTask(TaskCore):
         # changes no more, draws no more gust pairs, takes no more samples.
         running = xp.logical_not(xp.zeros_like(speed, dtype=xp.bool))
         carry = interval_start(
-            self.interval_params, ball, wall, state.gust, sc.wind_speed, sc.wind_from,
-            thrown, running, xp, record,
-        )  # fmt: skip
+            self.interval_params,
+            ball,
+            wall,
+            state.gust,
+            sc.wind_speed,
+            sc.wind_from,
+            thrown,
+            running,
+            xp,
+            record,
+        )
         rows = noise_rows(noise, 2 * self.step_noise_pairs)
         return ToppleCarry(carry, rows, sc, speed, Launch(*a))
 
@@ -438,9 +463,14 @@ class ToppleTask(TaskCore):
         (:func:`~bbgym.physics.toppling.interval_chunk`)."""
         sc = carry.scenario
         interval = interval_chunk(
-            self.interval_params, carry.interval, sc.wind_speed, sc.wind_from, sc.gusts,
-            carry.noise, xp,
-        )  # fmt: skip
+            self.interval_params,
+            carry.interval,
+            sc.wind_speed,
+            sc.wind_from,
+            sc.gusts,
+            carry.noise,
+            xp,
+        )
         return replaced(carry, interval=interval)
 
     def all_done(self, carry: ToppleCarry, xp: Any) -> Any:
