@@ -405,6 +405,24 @@ def specs() -> Iterator[EnvSpec]:
     return iter(list(_SPECS.values()))
 
 
+def spec_of_class(cls: type) -> EnvSpec:
+    """The family whose single or vector env class ``cls`` is (or derives from), by the
+    class's name and module; ``LookupError`` if none registered it.
+
+    Args:
+        cls: an env class (``BeachballSailVectorEnv``) or a subclass of one.
+
+    Returns:
+        The family's spec.
+    """
+    for klass in cls.__mro__:
+        for spec in specs():
+            names = (spec.env_class, spec.vector_env_class)
+            if klass.__name__ in names and klass.__module__.startswith(spec.module):
+                return spec
+    raise LookupError(f"{cls.__name__} is the env class of no registered bbgym family")
+
+
 def spec_of(env_id: str) -> EnvSpec:
     """The family of a registered bbgym id; ``ValueError`` naming the known ids if none."""
     try:

@@ -108,7 +108,6 @@ class PointMassVectorEnv(CoreVectorEnv):
 
     metadata = {**CoreVectorEnv.metadata, "render_modes": ["rgb_array"], "render_fps": 10}
     task_class = PointTask
-    default_max_episode_steps = 200
 
 
 def _scripted(env: Any) -> Any:

@@ -36,6 +36,24 @@ def test_the_spec_registers_its_id():
     assert gym.spec(ENV_ID).max_episode_steps == 200
 
 
+def test_the_time_limit_has_one_source_the_spec():
+    """The native vector env made directly (no gym.make) truncates where gym.make's
+    TimeLimit does: at the spec's max_episode_steps, for every family."""
+    import importlib
+
+    from bbgym.spec import spec_of_class, specs
+
+    for spec in specs():
+        module = importlib.import_module(spec.module)
+        vector_class = getattr(module, spec.vector_env_class)
+        assert spec_of_class(vector_class) is spec
+        vec = vector_class(num_envs=1)
+        assert vec.max_episode_steps == spec.max_episode_steps, spec.family
+        vec.close()
+    with pytest.raises(LookupError, match="no registered bbgym family"):
+        spec_of_class(dict)
+
+
 def test_check_env_and_determinism():
     env = gym.make(ENV_ID)
     check_env(env.unwrapped, skip_render_check=True)

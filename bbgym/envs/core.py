@@ -42,6 +42,7 @@ from bbgym.envs.functional import (
     tree_map,
 )
 from bbgym.physics.namespace import floats
+from bbgym.spec import spec_of_class
 
 
 class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
@@ -320,7 +321,6 @@ class CoreVectorEnv(VectorEnv):
         "autoreset_mode": AutoresetMode.NEXT_STEP,
     }
     task_class: type
-    default_max_episode_steps: int = 1000
 
     def __init__(
         self,
@@ -337,7 +337,8 @@ class CoreVectorEnv(VectorEnv):
         **kwargs: Any,
     ) -> None:
         if max_episode_steps is None:
-            max_episode_steps = self.default_max_episode_steps
+            # One source for the time limit: the family's spec, as gym.make's TimeLimit.
+            max_episode_steps = spec_of_class(type(self)).max_episode_steps
         if not isinstance(num_envs, (int, np.integer)) or isinstance(num_envs, (bool, np.bool_)):
             raise TypeError(f"num_envs must be an int >= 1, got {num_envs!r}")
         if num_envs < 1:

@@ -247,7 +247,6 @@ class BeachballSailVectorEnv(CoreVectorEnv):
 
     metadata = {**CoreVectorEnv.metadata, "render_fps": 4}
     task_class = SailTask
-    default_max_episode_steps = 1200
 
     def _init_host_state(self) -> None:
         self._wakes = [deque(maxlen=120) for _ in range(self.num_envs)]

@@ -236,7 +236,6 @@ class BeachballThrowVectorEnv(CoreVectorEnv):
 
     metadata = {**CoreVectorEnv.metadata, "render_fps": 20}
     task_class = ThrowTask
-    default_max_episode_steps = 100
 
     def _init_host_state(self) -> None:
         self._records: FlightRecords | None = None

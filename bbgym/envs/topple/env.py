@@ -237,7 +237,6 @@ class BeachballToppleVectorEnv(CoreVectorEnv):
 
     metadata = {**CoreVectorEnv.metadata, "render_fps": 20}
     task_class = ToppleTask
-    default_max_episode_steps = 100
 
     def _init_host_state(self) -> None:
         self._fresh = np.ones(self.num_envs, dtype=bool)

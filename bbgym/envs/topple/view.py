@@ -51,6 +51,8 @@ from bbgym.envs.topple.frame import (
     side_view_map,
     top_view_map,
 )
+from bbgym.physics.common import wrap_angle
+from bbgym.physics.namespace import floats
 from bbgym.render.base import CAPTION_BAND_PX, Color, PygameRenderer, Vec2, blend
 from bbgym.render.beach import (
     BALL_MIN_RADIUS_PX,
@@ -112,11 +114,6 @@ HIT_STAR_RADIUS_PX = 9.0
 
 
 # --- pure geometry ---------------------------------------------------------------------------
-
-
-def wrap_angle(angle_rad: float) -> float:
-    """The same angle in (-pi, pi]."""
-    return math.pi - (math.pi - angle_rad) % (2 * math.pi)
 
 
 # --- layout ----------------------------------------------------------------------------------
@@ -485,7 +482,7 @@ class ToppleRenderer(PygameRenderer[ToppleScene]):
             STATE_LABELS[state], (left, line_y), STATE_COLORS[state], STATE_FONT_PX
         )
         line_y += th + 2
-        lean = math.degrees(wrap_angle(frame.pose.angle_rad))
+        lean = math.degrees(wrap_angle(frame.pose.angle_rad, floats))
         edge = {1: "far edge", -1: "near edge"}.get(frame.pivot_side, "on its foot")
         lines = [
             f"tumbling, at {lean:+.0f} deg" if frame.loose else f"lean {lean:+.1f} deg ({edge})",
