@@ -59,6 +59,7 @@ BASELINE_FILES = (
     "BeachballCurve-v1-ppo.json",
     "BeachballCurve-v1-sac.json",
     "BeachballCurve-v1-torchrl-ppo.json",
+    "BeachballTopple-v2-ppo.json",
     "BeachballTopple-v1-ppo.json",
     "BeachballTopple-v1-torchrl-ppo.json",
     "BeachballTopple-v2-torchrl-ppo.json",
