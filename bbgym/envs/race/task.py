@@ -611,9 +611,11 @@ class RaceTask:
         # Rewards: progress to the point steered for (while sailing, after the gun).
         d0 = xp.hypot(target_x - x0, target_y - y0)
         d1 = xp.hypot(target_x - x1, target_y - y1)
-        progress = xp.clip((d0 - d1) / self.progress_scale_m, -1.0, 1.0)
+        progress = sail_task.progress_reward(
+            d0, d1, self.progress_scale_m, self.progress_weight, xp
+        )
         zero = 0.0 * d0
-        progress = xp.where(sailing & after_gun, self.progress_weight * progress, zero)
+        progress = xp.where(sailing & after_gun, progress, zero)
         waypoint = xp.where(passed & xp.logical_not(crossing), self.waypoint_bonus, zero)
         share = (k - place + 1.0) / k  # the winner takes the whole bonus, the last 1/K
         racing = xp.logical_not(state.out)

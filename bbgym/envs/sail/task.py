@@ -175,6 +175,16 @@ class SailState(NamedTuple):
 REWARD_TERMS = ("progress", "arrival", "capsize", "time")
 
 
+def progress_reward(
+    distance_before_m: Array, distance_m: Array, scale_m: float, weight: float, xp: Any
+) -> Array:
+    """The dense progress term of a sailing reward (the solo sail and the race): the
+    distance made good toward a point over the step, in units of ``scale_m`` (what a boat
+    at the speed scale sails in a step), clipped to [-1, 1] so that a fast reach pays no
+    more than the scale, times ``weight``."""
+    return weight * xp.clip((distance_before_m - distance_m) / scale_m, -1.0, 1.0)
+
+
 class SailTask(TaskCore):
     """The sailing task's functional core (see :mod:`bbgym.envs.core`): pure functions
     over a batch of :class:`SailState`, for floats, NumPy and torch alike.
@@ -429,8 +439,9 @@ class SailTask(TaskCore):
         distance = xp.hypot(sc.mark_x_m - boat.x_m, sc.mark_y_m - boat.y_m)
         capsized = boat.capsized
         arrived = (distance <= self.mark_radius) & xp.logical_not(capsized)
-        progress = (distance_before - distance) / self.progress_scale_m
-        progress = self.progress_weight * xp.clip(progress, -1.0, 1.0)
+        progress = progress_reward(
+            distance_before, distance, self.progress_scale_m, self.progress_weight, xp
+        )
         new = SailState(
             boat=boat,
             gust=gust,
