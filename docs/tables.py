@@ -56,6 +56,7 @@ BASELINE_FILES = (
     "BeachballThrow-v1-ppo.json",
     "BeachballThrow-v0-ppo.json",
     "BeachballThrow-v0-torchrl-ppo.json",
+    "BeachballCurve-v2-ppo.json",
     "BeachballCurve-v1-ppo.json",
     "BeachballCurve-v1-sac.json",
     "BeachballCurve-v1-torchrl-ppo.json",

@@ -62,7 +62,12 @@ def test_the_baselines_summary_has_a_row_for_every_current_id_and_filters_by_pre
     for env in tables.current_ids():
         mine = [row for row in rows if row.startswith(f"| **{env}** |")]
         assert mine, env
-    assert "| BeachballCurve-v1 | PPO, `beachball_curve` | 91.8% (worst 87%, 5 seeds) |" in text
+    assert (
+        "| **BeachballCurve-v2** | PPO, `beachball_curve_v2` | 92.8% (worst 90%, 5 seeds) |" in text
+    )
+    # Per task and algorithm the newest version only: Curve-v1 keeps its SAC row, not PPO's.
+    assert "| BeachballCurve-v1 | SAC, `beachball_curve_sac` | 85.8% (worst 82%, 5 seeds) |" in text
+    assert "| BeachballCurve-v1 | PPO, `beachball_curve` |" not in text
     # A current id with no SB3 results file (Topple-v0 has none) gets a row saying so.
     gap = tables.baselines_summary_table(current=["BeachballSail-v2", "BeachballTopple-v0"])
     assert "| **BeachballTopple-v0** | PPO, `beachball_topple` | **not trained yet** |" in gap
