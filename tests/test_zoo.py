@@ -20,21 +20,11 @@ import yaml
 
 from bbgym import zoo
 from bbgym.config import CONFIG_DIR, LinearSchedule, load_preset, load_training, preset_files
+from bbgym.spec import env_ids
 from bbgym.zoo import ZOO_FILE, ZOO_FILES, zoo_hyperparams
 
-ENV_IDS = [
-    "BeachballSail-v0",
-    "BeachballSail-v1",
-    "BeachballSail-v2",
-    "BeachballThrow-v0",
-    "BeachballCurve-v0",
-    "BeachballCurve-v1",
-    "BeachballThrow-v1",
-    "BeachballCurve-v2",
-    "BeachballTopple-v0",
-    "BeachballTopple-v1",
-    "BeachballTopple-v2",
-]
+ENV_IDS = list(env_ids())
+"""Every registered id, in registration order (the order of the shipped files)."""
 SAC_IDS = ("BeachballSail-v1", "BeachballSail-v2")
 ALGO_OF = {env_id: "sac" if env_id in SAC_IDS else "ppo" for env_id in ENV_IDS}
 """The algorithm each env id's preset trains (RL Zoo's file it is in)."""
