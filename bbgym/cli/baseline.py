@@ -54,17 +54,7 @@ from bbgym.spec import base_ids, spec_of
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", default=base_ids()[0], type=env_id, help="a bbgym env id")
-    parser.add_argument(
-        "--preset",
-        default=None,
-        help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
-    )
-    parser.add_argument(
-        "--timesteps",
-        type=positive_int,
-        default=None,
-        help="training budget (default: the preset's total_timesteps)",
-    )
+    train.add_preset_arguments(parser, "training budget")
     parser.add_argument("--seed", type=int, default=0, help="first training seed")
     parser.add_argument("--seeds", type=positive_int, default=5, help="training seeds")
     parser.add_argument(
@@ -86,9 +76,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="training library (torchrl: PPO on the env's torch backend, the "
         "preset's torchrl section)",
     )
-    parser.add_argument(
-        "--device", default="cpu", help="torchrl: the env's and the policy's device (cpu, cuda)"
-    )
+    train.add_device_argument(parser)
     parser.add_argument(
         "--no-train", action="store_true", help="skip training: evaluate the run folder's model"
     )
@@ -234,41 +222,39 @@ def _draw_evaluations(
     one mark where they are the same evaluation, so that no mark hides another."""
     ax.plot(steps, values, "o-", ms=4, label=label, zorder=4)
     i_final = len(steps) - 1
-    final = f"{fmt.format(values[i_final])} at {_steps_label(steps[i_final])} steps"
+    final = _evaluation_text(steps, values, fmt, i_final)
     if i_best == i_final:
-        ax.plot(
-            steps[i_final],
-            values[i_final],
-            "*",
-            ms=15,
-            color="tab:orange",
-            mec="black",
-            label=f"final evaluation, also the best model (best_model.zip): {final}",
-            zorder=5,
-        )
+        label = f"final evaluation, also the best model (best_model.zip): {final}"
+        _mark_evaluation(ax, steps, values, i_best, BEST_MARK, label)
         return
-    ax.plot(
-        steps[i_final],
-        values[i_final],
-        "s",
-        ms=11,
-        mfc="none",
-        mec="tab:red",
-        mew=2,
-        label=f"final evaluation: {final}",
-        zorder=5,
-    )
-    ax.plot(
-        steps[i_best],
-        values[i_best],
-        "*",
-        ms=15,
-        color="tab:orange",
-        mec="black",
-        zorder=5,
-        label=f"best model (best_model.zip): {fmt.format(values[i_best])} at "
-        f"{_steps_label(steps[i_best])} steps",
-    )
+    _mark_evaluation(ax, steps, values, i_final, FINAL_MARK, f"final evaluation: {final}")
+    best = _evaluation_text(steps, values, fmt, i_best)
+    _mark_evaluation(ax, steps, values, i_best, BEST_MARK, f"best model (best_model.zip): {best}")
+
+
+FINAL_MARK = ("s", {"ms": 11, "mfc": "none", "mec": "tab:red", "mew": 2})
+"""How a learning curve marks its final evaluation: a matplotlib format and style."""
+BEST_MARK = ("*", {"ms": 15, "color": "tab:orange", "mec": "black"})
+"""How a learning curve marks the best model's evaluation."""
+
+
+def _mark_evaluation(
+    ax: Any,
+    steps: np.ndarray,
+    values: np.ndarray,
+    i: int,
+    mark: tuple[str, dict[str, Any]],
+    label: str,
+) -> None:
+    """Evaluation ``i`` of a learning curve marked by ``mark`` (:data:`FINAL_MARK`,
+    :data:`BEST_MARK`), above the curve."""
+    fmt, style = mark
+    ax.plot(steps[i], values[i], fmt, label=label, zorder=5, **style)
+
+
+def _evaluation_text(steps: np.ndarray, values: np.ndarray, fmt: str, i: int) -> str:
+    """Evaluation ``i`` in a legend: its value and when, ``"95% at 1.2M steps"``."""
+    return f"{fmt.format(values[i])} at {_steps_label(steps[i])} steps"
 
 
 def _draw_references(

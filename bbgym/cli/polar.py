@@ -307,6 +307,14 @@ def write_compare_csv(path: Path, rows: list[Comparison]) -> None:
             )
 
 
+REFERENCE_MARKS = (
+    (DAY_2017, "^", 9, "Day 2017 best upwind"),
+    (BINNS_2002, "o", 7, "Binns 2002"),
+)
+"""The measured Laser polars :func:`compare_figure` marks: points, marker, its size and
+the source's name in the legend."""
+
+
 def compare_figure(by_wind: dict[float, Polar]) -> Any:
     """The calibrated sloop's polar at each reference wind (knots) over the reference points:
     a half polar (starboard tack), 0 deg at the top."""
@@ -331,28 +339,18 @@ def compare_figure(by_wind: dict[float, Polar]) -> Any:
             lw=1.8,
             label=f"bbgym, {kn:g} kn",
         )
-        day = [pt for pt in DAY_2017 if pt.wind_kn == kn]
-        binns = [pt for pt in BINNS_2002 if pt.wind_kn == kn]
-        if day:
-            ax.plot(
-                [math.radians(pt.true_wind_angle_deg) for pt in day],
-                [pt.boat_speed_kn for pt in day],
-                "^",
-                color=color,
-                ms=9,
-                mec="black",
-                label=f"Day 2017 best upwind, {kn:g} kn",
-            )
-        if binns:
-            ax.plot(
-                [math.radians(pt.true_wind_angle_deg) for pt in binns],
-                [pt.boat_speed_kn for pt in binns],
-                "o",
-                color=color,
-                ms=7,
-                mec="black",
-                label=f"Binns 2002, {kn:g} kn",
-            )
+        for points, marker, size, source in REFERENCE_MARKS:
+            measured = [pt for pt in points if pt.wind_kn == kn]
+            if measured:
+                ax.plot(
+                    [math.radians(pt.true_wind_angle_deg) for pt in measured],
+                    [pt.boat_speed_kn for pt in measured],
+                    marker,
+                    color=color,
+                    ms=size,
+                    mec="black",
+                    label=f"{source}, {kn:g} kn",
+                )
     ax.set_thetagrids(range(0, 181, 30), [f"{a}{DEG}" for a in range(0, 181, 30)])
     ax.set_xlabel(f"true wind angle: 0{DEG} head to wind; boat speed in knots", labelpad=8)
     ax.set_title("The calibrated sloop against a Laser's polar", pad=16)

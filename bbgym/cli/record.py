@@ -380,24 +380,35 @@ def run(args: argparse.Namespace) -> int:
     print(starting, file=sys.stderr, flush=True)
     if is_race(args):
         return run_race(args)
-    stats = record_to_file(
-        args.env,
-        args.policy,
-        args.out,
-        model=args.model,
-        seed=args.seed,
-        fps=args.fps,
-        frame_skip=args.frame_skip,
-        max_steps=args.max_steps,
-        hold=args.hold,
-    )
-    capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
+    stats = record_to_file(args.env, args.policy, args.out, **recording_options(args))
     print(
-        f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
-        f"{frames_text(stats)} at {args.fps:g} fps, return {stats['return']:.2f}, "
+        f"{recorded_text(args, stats)}, return {stats['return']:.2f}, "
         f"success {stats['success']} ({stats['outcome']}) -> {args.out}"
     )
     return 0
+
+
+def recording_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The keyword arguments of :func:`record_to_file` and :func:`record_race` that
+    ``bbgym record``'s options set, the same for an env and the race."""
+    return {
+        "model": args.model,
+        "seed": args.seed,
+        "fps": args.fps,
+        "frame_skip": args.frame_skip,
+        "max_steps": args.max_steps,
+        "hold": args.hold,
+    }
+
+
+def recorded_text(args: argparse.Namespace, stats: dict[str, Any]) -> str:
+    """The head of ``bbgym record``'s last line, for an env or the race: what was recorded,
+    its steps (and whether ``--max-steps`` cut it) and frames."""
+    capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
+    return (
+        f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
+        f"{frames_text(stats)} at {args.fps:g} fps"
+    )
 
 
 def record_to_file(
@@ -456,21 +467,8 @@ def run_race(args: argparse.Namespace) -> int:
             f"{as_passed(args, 'policy', '--policy')} {args.policy}: a race records "
             f"{', '.join(RACE_POLICIES)}"
         )
-    stats = record_race(
-        args.policy,
-        args.out,
-        model=args.model,
-        seed=args.seed,
-        fps=args.fps,
-        frame_skip=args.frame_skip,
-        max_steps=args.max_steps,
-        hold=args.hold,
-    )
-    capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
-    print(
-        f"{args.env} {args.policy} seed {args.seed}: {stats['steps']} steps{capped}, "
-        f"{frames_text(stats)} at {args.fps:g} fps, {stats['outcome']} -> {args.out}"
-    )
+    stats = record_race(args.policy, args.out, **recording_options(args))
+    print(f"{recorded_text(args, stats)}, {stats['outcome']} -> {args.out}")
     return 0
 
 

@@ -84,17 +84,7 @@ REPLAY_BUFFER_FILE = "replay_buffer.pkl"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--env", required=True, type=env_id, help="a bbgym env id")
-    parser.add_argument(
-        "--preset",
-        default=None,
-        help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
-    )
-    parser.add_argument(
-        "--timesteps",
-        type=positive_int,
-        default=None,
-        help="sb3: the budget (default: the preset's total_timesteps)",
-    )
+    add_preset_arguments(parser, "sb3: the budget")
     parser.add_argument("--seed", type=int, default=0, help="training seed")
     parser.add_argument(
         "--out", type=Path, default=None, help="run folder (default runs/<engine>/<env>-seed<seed>)"
@@ -107,9 +97,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_threads_argument(parser)
     parser.add_argument("--engine", choices=ENGINES, default="sb3", help="training library")
-    parser.add_argument(
-        "--device", default="cpu", help="torchrl: the env's and the policy's device (cpu, cuda)"
-    )
+    add_device_argument(parser)
     parser.add_argument(
         "--iterations", type=positive_int, default=10, help="rllib: training iterations"
     )
@@ -139,6 +127,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs, checked before it starts (:func:`bbgym.cli.main`)."""
     return extra_needs({"sb3": "train"}.get(args.engine, args.engine))
+
+
+def add_preset_arguments(parser: argparse.ArgumentParser, budget_help: str) -> None:
+    """``--preset`` and ``--timesteps``: what a training follows and for how long, as
+    ``bbgym train`` and ``bbgym baseline`` take them; ``budget_help`` heads the help of
+    ``--timesteps``."""
+    parser.add_argument(
+        "--preset",
+        default=None,
+        help="preset: an env id, a shipped preset's name or a YAML file (default: the env's)",
+    )
+    parser.add_argument(
+        "--timesteps",
+        type=positive_int,
+        default=None,
+        help=f"{budget_help} (default: the preset's total_timesteps)",
+    )
+
+
+def add_device_argument(parser: argparse.ArgumentParser) -> None:
+    """``--device`` of a torchrl training (``bbgym train``, ``bbgym baseline``)."""
+    parser.add_argument(
+        "--device", default="cpu", help="torchrl: the env's and the policy's device (cpu, cuda)"
+    )
 
 
 def add_threads_argument(parser: argparse.ArgumentParser) -> None:

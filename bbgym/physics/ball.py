@@ -172,6 +172,21 @@ def ball_at(
     return BallState(x, y, z, vx, vy, vz, wx, wy, wz, 1.0 + 0.0 * x, 0.0 * x, 0.0 * x, 0.0 * x)
 
 
+def ball_released_at(x: Array, y: Array, z: Array, xp: Any = None) -> BallState:
+    """A ball let go at a position: :func:`ball_at` with no velocity and no spin.
+
+    Args:
+        x: East position (m).
+        y: North position (m).
+        z: Height of the centre (m).
+        xp: The array namespace, as for :func:`ball_at`.
+
+    Returns:
+        The ball's state.
+    """
+    return ball_at(x, y, z, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, xp)
+
+
 def _as_arrays(xp: Any, *values: Any) -> list:
     """``values`` as arrays of ``xp`` broadcast to one shape, in the first array's float
     dtype (numbers keep their exact value: no arithmetic touches them)."""

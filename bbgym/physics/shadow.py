@@ -36,11 +36,11 @@ import numpy as np
 
 from bbgym.physics.common import AIR_DENSITY_KGM3
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import CheckedFields, interval, param
 
 
 @dataclass(frozen=True)
-class ShadowParams:
+class ShadowParams(CheckedFields):
     """The cone of turned air behind a sail (module docstring).
 
     Accepted intervals (checked on construction, errors name ``ShadowParams.<field>``):
@@ -66,9 +66,6 @@ class ShadowParams:
     """How long the sail's force acts on the air that passes it."""
     air_height_m: float = param(6.0, interval(0.5, 50.0))
     """Height of the layer of air the cone holds."""
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
 
 def cone_profile(p: ShadowParams, along_m: Array, across_m: Array, xp: Any = np) -> Array:

@@ -7,10 +7,11 @@ inside its documented interval. Errors name the full path of the argument
 ``TypeError``, a wrong value ``ValueError``.
 
 Parameter dataclasses declare each field's accepted interval with :func:`param`; their
-``__post_init__`` calls :func:`check_fields`, which validates every field and stores it as a
-Python ``float`` (or ``int`` / ``bool``), so the physics never sees a NumPy scalar or a
-string. :func:`build_params` builds a dataclass from a user mapping and rewrites the error
-paths from the class name to the argument name.
+``__post_init__`` calls :func:`check_fields` (that of their base :class:`CheckedFields`,
+where it is their only check), which validates every field and stores it as a Python
+``float`` (or ``int`` / ``bool``), so the physics never sees a NumPy scalar or a string.
+:func:`build_params` builds a dataclass from a user mapping and rewrites the error paths
+from the class name to the argument name.
 
 This module has no gymnasium import: the physics layer uses it too.
 """
@@ -33,11 +34,24 @@ class Interval:
     """The accepted values of a number: ``low .. high`` with open or closed ends."""
 
     low: float = -math.inf
+    """The lower bound (``-inf``: none)."""
     high: float = math.inf
+    """The upper bound (``inf``: none)."""
     low_open: bool = False
+    """Whether ``low`` itself is refused."""
     high_open: bool = False
+    """Whether ``high`` itself is refused."""
 
     def contains(self, value: float) -> bool:
+        """Whether ``value`` lies inside the interval.
+
+        Args:
+            value: A real number (not checked for type or finiteness here).
+
+        Returns:
+            True where ``value`` is above ``low`` (or equal, for a closed end) and below
+            ``high`` (or equal, for a closed end).
+        """
         above = value > self.low if self.low_open else value >= self.low
         below = value < self.high if self.high_open else value <= self.high
         return above and below
@@ -60,7 +74,14 @@ def format_bound(value: float) -> str:
     """A bound as text that reads back as exactly ``value``: ``pi/3`` where ``value`` is
     ``k*pi/n`` to the last bit (``n`` up to 180), else the shortest decimal that does
     (``1e+05``, ``0.05235987755982989``). A bound rounded for show could fall outside its
-    own interval, so a value copied from a table or an error would be refused."""
+    own interval, so a value copied from a table or an error would be refused.
+
+    Args:
+        value: A bound: a float, ``inf`` or ``-inf``.
+
+    Returns:
+        Text that :func:`parse_bound` reads back as exactly ``value``.
+    """
     if value == math.inf:
         return "inf"
     if value == -math.inf:
@@ -80,7 +101,15 @@ def format_bound(value: float) -> str:
 
 def pi_multiple(value: float) -> tuple[int, int] | None:
     """``(k, n)`` in lowest terms with ``k * math.pi / n == value`` exactly (``n`` in
-    :data:`PI_DENOMINATORS`, ``k`` nonzero), or ``None``."""
+    :data:`PI_DENOMINATORS`, ``k`` nonzero), or ``None``.
+
+    Args:
+        value: A float (radians, where it is an angle).
+
+    Returns:
+        ``(k, n)``, or ``None`` for zero, for ``|value| >= 1000`` and where no ``n`` up to
+        180 gives ``value`` to the last bit.
+    """
     if value == 0.0 or not abs(value) < 1e3:  # beyond, no bound is meant as pi's multiple
         return None
     for n in PI_DENOMINATORS:
@@ -91,7 +120,17 @@ def pi_multiple(value: float) -> tuple[int, int] | None:
 
 
 def parse_bound(text: str) -> float:
-    """The number :func:`format_bound` wrote (``pi/3``, ``-2*pi``, ``0.5``, ``inf``)."""
+    """The number :func:`format_bound` wrote (``pi/3``, ``-2*pi``, ``0.5``, ``inf``).
+
+    Args:
+        text: ``[-][k*]pi[/n]`` or anything ``float()`` reads.
+
+    Returns:
+        The number as a float.
+
+    Raises:
+        ValueError: If ``text`` is neither a multiple of pi nor a number.
+    """
     match = re.fullmatch(r"(-?)(?:(\d+)\*)?pi(?:/(\d+))?", text.strip())
     if match is None:
         return float(text)
@@ -111,18 +150,48 @@ the precision that their sine and cosine need)."""
 def interval(
     low: float, high: float, *, low_open: bool = False, high_open: bool = False
 ) -> Interval:
-    """Shorthand for :class:`Interval`."""
+    """Shorthand for :class:`Interval`.
+
+    Args:
+        low: The lower bound (``-math.inf``: none).
+        high: The upper bound (``math.inf``: none).
+        low_open: Whether ``low`` itself is refused.
+        high_open: Whether ``high`` itself is refused.
+
+    Returns:
+        ``Interval(float(low), float(high), low_open, high_open)``.
+    """
     return Interval(float(low), float(high), low_open, high_open)
 
 
 def param(default: Any, accepted: Interval | None = None, *, integer: bool = False) -> Any:
     """A dataclass field with its accepted interval (read by :func:`check_fields` and by the
-    docs and fuzz tests through :func:`accepted_interval`)."""
+    docs and fuzz tests through :func:`accepted_interval`).
+
+    Args:
+        default: The field's default value.
+        accepted: Its accepted values; ``None``: any finite number.
+        integer: Whether the field is an int (checked by :func:`check_integer`).
+
+    Returns:
+        A ``dataclasses.field`` whose metadata holds ``interval`` and ``integer``.
+    """
     return dataclass_field(default=default, metadata={"interval": accepted, "integer": integer})
 
 
 def accepted_interval(cls: type, name: str) -> Interval | None:
-    """The interval declared for field ``name`` of dataclass ``cls`` (``None`` if none)."""
+    """The interval declared for field ``name`` of dataclass ``cls`` (``None`` if none).
+
+    Args:
+        cls: A parameter dataclass (``DinghyParams``).
+        name: One of its field names (``"mass_kg"``).
+
+    Returns:
+        The field's :class:`Interval`, or ``None`` where it declares none.
+
+    Raises:
+        KeyError: If ``cls`` has no field ``name``.
+    """
     for f in fields(cls):
         if f.name == name:
             return f.metadata.get("interval")
@@ -130,7 +199,14 @@ def accepted_interval(cls: type, name: str) -> Interval | None:
 
 
 def is_real_number(value: Any) -> bool:
-    """Python or NumPy int or float (0-d arrays included), never ``bool``."""
+    """Python or NumPy int or float (0-d arrays included), never ``bool``.
+
+    Args:
+        value: Anything.
+
+    Returns:
+        Whether ``value`` is a real number bbgym accepts (finite or not).
+    """
     if isinstance(value, (bool, np.bool_)):
         return False
     if isinstance(value, np.ndarray):
@@ -140,7 +216,23 @@ def is_real_number(value: Any) -> bool:
 
 def check_number(path: str, value: Any, accepted: Interval | None = None, why: str = "") -> float:
     """``value`` as a Python float: a finite real number inside ``accepted`` (``why``, if
-    given, says in the error where the interval comes from)."""
+    given, says in the error where the interval comes from).
+
+    Args:
+        path: The argument's full name in errors (``"dinghy.mass_kg"``,
+            ``"options['speed']"``).
+        value: What the user passed.
+        accepted: Its accepted values; ``None``: any finite number.
+        why: Where the interval comes from, added to the error in brackets (``""``:
+            nothing).
+
+    Returns:
+        ``float(value)``.
+
+    Raises:
+        TypeError: If ``value`` is not a real number (:func:`is_real_number`).
+        ValueError: If ``value`` is not finite or lies outside ``accepted``.
+    """
     if not is_real_number(value):
         raise TypeError(f"{path} must be a real number, got {value!r} ({type(value).__name__})")
     v = float(value)
@@ -153,7 +245,20 @@ def check_number(path: str, value: Any, accepted: Interval | None = None, why: s
 
 
 def check_integer(path: str, value: Any, accepted: Interval | None = None) -> int:
-    """``value`` as a Python int: a Python or NumPy integer inside ``accepted``."""
+    """``value`` as a Python int: a Python or NumPy integer inside ``accepted``.
+
+    Args:
+        path: The argument's full name in errors.
+        value: What the user passed.
+        accepted: Its accepted values; ``None``: any int.
+
+    Returns:
+        ``int(value)``.
+
+    Raises:
+        TypeError: If ``value`` is not an int (a bool or a float is refused).
+        ValueError: If ``value`` lies outside ``accepted``.
+    """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{path} must be an int, got {value!r} ({type(value).__name__})")
     v = int(value)
@@ -163,21 +268,51 @@ def check_integer(path: str, value: Any, accepted: Interval | None = None) -> in
 
 
 def check_bool(path: str, value: Any) -> bool:
-    """``value`` as a Python bool: ``True``/``False`` or a NumPy bool."""
+    """``value`` as a Python bool: ``True``/``False`` or a NumPy bool.
+
+    Args:
+        path: The argument's full name in errors.
+        value: What the user passed.
+
+    Returns:
+        ``bool(value)``.
+
+    Raises:
+        TypeError: If ``value`` is not a bool (``0`` and ``1`` are refused).
+    """
     if not isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{path} must be a bool, got {value!r} ({type(value).__name__})")
     return bool(value)
 
 
 def check_choice(path: str, value: Any, choices: tuple) -> Any:
-    """``value`` if it is one of ``choices``."""
+    """``value`` if it is one of ``choices``.
+
+    Args:
+        path: The argument's full name in errors.
+        value: What the user passed.
+        choices: The accepted strings.
+
+    Returns:
+        ``value`` unchanged.
+
+    Raises:
+        ValueError: If ``value`` is not a string in ``choices``.
+    """
     if not isinstance(value, str) or value not in choices:
         raise ValueError(f"{path} must be one of {choices}, got {value!r}")
     return value
 
 
 def choices_text(choices: tuple[str, ...]) -> str:
-    """``choices`` for a table: ```"a"`, `"b"` or `"c"```."""
+    """``choices`` for a table: `` `"a"`, `"b"` or `"c"` ``.
+
+    Args:
+        choices: The accepted strings, in the order shown.
+
+    Returns:
+        The choices in Markdown, each quoted as code, the last joined by "or".
+    """
     quoted = [f'`"{c}"`' for c in choices]
     return " or ".join([", ".join(quoted[:-1]), quoted[-1]] if len(quoted) > 1 else quoted)
 
@@ -185,7 +320,22 @@ def choices_text(choices: tuple[str, ...]) -> str:
 def check_range(
     path: str, value: Any, accepted: Interval | None = None, why: str = ""
 ) -> tuple[float, float]:
-    """A ``(low, high)`` pair of numbers inside ``accepted`` with ``low <= high``."""
+    """A ``(low, high)`` pair of numbers inside ``accepted`` with ``low <= high``.
+
+    Args:
+        path: The argument's full name in errors (``[0]`` and ``[1]`` name its entries).
+        value: What the user passed: a sequence of two numbers.
+        accepted: The accepted values of each end; ``None``: any finite number.
+        why: Where the interval comes from, added to the error in brackets.
+
+    Returns:
+        ``(low, high)`` as Python floats.
+
+    Raises:
+        TypeError: If ``value`` is not a sequence, or an entry not a real number.
+        ValueError: If ``value`` has not two entries, an entry is not finite or lies
+            outside ``accepted``, or ``low > high``.
+    """
     if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
         raise TypeError(f"{path} must be a (low, high) pair of numbers, got {value!r}")
     if len(value) != 2:
@@ -198,7 +348,21 @@ def check_range(
 
 
 def check_pair(path: str, value: Any, accepted: Interval | None = None) -> tuple[float, float]:
-    """An ``(x, y)`` pair of numbers, each inside ``accepted``."""
+    """An ``(x, y)`` pair of numbers, each inside ``accepted``.
+
+    Args:
+        path: The argument's full name in errors (``[0]`` and ``[1]`` name its entries).
+        value: What the user passed: a sequence of two numbers.
+        accepted: The accepted values of each entry; ``None``: any finite number.
+
+    Returns:
+        ``(x, y)`` as Python floats.
+
+    Raises:
+        TypeError: If ``value`` is not a sequence, or an entry not a real number.
+        ValueError: If ``value`` has not two entries, or an entry is not finite or lies
+            outside ``accepted``.
+    """
     if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
         raise TypeError(f"{path} must be an (x, y) pair of numbers, got {value!r}")
     if len(value) != 2:
@@ -212,7 +376,20 @@ def check_pair(path: str, value: Any, accepted: Interval | None = None) -> tuple
 def check_norm(
     path: str, pair: tuple[float, float], accepted: Interval, why: str = ""
 ) -> tuple[float, float]:
-    """A checked ``(x, y)`` pair whose length lies in ``accepted``."""
+    """A checked ``(x, y)`` pair whose length lies in ``accepted``.
+
+    Args:
+        path: The argument's full name in errors.
+        pair: The pair, already checked by :func:`check_pair`.
+        accepted: The accepted values of its length ``hypot(x, y)``.
+        why: Where the interval comes from, added to the error in brackets.
+
+    Returns:
+        ``pair`` unchanged.
+
+    Raises:
+        ValueError: If the pair's length lies outside ``accepted``.
+    """
     length = math.hypot(*pair)
     if not accepted.contains(length):
         reason = f" ({why})" if why else ""
@@ -224,7 +401,15 @@ def check_norm(
 
 def check_fields(obj: Any) -> None:
     """Validate every field of a (frozen) dataclass that declares an interval with
-    :func:`param`, and store it as a Python number. Errors name ``ClassName.field``."""
+    :func:`param`, and store it as a Python number. Errors name ``ClassName.field``.
+
+    Args:
+        obj: A dataclass instance (its ``__post_init__`` calls this); frozen ones too.
+
+    Raises:
+        TypeError: If a field's value has the wrong type.
+        ValueError: If a field's value is not finite or lies outside its interval.
+    """
     owner = type(obj).__name__
     for f in fields(obj):
         if "interval" not in f.metadata:
@@ -240,10 +425,59 @@ def check_fields(obj: Any) -> None:
         object.__setattr__(obj, f.name, checked)
 
 
+def check_at_least(obj: Any, name: str, least: str, why: str = "") -> None:
+    """Check that a parameter dataclass's field ``name`` is not below its field ``least``
+    (a wall's foot at least as deep as the wall is thick, a greatest speed at least the
+    least): the bound between two fields, which no one field's interval can say.
+
+    Args:
+        obj: The dataclass instance (its ``__post_init__`` calls this after
+            :func:`check_fields`).
+        name: The field that must be the larger.
+        least: The field it may not be below.
+        why: Said at the end of the error (``": the balls start above the floor"``).
+
+    Raises:
+        ValueError: ``"<Class>.<name> must be >= <least> (<its value>), got <value><why>"``.
+    """
+    value, floor = getattr(obj, name), getattr(obj, least)
+    if value < floor:
+        raise ValueError(
+            f"{type(obj).__name__}.{name} must be >= {least} ({floor!r}), got {value!r}{why}"
+        )
+
+
+class CheckedFields:
+    """The base of a parameter dataclass whose only check is its fields' intervals: its
+    ``__post_init__`` is :func:`check_fields`, so the dataclass need not write one. A class
+    with checks of its own writes its ``__post_init__``, :func:`check_fields` first."""
+
+    __slots__ = ()
+
+    def __post_init__(self) -> None:
+        check_fields(self)
+
+
 def build_params(cls: type, path: str, value: Any, **extra: Any) -> Any:
     """A ``cls`` dataclass from ``None`` (defaults), an instance, or a mapping of its field
     names; ``extra`` overrides fields. Errors name ``path.field``: an unknown key raises
-    ``TypeError`` (as an unknown keyword does), a bad value ``TypeError``/``ValueError``."""
+    ``TypeError`` (as an unknown keyword does), a bad value ``TypeError``/``ValueError``.
+
+    Args:
+        cls: The parameter dataclass (``DinghyParams``).
+        path: The argument's name in errors (``"dinghy"``).
+        value: ``None``, a ``cls`` instance, or a mapping of some of its field names to
+            values.
+        **extra: Field values that override ``value``'s.
+
+    Returns:
+        A ``cls`` instance (``value`` itself, if it is one and ``extra`` is empty).
+
+    Raises:
+        TypeError: If ``value`` is of another kind, has an unknown key, or a field's value
+            has the wrong type.
+        ValueError: If a field's value is not accepted.
+    """
     if value is None:
         value = {}
     if isinstance(value, cls):
@@ -268,7 +502,15 @@ def build_params(cls: type, path: str, value: Any, **extra: Any) -> Any:
 def interval_rows(cls: type, group: str) -> list[str]:
     """Markdown table rows ``| `group.field` | default | accepted |`` for every field of a
     parameter dataclass that declares an interval (the README's tables are these rows, and
-    a test keeps them equal)."""
+    a test keeps them equal).
+
+    Args:
+        cls: The parameter dataclass.
+        group: The constructor argument that takes it (``"dinghy"``).
+
+    Returns:
+        One row per field that declares an interval, in field order.
+    """
     rows = []
     for f in fields(cls):
         accepted = f.metadata.get("interval")

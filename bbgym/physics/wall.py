@@ -38,7 +38,7 @@ import numpy as np
 
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
 from bbgym.physics.namespace import Array, namespace_of, skippable
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import check_at_least, check_fields, interval, param
 
 STANDING, FALLEN_AWAY, FALLEN_TOWARD, LOOSE = 0, 1, 2, 3
 STATE_NAMES = ("standing", "fallen_away", "fallen_toward", "loose")
@@ -80,11 +80,7 @@ class WallParams:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        if self.base_depth_m < self.thickness_m:
-            raise ValueError(
-                f"WallParams.base_depth_m must be >= thickness_m ({self.thickness_m!r}), "
-                f"got {self.base_depth_m!r}"
-            )
+        check_at_least(self, "base_depth_m", "thickness_m")
 
     @property
     def half_base_m(self) -> float:

@@ -16,11 +16,11 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import CheckedFields, interval, param
 
 
 @dataclass(frozen=True)
-class GustParams:
+class GustParams(CheckedFields):
     """Statistics of gusts (speed) and shifts (direction) of the true wind.
 
     Accepted intervals (checked on construction, errors name ``GustParams.<field>``):
@@ -45,9 +45,6 @@ class GustParams:
     """Correlation time of the underlying process."""
     smoothing_s: float = param(4.0, interval(0.01, 1e4))
     """Time constant of the lag that smooths the process."""
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
 
 class GustState(NamedTuple):

@@ -22,8 +22,8 @@ import numpy as np
 from bbgym.physics.dinghy import DinghyParams, DinghyState, dinghy_moving
 from bbgym.physics.namespace import Array, replaced
 from bbgym.physics.sailing_step import substep
-from bbgym.physics.validation import check_fields, interval, param
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.physics.validation import CheckedFields, interval, param
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 HULL = (120, 80, 40)
 SAIL = (170, 150, 60)
@@ -33,7 +33,7 @@ LANES_M = (8.0, 0.0, -8.0)
 
 
 @dataclass(frozen=True)
-class PointsOfSailParams:
+class PointsOfSailParams(CheckedFields):
     """The three boats' true wind angles (off the bow) and sheets (0 in .. 1 out)."""
 
     wind_speed_mps: float = param(5.0, interval(0.5, 15.0))
@@ -44,9 +44,6 @@ class PointsOfSailParams:
     beat_angle_deg: float = param(50.0, interval(0.0, 180.0))
     beat_sheet: float = param(0.2, interval(0.0, 1.0))
     dt_s: float = param(0.05, interval(0.005, 0.1))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def angles_rad(self) -> tuple[float, float, float]:
         return tuple(
@@ -136,10 +133,7 @@ POINTS_OF_SAIL = Scene(
     "reach, slower than the wind running before it, and beating it makes ground to "
     "windward, with the most drift",
     params=PointsOfSailParams,
-    initial=points_initial,
-    step=points_step,
-    measures=points_measures,
-    frame=points_frame,
+    functions=SceneFunctions(points_initial, points_step, points_measures, points_frame),
     view_box_m=lambda p: (-11.5, 8.5, -10.5, 10.5),
     duration_s=lambda p: 60.0,
     bodies=("run", "reach", "beat"),

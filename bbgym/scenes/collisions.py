@@ -15,7 +15,7 @@ from typing import Any
 from bbgym.physics.ball import BallParams, collide_balls
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import CheckedFields, interval, param
 from bbgym.scenes.projectiles import (
     APPLE_COLOR,
     ARROW_COLOR,
@@ -24,7 +24,7 @@ from bbgym.scenes.projectiles import (
     column,
     gravity_step,
 )
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 
 def collide_rows(
@@ -48,7 +48,7 @@ def collide_rows(
 
 
 @dataclass(frozen=True)
-class Arrow2Params:
+class Arrow2Params(CheckedFields):
     """An arrow flying level into an apple at rest; they stick (gravity left out: the
     arrow demo shows it)."""
 
@@ -59,9 +59,6 @@ class Arrow2Params:
     distance_m: float = param(3.0, interval(0.1, 100.0))
     """From the arrow's tip to the apple's centre at the start."""
     dt_s: float = param(1.0 / 600.0, interval(1e-5, 0.01))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     @property
     def apple_radius_m(self) -> float:
@@ -122,10 +119,7 @@ ARROW_2 = Scene(
     claim="the arrow sticks in the apple and both move on at v1 m1 / (m1 + m2): momentum is "
     "kept, and the kinetic energy loses the share m2 / (m1 + m2)",
     params=Arrow2Params,
-    initial=arrow2_initial,
-    step=arrow2_step,
-    measures=arrow2_measures,
-    frame=arrow2_frame,
+    functions=SceneFunctions(arrow2_initial, arrow2_step, arrow2_measures, arrow2_frame),
     view_box_m=lambda p: (-p.distance_m - 1.0, 0.5 * p.distance_m + 1.0, 0.0, 3.0),
     duration_s=lambda p: 1.5 * p.distance_m / p.speed_mps,
     bodies=("arrow", "apple"),
@@ -137,7 +131,7 @@ ARROW_2 = Scene(
 
 
 @dataclass(frozen=True)
-class DoubleBounceParams:
+class DoubleBounceParams(CheckedFields):
     """A small beach ball on top of a large one, dropped together onto a floor (our take
     on the text's two colliding beach balls: a vertical line of centres)."""
 
@@ -149,9 +143,6 @@ class DoubleBounceParams:
     restitution: float = param(1.0, interval(0.0, 1.0))
     """Of both bounces, floor and ball: 1 elastic, 0 plastic."""
     dt_s: float = param(1.0 / 480.0, interval(1e-5, 0.01))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def masses(self) -> tuple[float, float]:
         return (
@@ -232,10 +223,7 @@ DOUBLE_BOUNCE = Scene(
     "(e (2 + e) m1 - m2) / (m1 + m2) times the impact speed (2.2 x for elastic beach balls "
     "of radius 0.4 and 0.2 m, masses ~ r^2); elastic, the pair keeps its energy",
     params=DoubleBounceParams,
-    initial=double_initial,
-    step=double_step,
-    measures=double_measures,
-    frame=double_frame,
+    functions=SceneFunctions(double_initial, double_step, double_measures, double_frame),
     view_box_m=lambda p: (
         -2.5,
         2.5,

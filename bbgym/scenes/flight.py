@@ -33,10 +33,10 @@ import numpy as np
 
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2, quadratic_drag_rate
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import CheckedFields, check_fields, interval, param
 from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
 from bbgym.scenes.projectiles import column
-from bbgym.scenes.scene import Frame, Scene, Segment
+from bbgym.scenes.scene import Frame, Scene, SceneFunctions, Segment, state_fields
 
 TINY = 1e-12
 """Floor of a norm we divide by: the direction of a zero vector is taken as zero."""
@@ -176,7 +176,7 @@ def panel_rotation_drag(
 
 
 @dataclass(frozen=True)
-class ConfettiParams:
+class ConfettiParams(CheckedFields):
     """Four square-ish panels (a playing card by default) dropped in a steady wind: one
     flat, one tilted, one started spinning (the text's rotating panel) and one edge-on."""
 
@@ -195,9 +195,6 @@ class ConfettiParams:
     """The spinning panel's start: turning about its span axis."""
     drop_height_m: float = param(10.0, interval(1.0, 1000.0))
     dt_s: float = param(1.0 / 240.0, interval(1e-4, 0.01))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     @property
     def area_m2(self) -> float:
@@ -353,10 +350,7 @@ CONFETTI = Scene(
     "tilted it glides toward its lean and rocks with growing swings as the centre of "
     "pressure turns it, then tumbles, its fall speeding up and slowing",
     params=ConfettiParams,
-    initial=confetti_initial,
-    step=confetti_step,
-    measures=confetti_measures,
-    frame=confetti_frame,
+    functions=SceneFunctions(confetti_initial, confetti_step, confetti_measures, confetti_frame),
     view_box_m=lambda p: (
         -5.0,
         5.0 + 0.6 * p.wind_speed_mps * p.drop_height_m,
@@ -482,27 +476,13 @@ GUST_KNOT_S = 0.1
 interpolated between them."""
 
 
-class Planes(NamedTuple):
+class Planes(state_fields(Panels, "time_s", "gust_speed", "gust_shift")):
     """Each plane's position and velocity (world: x east, y north, z up), its body rates
-    (x forward, y left, z up), its orientation quaternion, the clock and the gusts' table
-    (``(GUST_KNOTS, planes)``: speed fraction and direction shift at each knot)."""
+    (x forward, y left, z up) and its orientation quaternion (:class:`Panels`' fields), the
+    clock and the gusts' table (``(GUST_KNOTS, planes)``: speed fraction and direction
+    shift at each knot)."""
 
-    x_m: Array
-    y_m: Array
-    z_m: Array
-    vx_mps: Array
-    vy_mps: Array
-    vz_mps: Array
-    wx_radps: Array
-    wy_radps: Array
-    wz_radps: Array
-    qw: Array
-    qx: Array
-    qy: Array
-    qz: Array
-    time_s: Array
-    gust_speed: Array
-    gust_shift: Array
+    __slots__ = ()
 
 
 def gust_table(p: PlaneParams) -> tuple[np.ndarray, np.ndarray]:
@@ -722,10 +702,7 @@ AEROPLANE = Scene(
     "nose up in a left turn and down in a right one, by the torque L x omega; gusts make "
     "the level flight wander",
     params=PlaneParams,
-    initial=plane_initial,
-    step=plane_step,
-    measures=plane_measures,
-    frame=plane_frame,
+    functions=SceneFunctions(plane_initial, plane_step, plane_measures, plane_frame),
     view_box_m=plane_view_box_m,
     duration_s=lambda p: 15.0,
     bodies=PLANE_NAMES,

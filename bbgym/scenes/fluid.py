@@ -44,7 +44,7 @@ import numpy as np
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_choice, check_fields, interval, param
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 WATER = (40, 110, 210)
 WALL = (90, 90, 90)
@@ -365,10 +365,7 @@ DAM_BREAK = Scene(
     "comes to the water's area over the box's width and its mean density stays near rest; "
     "the grid's neighbours give the all-pairs trajectory",
     params=DamBreakParams,
-    initial=dam_initial,
-    step=dam_step,
-    measures=fluid_measures,
-    frame=dam_frame,
+    functions=SceneFunctions(dam_initial, dam_step, fluid_measures, dam_frame),
     view_box_m=lambda p: (
         -0.05 * p.box_width_m,
         1.05 * p.box_width_m,

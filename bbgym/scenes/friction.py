@@ -30,9 +30,9 @@ import numpy as np
 from bbgym.physics.ball import BallParams, BallState, ball_at, contact_slip, ground_contact, substep
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import check_at_least, check_fields, interval, param
 from bbgym.scenes.projectiles import column
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment, state_fields
 
 BLOCK_COLORS = ((230, 70, 60), (60, 120, 220))
 """Without the zero-crossing check, with it."""
@@ -69,11 +69,7 @@ def friction_step(s: Blocks, mu_static: float, mu_kinetic: float, dt_s: float, x
 def check_coefficients(params: Any) -> None:
     """``mu_static >= mu_kinetic`` (static friction holds at least as hard as sliding
     friction brakes), or a ``ValueError`` naming the field."""
-    if params.mu_static < params.mu_kinetic:
-        raise ValueError(
-            f"{type(params).__name__}.mu_static must be >= mu_kinetic "
-            f"({params.mu_kinetic}), got {params.mu_static}"
-        )
+    check_at_least(params, "mu_static", "mu_kinetic")
 
 
 # -- the sliding block ------------------------------------------------------------------------
@@ -95,8 +91,7 @@ class SlidingParams:
     def __post_init__(self) -> None:
         check_fields(self)
         check_coefficients(self)
-        if self.speed_max_mps < self.speed_min_mps:
-            raise ValueError("SlidingParams.speed_max_mps must be >= speed_min_mps")
+        check_at_least(self, "speed_max_mps", "speed_min_mps")
 
     def speeds(self) -> np.ndarray:
         return np.linspace(self.speed_min_mps, self.speed_max_mps, self.blocks)
@@ -147,10 +142,7 @@ SLIDING_BLOCK = Scene(
     "stops at v0^2 / (2 mu_k g) and stays; without the check it never stops, rocks about "
     "zero and creeps, left or right by its starting speed",
     params=SlidingParams,
-    initial=sliding_initial,
-    step=sliding_step,
-    measures=sliding_measures,
-    frame=sliding_frame,
+    functions=SceneFunctions(sliding_initial, sliding_step, sliding_measures, sliding_frame),
     view_box_m=lambda p: (
         -0.5,
         sliding_duration(p) * p.speed_max_mps * 0.5 + 0.5,
@@ -183,8 +175,7 @@ class SlopeParams:
     def __post_init__(self) -> None:
         check_fields(self)
         check_coefficients(self)
-        if self.angle_max_deg < self.angle_min_deg:
-            raise ValueError("SlopeParams.angle_max_deg must be >= angle_min_deg")
+        check_at_least(self, "angle_max_deg", "angle_min_deg")
 
     def angles_rad(self) -> np.ndarray:
         return np.radians(np.linspace(self.angle_min_deg, self.angle_max_deg, self.slopes))
@@ -234,10 +225,7 @@ SLIDING_BLOCK_2 = Scene(
     claim="a block stays put on a slope below the friction angle atan(mu_s) and slides "
     "above it, accelerating at g (sin theta - mu_k cos theta)",
     params=SlopeParams,
-    initial=slope_initial,
-    step=slope_step,
-    measures=sliding_measures,
-    frame=slope_frame,
+    functions=SceneFunctions(slope_initial, slope_step, sliding_measures, slope_frame),
     view_box_m=lambda p: (-0.5, 3.0 * p.slopes, -0.5, 2.8),
     duration_s=lambda p: 2.0,
     body_names=lambda p: tuple(f"{a:.0f} deg" for a in np.degrees(p.angles_rad())),
@@ -399,10 +387,7 @@ GOLF_BALL = Scene(
     "back the way it came with enough spin), topspin kicks it on; where friction suffices "
     "the contact reaches rolling, v = omega r, and no bounce adds energy",
     params=GolfParams,
-    initial=golf_initial,
-    step=golf_step,
-    measures=golf_measures,
-    frame=golf_frame,
+    functions=SceneFunctions(golf_initial, golf_step, golf_measures, golf_frame),
     view_box_m=lambda p: (-3.0, 20.0, -0.3, 3.0 * GOLF_LANE_M + 0.5),
     duration_s=lambda p: 3.0,
     bodies=GOLF_NAMES,
@@ -417,24 +402,12 @@ ROLLING_NAMES = ("rolling_stop off", "rolling_stop on")
 """The envs' law to date, and with the zero-crossing rule."""
 
 
-class RollingBalls(NamedTuple):
+class RollingBalls(state_fields(BallState, "moving_s")):
     """The envs' ball state (:class:`~bbgym.physics.ball.BallState`'s fields, one row per
-    law) and how long each ball has moved at all (speed or spin not exactly 0)."""
+    law) and how long each ball has moved at all (speed or spin not exactly 0),
+    ``moving_s``."""
 
-    x: Array
-    y: Array
-    z: Array
-    vx: Array
-    vy: Array
-    vz: Array
-    wx: Array
-    wy: Array
-    wz: Array
-    qw: Array
-    qx: Array
-    qy: Array
-    qz: Array
-    moving_s: Array
+    __slots__ = ()
 
 
 @dataclass(frozen=True)
@@ -525,10 +498,7 @@ ROLLING_BALL = Scene(
     "the ball up again at 3/5 of its speed, a decay by 0.6 a step; with the zero-crossing "
     "rule it stops, speed and spin exactly 0, within v0 / (c g)",
     params=RollingParams,
-    initial=rolling_initial,
-    step=rolling_step,
-    measures=rolling_measures,
-    frame=rolling_frame,
+    functions=SceneFunctions(rolling_initial, rolling_step, rolling_measures, rolling_frame),
     view_box_m=lambda p: (-0.5, max(2.0, min(30.0, 0.6 * p.speed_mps**2 + 0.5)), -0.2, 1.2),
     duration_s=lambda p: min(20.0, max(1.0, 1.5 * p.stop_bound_s())),
     bodies=ROLLING_NAMES,

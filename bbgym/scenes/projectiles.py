@@ -18,8 +18,8 @@ from typing import Any, NamedTuple
 from bbgym.physics.ball import BallParams, drag_rate_per_s
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.physics.validation import CheckedFields, check_at_least, check_fields, interval, param
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 BALL_COLORS = ((230, 70, 60), (250, 200, 40), (60, 120, 220))
 """Left, middle and right ball."""
@@ -45,7 +45,7 @@ def column(values: tuple[float, ...], xp: Any) -> Array:
 
 
 @dataclass(frozen=True)
-class PushParams:
+class PushParams(CheckedFields):
     """Two balls side by side on a smooth floor; one impulse between them."""
 
     mass_left_kg: float = param(1.0, interval(0.01, 1000.0))
@@ -53,9 +53,6 @@ class PushParams:
     impulse_ns: float = param(2.0, interval(0.0, 1000.0))
     """The impulse each ball gets from the other, in opposite directions (third law)."""
     dt_s: float = param(1.0 / 30.0, interval(1e-4, 1.0))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def radius_m(self, mass_kg: float) -> float:
         """A beach ball's shell mass grows with its area (§4): ``r ~ sqrt(m)``, 0.3 m at
@@ -111,10 +108,7 @@ PUSH = Scene(
     title="Push: two beach balls, one impulse",
     claim="each ball moves off at impulse / mass, and the total momentum stays zero",
     params=PushParams,
-    initial=push_initial,
-    step=push_step,
-    measures=push_measures,
-    frame=push_frame,
+    functions=SceneFunctions(push_initial, push_step, push_measures, push_frame),
     view_box_m=lambda p: (-4.0, 4.0, -0.5, 3.5),
     duration_s=lambda p: 2.0,
     bodies=("left", "right"),
@@ -209,10 +203,7 @@ ARROW = Scene(
     claim="an arrow aimed level falls g t^2 / 2 below its aim (the integrator's exact "
     "g dt^2 n (n + 1) / 2 after n steps); aimed up by asin(g D / v^2) / 2 it hits the apple",
     params=ArrowParams,
-    initial=arrow_initial,
-    step=arrow_step,
-    measures=arrow_measures,
-    frame=arrow_frame,
+    functions=SceneFunctions(arrow_initial, arrow_step, arrow_measures, arrow_frame),
     view_box_m=lambda p: (-2.0, p.target_distance_m + 4.0, -1.0, p.height_m + 3.0),
     duration_s=lambda p: 1.1 * p.target_distance_m / p.speed_mps,
     bodies=("level", "aimed"),
@@ -234,11 +225,7 @@ and move the ball up as far as it went down into the floor."""
 def check_above_floor(params: Any) -> None:
     """A drop's balls start above the floor: ``drop_height_m >= radius_m``, or a
     ``ValueError`` naming the field."""
-    if params.drop_height_m < params.radius_m:
-        raise ValueError(
-            f"{type(params).__name__}.drop_height_m must be >= radius_m ({params.radius_m}), "
-            f"got {params.drop_height_m}: the balls start above the floor"
-        )
+    check_at_least(params, "drop_height_m", "radius_m", ": the balls start above the floor")
 
 
 @dataclass(frozen=True)
@@ -330,11 +317,13 @@ def drop_scene(
         title=title,
         claim=claim,
         params=DropParams,
-        initial=drop_initial,
-        step=step,
-        measures=lambda p, s, xp: height_energy(s, p.radius_m),
-        frame=lambda p, s: Frame(
-            ball_circles(s, p.radius_m, labels), lines=[energy_line(s, p.radius_m)]
+        functions=SceneFunctions(
+            initial=drop_initial,
+            step=step,
+            measures=lambda p, s, xp: height_energy(s, p.radius_m),
+            frame=lambda p, s: Frame(
+                ball_circles(s, p.radius_m, labels), lines=[energy_line(s, p.radius_m)]
+            ),
         ),
         view_box_m=lambda p: (
             -5.0 * p.radius_m,
@@ -433,12 +422,14 @@ THREE_BEACHBALLS_2 = Scene(
     claim="with drag the light ball's bounces die fastest, the heavier one's slower, and "
     "the ball without drag keeps bouncing",
     params=DragDropParams,
-    initial=lambda p, xp: drop_initial(DropParams(p.radius_m, p.drop_height_m, p.dt_s), xp),
-    step=drag_drop_step,
-    measures=lambda p, s, xp: height_energy(s, p.radius_m),
-    frame=lambda p, s: Frame(
-        ball_circles(s, p.radius_m, ("no drag", "drag, light", "drag, heavy")),
-        lines=[energy_line(s, p.radius_m)],
+    functions=SceneFunctions(
+        initial=lambda p, xp: drop_initial(DropParams(p.radius_m, p.drop_height_m, p.dt_s), xp),
+        step=drag_drop_step,
+        measures=lambda p, s, xp: height_energy(s, p.radius_m),
+        frame=lambda p, s: Frame(
+            ball_circles(s, p.radius_m, ("no drag", "drag, light", "drag, heavy")),
+            lines=[energy_line(s, p.radius_m)],
+        ),
     ),
     view_box_m=lambda p: (
         -5.0 * p.radius_m,

@@ -27,10 +27,10 @@ import numpy as np
 from bbgym.physics.ball import TINY, BallParams, ball_at, collide_balls, panel_bounce
 from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import CheckedFields, interval, param
 from bbgym.scenes.collisions import DOUBLE_BOUNCE, DoubleBounceParams, collide_rows
 from bbgym.scenes.projectiles import BALL_COLORS, Bodies, column
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 MARK_COLOR = (30, 30, 30)
 """The dot that shows a ball's angle (a beach ball's valve)."""
@@ -171,7 +171,7 @@ def spin_measures(radius_m: float, s: Spinning) -> dict[str, Array]:
 
 
 @dataclass(frozen=True)
-class RotationBoxParams:
+class RotationBoxParams(CheckedFields):
     """Beach balls thrown about in an open box, each on its own (they pass through each
     other: here only the walls and the floor turn them)."""
 
@@ -183,9 +183,6 @@ class RotationBoxParams:
     restitution: float = param(1.0, interval(0.0, 1.0))
     """Of every bounce; the text's demo keeps the speed (1)."""
     dt_s: float = param(1.0 / 120.0, interval(1e-4, 0.02))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def starts(self) -> tuple[np.ndarray, ...]:
         """Positions spread across the box at 1 to 2 m, directions fanned upwards."""
@@ -231,10 +228,12 @@ ROTATION_BOX = Scene(
     "velocity along the surface over the radius, so its contact point rolls (clockwise "
     "rolling right on the floor); between contacts the spin does not change",
     params=RotationBoxParams,
-    initial=box_initial,
-    step=box_scene_step,
-    measures=lambda p, s, xp: spin_measures(p.radius_m, s),
-    frame=box_frame,
+    functions=SceneFunctions(
+        initial=box_initial,
+        step=box_scene_step,
+        measures=lambda p, s, xp: spin_measures(p.radius_m, s),
+        frame=box_frame,
+    ),
     view_box_m=lambda p: (
         -0.5 * p.box_width_m - 0.3,
         0.5 * p.box_width_m + 0.3,
@@ -334,10 +333,12 @@ DOUBLE_BOUNCE_2 = Scene(
     "speed reversed times e), and the contact sets each ball's spin to v_t / r_i, v_t "
     "their relative velocity along the contact: both turn the same way, the small one faster",
     params=DoubleBounce2Params,
-    initial=double2_initial,
-    step=double2_step,
-    measures=lambda p, s, xp: spin_measures(column((p.bottom_radius_m, p.top_radius_m), xp), s),
-    frame=double2_frame,
+    functions=SceneFunctions(
+        initial=double2_initial,
+        step=double2_step,
+        measures=lambda p, s, xp: spin_measures(column((p.bottom_radius_m, p.top_radius_m), xp), s),
+        frame=double2_frame,
+    ),
     view_box_m=lambda p: (-4.0, 4.0, *DOUBLE_BOUNCE.view_box_m(p)[2:]),
     duration_s=DOUBLE_BOUNCE.duration_s,
     bodies=("bottom", "top"),
@@ -349,7 +350,7 @@ DOUBLE_BOUNCE_2 = Scene(
 
 
 @dataclass(frozen=True)
-class PlankParams:
+class PlankParams(CheckedFields):
     """A ball flying down onto a plank lying level at rest, no gravity (the text's plank
     floats: seen from above on ice, or in space)."""
 
@@ -364,9 +365,6 @@ class PlankParams:
     right end)."""
     restitution: float = param(1.0, interval(0.0, 1.0))
     dt_s: float = param(1.0 / 240.0, interval(1e-5, 0.01))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def hit_m(self) -> float:
         """The ball's x: its distance from the plank's centre (``d``)."""
@@ -535,10 +533,7 @@ def plank_scene(name: str, title: str, claim: str, params: type, test: str) -> S
         title=title,
         claim=claim,
         params=params,
-        initial=plank_initial,
-        step=plank_step,
-        measures=plank_measures,
-        frame=plank_frame,
+        functions=SceneFunctions(plank_initial, plank_step, plank_measures, plank_frame),
         view_box_m=plank_view,
         duration_s=plank_duration,
         bodies=("ball", "plank"),
@@ -573,7 +568,7 @@ PLANK_ANCHORED = plank_scene(
 
 
 @dataclass(frozen=True)
-class ManyParams:
+class ManyParams(CheckedFields):
     """Beach balls started in rows in an open box, thrown about and colliding."""
 
     balls: int = param(12, interval(2, 32), integer=True)
@@ -585,9 +580,6 @@ class ManyParams:
     """Of the bounces and of the collisions."""
     seed: int = param(0, interval(0, 2**31 - 1), integer=True)
     dt_s: float = param(1.0 / 120.0, interval(1e-4, 0.02))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def starts(self) -> tuple[np.ndarray, ...]:
         """Rows of balls 2.5 radii apart from 0.5 m up, directions drawn by ``seed``."""
@@ -720,10 +712,7 @@ def many_scene(name: str, title: str, claim: str, match: bool) -> Scene:
         title=title,
         claim=claim,
         params=ManyParams,
-        initial=many_initial,
-        step=step,
-        measures=measures,
-        frame=frame,
+        functions=SceneFunctions(many_initial, step, measures, frame),
         view_box_m=lambda p: (
             -0.5 * p.box_width_m - 0.3,
             0.5 * p.box_width_m + 0.3,

@@ -24,6 +24,30 @@ from bbgym.physics.validation import build_params
 BACKENDS = ("numpy", "torch")
 
 
+def state_fields(*parts: type | str) -> type:
+    """A NamedTuple base for a scene's state that holds a physics state and more: the
+    fields of each NamedTuple class in ``parts`` in turn and each string as a field of its
+    own, every one an array. The scene's class subclasses it (its docstring, and
+    ``__slots__ = ()`` to stay a plain tuple), so the physics state's fields are listed in
+    one place, and ``BallState(*state[:13])`` reads them back::
+
+        class RollingBalls(state_fields(BallState, "moving_s")):
+            \"\"\"The envs' ball state and how long each ball has moved.\"\"\"
+
+            __slots__ = ()
+
+    Args:
+        parts: NamedTuple classes (their fields, in order) and field names.
+
+    Returns:
+        A NamedTuple class with those fields.
+    """
+    names: list[str] = []
+    for part in parts:
+        names.extend((part,) if isinstance(part, str) else part._fields)
+    return NamedTuple("StateFields", [(name, Any) for name in names])
+
+
 class Circle(NamedTuple):
     """A ball in a frame: centre and radius in metres, its colour and a short label."""
 
@@ -54,6 +78,21 @@ class Frame(NamedTuple):
     """Text under the title: the measures the claim is about, now."""
 
 
+class SceneFunctions(NamedTuple):
+    """A scene's pure functions over its parameters and its batched state (on NumPy or
+    torch, through ``xp``), as a task core's are over an env's
+    (:class:`bbgym.envs.functional.TaskCore`: ``initial``, ``advance``, ``measure``)."""
+
+    initial: Callable[[Any, Any], Any]
+    """``initial(params, xp) -> state``."""
+    step: Callable[[Any, Any, Any], Any]
+    """``step(params, state, xp) -> state``: one time step of ``params.dt_s``."""
+    measures: Callable[[Any, Any, Any], dict[str, Any]]
+    """``measures(params, state, xp) -> {name: array (bodies,)}``."""
+    frame: Callable[[Any, Any], Frame]
+    """``frame(params, state) -> Frame`` (NumPy state)."""
+
+
 @dataclass(frozen=True)
 class Scene:
     """A scene of the course: its name, the text's section, what the text claims and what
@@ -67,14 +106,8 @@ class Scene:
     """What the text says the demo shows, as the test asserts it (one sentence)."""
     params: type
     """A frozen dataclass of the scene's parameters (SI units, accepted intervals)."""
-    initial: Callable[[Any, Any], Any]
-    """``initial(params, xp) -> state``."""
-    step: Callable[[Any, Any, Any], Any]
-    """``step(params, state, xp) -> state``: one time step of ``params.dt_s``."""
-    measures: Callable[[Any, Any, Any], dict[str, Any]]
-    """``measures(params, state, xp) -> {name: array (bodies,)}``."""
-    frame: Callable[[Any, Any], Frame]
-    """``frame(params, state) -> Frame`` (NumPy state)."""
+    functions: SceneFunctions
+    """Its initial state, step, measures and frame."""
     view_box_m: Callable[[Any], tuple[float, float, float, float]]
     """``view_box_m(params) -> (x_min, x_max, y_min, y_max)``: what the view shows."""
     duration_s: Callable[[Any], float]
@@ -88,6 +121,26 @@ class Scene:
     """The view draws a floor at y = 0."""
     body_names: Callable[[Any], tuple[str, ...]] | None = None
     """``body_names(params)``, where the rows depend on the parameters (else ``bodies``)."""
+
+    @property
+    def initial(self) -> Callable[[Any, Any], Any]:
+        """``initial(params, xp) -> state``."""
+        return self.functions.initial
+
+    @property
+    def step(self) -> Callable[[Any, Any, Any], Any]:
+        """``step(params, state, xp) -> state``: one time step of ``params.dt_s``."""
+        return self.functions.step
+
+    @property
+    def measures(self) -> Callable[[Any, Any, Any], dict[str, Any]]:
+        """``measures(params, state, xp) -> {name: array (bodies,)}``."""
+        return self.functions.measures
+
+    @property
+    def frame(self) -> Callable[[Any, Any], Frame]:
+        """``frame(params, state) -> Frame`` (NumPy state)."""
+        return self.functions.frame
 
     def names(self, params: Any) -> tuple[str, ...]:
         """Each row's name for these parameters."""

@@ -29,7 +29,7 @@ from bbgym.physics.common import GRAVITY_MPS2
 from bbgym.physics.namespace import Array
 from bbgym.physics.validation import check_fields, interval, param
 from bbgym.scenes.projectiles import BALL_COLORS
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 EXPLICIT, SEMI_IMPLICIT, VERLET = 0.0, 1.0, 2.0
 """The integrator of each row of the batch, in that order."""
@@ -320,10 +320,7 @@ def lattice_scene(
         title=title,
         claim=claim,
         params=params,
-        initial=lattice_initial,
-        step=lattice_step,
-        measures=lattice_measures,
-        frame=lattice_frame,
+        functions=SceneFunctions(lattice_initial, lattice_step, lattice_measures, lattice_frame),
         view_box_m=lattice_box,
         duration_s=lambda p: seconds,
         bodies=INTEGRATORS,

@@ -22,8 +22,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bbgym.physics.namespace import Array
-from bbgym.physics.validation import check_fields, interval, param
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.physics.validation import CheckedFields, interval, param
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment
 
 WATER = (40, 110, 210)
 
@@ -38,7 +38,7 @@ class Surface(NamedTuple):
 
 
 @dataclass(frozen=True)
-class GerstnerParams:
+class GerstnerParams(CheckedFields):
     """One Gerstner wave on a strip of surface a few wavelengths long."""
 
     wavelength_m: float = param(10.0, interval(0.01, 1000.0))
@@ -50,9 +50,6 @@ class GerstnerParams:
     wavelengths: int = param(3, interval(1, 50), integer=True)
     points: int = param(240, interval(8, 100_000), integer=True)
     dt_s: float = param(1.0 / 30.0, interval(1e-4, 1.0))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     @property
     def wavenumber_radpm(self) -> float:
@@ -129,10 +126,7 @@ GERSTNER = Scene(
     "with k a < 1 the points stay in order, past 1 neighbours pass each other (the "
     "self-intersection the text warns of)",
     params=GerstnerParams,
-    initial=gerstner_initial,
-    step=gerstner_step,
-    measures=gerstner_measures,
-    frame=gerstner_frame,
+    functions=SceneFunctions(gerstner_initial, gerstner_step, gerstner_measures, gerstner_frame),
     view_box_m=lambda p: (
         -p.amplitude_m - 1.0,
         p.wavelengths * p.wavelength_m + 1.0,

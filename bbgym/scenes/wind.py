@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
-from bbgym.physics.ball import BallParams, BallState, ball_at, substep
+from bbgym.physics.ball import BallParams, BallState, ball_at, ball_released_at, substep
 from bbgym.physics.common import AIR_DENSITY_KGM3, GRAVITY_MPS2
 from bbgym.physics.namespace import Array, replaced
-from bbgym.physics.validation import check_fields, interval, param
+from bbgym.physics.validation import CheckedFields, check_at_least, check_fields, interval, param
 from bbgym.physics.wall import (
     LOOSE,
     WallParams,
@@ -32,13 +32,13 @@ from bbgym.physics.wall import (
 )
 from bbgym.physics.wind import GustParams, GustState, gust_init, gust_step, wind_vector
 from bbgym.scenes.projectiles import BALL_COLORS, column
-from bbgym.scenes.scene import Circle, Frame, Scene, Segment
+from bbgym.scenes.scene import Circle, Frame, Scene, SceneFunctions, Segment, state_fields
 
 # -- bowling balls: the elephant falls faster -------------------------------------------------
 
 
 @dataclass(frozen=True)
-class FallParams:
+class FallParams(CheckedFields):
     """Four balls dropped together: a small and a large solid ball (the text's mouse and
     elephant: light, so the drag shows within the drop), a small and a large beach ball."""
 
@@ -48,9 +48,6 @@ class FallParams:
     """Expanded polystyrene: light enough that drag matters over the drop."""
     drop_height_m: float = param(30.0, interval(1.0, 1000.0))
     dt_s: float = param(1.0 / 60.0, interval(1e-4, 0.1))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def balls(self) -> tuple[BallParams, ...]:
         """Small solid, large solid, small shell, large shell (the envs' ball)."""
@@ -87,18 +84,7 @@ def stopped_on_ground(radius: Array, s: BallState, moved: BallState, xp: Any) ->
 
 def fall_initial(p: FallParams, xp: Any) -> BallState:
     heights = tuple(p.drop_height_m + b.radius_m for b in p.balls())
-    return ball_at(
-        column((-15.0, -5.0, 5.0, 15.0), xp),
-        0.0,
-        column(heights, xp),
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        xp=xp,
-    )
+    return ball_released_at(column((-15.0, -5.0, 5.0, 15.0), xp), 0.0, column(heights, xp), xp)
 
 
 def fall_step(p: FallParams, s: BallState, xp: Any) -> BallState:
@@ -134,10 +120,7 @@ BOWLING_BALLS = Scene(
     "area ~ r^2: terminal speed ~ sqrt(r)), while beach balls of any size fall alike "
     "(mass and area both ~ r^2); each approaches sqrt(2 m g / (rho C_d A))",
     params=FallParams,
-    initial=fall_initial,
-    step=fall_step,
-    measures=fall_measures,
-    frame=fall_frame,
+    functions=SceneFunctions(fall_initial, fall_step, fall_measures, fall_frame),
     view_box_m=lambda p: (-20.0, 20.0, -1.0, p.drop_height_m + 2.0 * p.large_radius_m + 1.0),
     duration_s=lambda p: 8.0,
     bodies=FALL_NAMES,
@@ -149,7 +132,7 @@ BOWLING_BALLS = Scene(
 
 
 @dataclass(frozen=True)
-class MagnusParams:
+class MagnusParams(CheckedFields):
     """Three beach balls thrown level at one speed: with backspin, without spin, with
     topspin (the envs' 40 cm, 250 g ball)."""
 
@@ -157,9 +140,6 @@ class MagnusParams:
     spin_radps: float = param(20.0, interval(0.0, 200.0))
     launch_height_m: float = param(1.5, interval(0.0, 100.0))
     dt_s: float = param(1.0 / 120.0, interval(1e-4, 0.05))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
 
 MAGNUS_NAMES = ("backspin", "no spin", "topspin")
@@ -208,10 +188,7 @@ MAGNUS = Scene(
     claim="thrown level at the same speed, backspin holds a beach ball up and carries it "
     "farther, topspin brings it down sooner, the ball without spin lands between",
     params=MagnusParams,
-    initial=magnus_initial,
-    step=magnus_step,
-    measures=magnus_measures,
-    frame=magnus_frame,
+    functions=SceneFunctions(magnus_initial, magnus_step, magnus_measures, magnus_frame),
     # the flights fill the frame: a third past a drop's reach, and room above for the labels
     view_box_m=lambda p: (
         -1.0,
@@ -273,7 +250,7 @@ def normal_pair(x: Array, xp: Any) -> tuple[Array, Array, Array]:
 
 
 @dataclass(frozen=True)
-class TurbulenceParams:
+class TurbulenceParams(CheckedFields):
     """Five balls dropped together in a light wind: a large beach ball with the laminar
     drag coefficient, the same with the turbulent one, the same with its coefficient chosen
     by its Reynolds number (the drag crisis), a small beach ball so chosen, and the laminar
@@ -299,9 +276,6 @@ class TurbulenceParams:
     seed: int = param(0, interval(0, 2**31 - 1), integer=True)
     """Seeds the gusty ball's random stream (the same seed, the same gusts)."""
     dt_s: float = param(1.0 / 60.0, interval(1e-4, 0.1))
-
-    def __post_init__(self) -> None:
-        check_fields(self)
 
     def ball_pairs(self) -> tuple[tuple[BallParams, BallParams], ...]:
         """Each row's ``(laminar, turbulent)`` ball (the envs' ball): one coefficient twice
@@ -329,28 +303,12 @@ WIND_FROM_WEST = math.pi
 the air moves along +x."""
 
 
-class Turbulence(NamedTuple):
-    """The balls (:class:`BallState`'s fields), the gust process per row (zero but in the
-    gusty row) and each row's random generator state (an integer in float64)."""
+class Turbulence(state_fields(BallState, GustState, "random")):
+    """The balls (:class:`BallState`'s fields), the gust process per row
+    (:class:`~bbgym.physics.wind.GustState`'s fields: zero but in the gusty row) and each
+    row's random generator state, ``random`` (an integer in float64)."""
 
-    x: Array
-    y: Array
-    z: Array
-    vx: Array
-    vy: Array
-    vz: Array
-    wx: Array
-    wy: Array
-    wz: Array
-    qw: Array
-    qx: Array
-    qy: Array
-    qz: Array
-    speed_raw: Array
-    speed: Array
-    shift_raw: Array
-    shift: Array
-    random: Array
+    __slots__ = ()
 
 
 def gusty_rows(xp: Any) -> Array:
@@ -368,17 +326,8 @@ def turbulence_initial(p: TurbulenceParams, xp: Any) -> Turbulence:
         p.gusts(), (xp.asarray(noise[0, :]), xp.asarray(noise[1, :])), gusty_rows(xp), xp
     )
     heights = tuple(p.drop_height_m + pair[0].radius_m for pair in p.ball_pairs())
-    ball = ball_at(
-        column((-20.0, -10.0, 0.0, 10.0, 20.0), xp),
-        0.0,
-        column(heights, xp),
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-        xp=xp,
+    ball = ball_released_at(
+        column((-20.0, -10.0, 0.0, 10.0, 20.0), xp), 0.0, column(heights, xp), xp
     )
     return Turbulence(*ball, *gust, xp.asarray(random))
 
@@ -483,10 +432,9 @@ TURBULENCE = Scene(
     "small one stays laminar; turbulence as random gusts makes a ball wobble about the "
     "steady wind's drift (the same mean, a nonzero spread), the same seed the same run",
     params=TurbulenceParams,
-    initial=turbulence_initial,
-    step=turbulence_step,
-    measures=turbulence_measures,
-    frame=turbulence_frame,
+    functions=SceneFunctions(
+        turbulence_initial, turbulence_step, turbulence_measures, turbulence_frame
+    ),
     view_box_m=lambda p: (-25.0, 25.0 + 8.0 * p.wind_mps, -2.0, p.drop_height_m + 5.0),
     duration_s=lambda p: 8.0,
     bodies=TURBULENCE_NAMES,
@@ -520,11 +468,7 @@ class FallingWallParams:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        if self.base_depth_m < self.thickness_m:
-            raise ValueError(
-                f"{type(self).__name__}.base_depth_m must be >= thickness_m "
-                f"({self.thickness_m}), got {self.base_depth_m}"
-            )
+        check_at_least(self, "base_depth_m", "thickness_m")
 
     def wall(self) -> WallParams:
         """The env's wall with these dimensions (its face's drag, friction and pegs as the
@@ -637,10 +581,9 @@ FALLING_WALL = Scene(
     "under the tipping speed leaves it standing, a gale over it tips it and it falls sooner, "
     "and a storm whose force passes what the foot holds tears it loose",
     params=FallingWallParams,
-    initial=falling_wall_initial,
-    step=falling_wall_step,
-    measures=falling_wall_measures,
-    frame=falling_wall_frame,
+    functions=SceneFunctions(
+        falling_wall_initial, falling_wall_step, falling_wall_measures, falling_wall_frame
+    ),
     view_box_m=lambda p: (
         -1.5,
         WALL_SPACING_M * 3.0 + p.height_m + 1.5,
