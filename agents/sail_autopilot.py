@@ -206,9 +206,12 @@ class VMGAutopilot:
             in gusts and shifts risks sailing by the lee into an unplanned jibe.
         rudder_gain: rudder per radian of heading error.
         yaw_damping: rudder per rad/s of yaw rate (stops weaving after a tack).
-        ease_heel_deg, ease_gain: beyond this heel, ease the boom by ``gain x excess``.
-        irons_awa_deg, irons_speed_mps: a sloop this close to the wind and this slow is in
-            irons, and backs its jib.
+        ease_heel_deg: heel (deg) beyond which the boom is eased.
+        ease_gain: boom eased (rad) per radian of heel beyond ``ease_heel_deg``.
+        irons_awa_deg: apparent wind angle (deg) within which a slow sloop is in irons
+            and backs its jib.
+        irons_speed_mps: boat speed (m/s) below which a sloop within ``irons_awa_deg``
+            of the wind is in irons.
         tack_cone_deg: on a beat, tack once the mark lies more than this beyond the true
             wind on the other tack's side (module docstring); ``None``: at the layline.
     """

@@ -15,7 +15,18 @@ from gymnasium.utils import seeding
 
 def check_option_keys(options: Mapping[str, Any] | None, known: tuple[str, ...]) -> dict:
     """``reset`` options as a dict; ``None`` is empty. A non-mapping or an unknown key
-    raises ``TypeError`` naming it (as an unknown keyword argument does)."""
+    raises ``TypeError`` naming it (as an unknown keyword argument does).
+
+    Args:
+        options: The ``options`` a user passed to ``reset``: a mapping or ``None``.
+        known: The option keys the env accepts.
+
+    Returns:
+        A new dict of the options (empty for ``None``).
+
+    Raises:
+        TypeError: If ``options`` is not a mapping, or has a key not in ``known``.
+    """
     if options is None:
         return {}
     if not isinstance(options, Mapping):
@@ -27,12 +38,33 @@ def check_option_keys(options: Mapping[str, Any] | None, known: tuple[str, ...])
 
 
 def option_path(key: str) -> str:
-    """How errors name a reset option: ``options['speed']``."""
+    """How errors name a reset option: ``options['speed']``.
+
+    Args:
+        key: The option's key, e.g. ``"speed"``.
+
+    Returns:
+        ``"options['<key>']"``.
+    """
     return f"options[{key!r}]"
 
 
 def check_multiple(name: str, value: float, base_name: str, base: float) -> int:
-    """How many ``base`` steps make ``value``; ``value`` must be a whole multiple."""
+    """How many ``base`` steps make ``value``; ``value`` must be a whole multiple.
+
+    Args:
+        name: ``value``'s argument name, for the error (``"ctrl_dt"``).
+        value: The longer duration, in the same unit as ``base`` (s).
+        base_name: ``base``'s argument name, for the error (``"sim_dt"``).
+        base: The step it must be a multiple of (> 0, s).
+
+    Returns:
+        ``round(value / base)``, at least 1.
+
+    Raises:
+        ValueError: If ``value`` is not a whole multiple (>= 1) of ``base`` to within a
+            relative ``1e-9``.
+    """
     count = round(value / base)
     if count < 1 or abs(count * base - value) > 1e-9 * max(1.0, value):
         raise ValueError(f"{name} ({value!r}) must be a whole multiple of {base_name} ({base!r})")
@@ -52,7 +84,22 @@ def mean_wind(
     """Mean wind ``(speed, from)``: the ``wind`` option (a vector, where the air moves) if
     given, else a speed uniform in ``speed_range`` from a direction uniform in
     ``from_range`` (draws in [0, 1); the default, any direction, is ``2 pi * from_draw`` to
-    the bit)."""
+    the bit).
+
+    Args:
+        options: The checked ``reset`` options; its ``wind`` entry, if any, is ``(x, y)``
+            in m/s, the direction the air moves.
+        speed_range: ``(low, high)`` of the drawn wind speed, m/s.
+        speed_draw: A uniform draw in [0, 1) (a float, or an array for a batch).
+        from_draw: A uniform draw in [0, 1) for the direction (same shape as
+            ``speed_draw``).
+        from_range: ``(low, high)`` of the direction the wind blows from, rad
+            (default: the full circle).
+
+    Returns:
+        ``(speed, from)``: the speed in m/s and the direction the wind blows from in rad
+        (floats, or arrays shaped like the draws).
+    """
     if "wind" in options:
         wx, wy = options["wind"]
         return math.hypot(wx, wy), math.atan2(-wy, -wx)
@@ -64,7 +111,21 @@ def mean_wind(
 def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
     """Actions as float64 ``(size,)`` (``batch == 0``: one env) or ``(batch, size)``,
     clipped to [-1, 1]; a wrong shape or a NaN/inf raises ``ValueError``, a complex
-    number ``TypeError``."""
+    number ``TypeError``.
+
+    Args:
+        action: What the user passed to ``step``: array-like of real numbers.
+        size: The action's length (the action space's last dimension).
+        batch: The number of envs of a vector env; 0 for a single env.
+
+    Returns:
+        A float64 array of shape ``(size,)`` or ``(batch, size)``, clipped to [-1, 1].
+
+    Raises:
+        ValueError: If ``action`` is not numeric, has the wrong shape or holds a NaN or
+            an infinity.
+        TypeError: If ``action`` is complex.
+    """
     try:
         raw = np.asarray(action)
         is_complex = raw.dtype.kind == "c"  # a cast would drop the imaginary part, warning
@@ -83,7 +144,20 @@ def check_box_action(action: Any, size: int, batch: int) -> np.ndarray:
 
 def vector_seeds(seed: int | list[int | None] | None, num_envs: int) -> list[int | None]:
     """Per-sub-env seeds: ``seed + i`` for an int (Gymnasium's convention), a list as given,
-    or fresh entropy for ``None``."""
+    or fresh entropy for ``None``.
+
+    Args:
+        seed: An int >= 0 (sub-env ``i`` gets ``seed + i``), a list of ``num_envs`` ints
+            >= 0 or ``None`` (one per sub-env), or ``None``.
+        num_envs: The number of sub-envs.
+
+    Returns:
+        One seed (a Python int or ``None``) per sub-env.
+
+    Raises:
+        TypeError: If ``seed`` (or an entry) is not an int, a list or ``None``.
+        ValueError: If a seed is negative or a list has not ``num_envs`` entries.
+    """
     if seed is None:
         return [None] * num_envs
     if isinstance(seed, (int, np.integer)) and not isinstance(seed, (bool, np.bool_)):
@@ -100,11 +174,15 @@ def check_seed(seed: Any, path: str = "seed") -> int:
     """A seed as a Python int: an int (not a bool) >= 0, as Gymnasium's seeding needs.
 
     Args:
-        seed: what the user passed.
-        path: its name in errors.
+        seed: What the user passed: a Python or NumPy int >= 0.
+        path: Its name in errors (``"seed"``, ``"seed[3]"``).
 
     Returns:
         ``int(seed)``.
+
+    Raises:
+        TypeError: If ``seed`` is not an int (a bool is refused).
+        ValueError: If ``seed`` is negative.
     """
     if not isinstance(seed, (int, np.integer)) or isinstance(seed, (bool, np.bool_)):
         raise TypeError(f"{path} must be an int >= 0 or None, got {seed!r}")
@@ -114,7 +192,17 @@ def check_seed(seed: Any, path: str = "seed") -> int:
 
 
 def vector_info(info: dict[str, Any], num_envs: int) -> dict[str, Any]:
-    """Gymnasium's vector info layout: every key with a ``_key`` mask (all envs report)."""
+    """Gymnasium's vector info layout: every key with a ``_key`` mask (all envs report).
+
+    Args:
+        info: The batched info: each value an array of ``num_envs`` entries, or a nested
+            dict of such.
+        num_envs: The number of sub-envs.
+
+    Returns:
+        A new dict with each key (nested dicts laid out the same way) and its all-True
+        ``_key`` mask.
+    """
     mask = np.ones(num_envs, dtype=bool)
     out: dict[str, Any] = {}
     for key, value in info.items():
@@ -133,7 +221,14 @@ RENDER_MODES = ["human", "rgb_array", LIST_MODE]
 
 def renderer_mode(render_mode: str) -> str:
     """The renderer's mode for an env's ``render_mode``: a list of frames is drawn off-screen
-    frame by frame, as ``rgb_array`` draws one."""
+    frame by frame, as ``rgb_array`` draws one.
+
+    Args:
+        render_mode: One of :data:`RENDER_MODES`.
+
+    Returns:
+        ``"rgb_array"`` for :data:`LIST_MODE`, else ``render_mode``.
+    """
     return "rgb_array" if render_mode == LIST_MODE else render_mode
 
 
@@ -142,7 +237,21 @@ def pad_rows(rows: np.ndarray, lengths: np.ndarray, capacity: int, fill: Any = 0
     ``lengths[i]``, as ``(n, capacity, ...)``. Rows from ``lengths[i]`` on repeat the last
     recorded one (a ball at rest stays where it stopped, so maxima, minima and the last row
     keep their meaning); an env that recorded nothing is ``fill`` (zeros, ``False`` for
-    masks) throughout."""
+    masks) throughout.
+
+    Args:
+        rows: The records, ``(n, K, ...)``.
+        lengths: How many rows each env recorded, ``(n,)`` ints in ``[0, min(K,
+            capacity)]``.
+        capacity: The number of rows of the result.
+        fill: The value of an env that recorded nothing.
+
+    Returns:
+        An ``(n, capacity, ...)`` array of ``rows``' dtype.
+
+    Raises:
+        ValueError: If an env recorded more than ``min(K, capacity)`` rows.
+    """
     n, k = rows.shape[:2]
     lengths = np.asarray(lengths, dtype=np.int64).reshape(n)
     if int(lengths.max(initial=0)) > min(k, capacity):
@@ -157,14 +266,33 @@ def pad_rows(rows: np.ndarray, lengths: np.ndarray, capacity: int, fill: Any = 0
 
 
 def check_render_mode(render_mode: str | None, modes: list[str]) -> None:
-    """``None`` or one of ``modes``, else ``ValueError`` naming ``render_mode``."""
+    """``None`` or one of ``modes``, else ``ValueError`` naming ``render_mode``.
+
+    Args:
+        render_mode: The ``render_mode`` a user passed.
+        modes: The env's render modes (:data:`RENDER_MODES`).
+
+    Raises:
+        ValueError: If ``render_mode`` is neither ``None`` nor in ``modes``.
+    """
     if render_mode is not None and render_mode not in modes:
         raise ValueError(f"render_mode must be one of {modes}, got {render_mode!r}")
 
 
 def ensure_renderer(env: Any) -> Any:
     """The env's renderer, made on first use by ``env._make_renderer()`` (so pygame is
-    imported only then); ``None``, with a warning, for an env without a ``render_mode``."""
+    imported only then); ``None``, with a warning, for an env without a ``render_mode``.
+
+    Args:
+        env: A bbgym env (single or native vector) with ``render_mode``, ``_renderer``
+            and ``_make_renderer()``.
+
+    Returns:
+        The env's renderer, or ``None`` where ``env.render_mode`` is ``None``.
+
+    Raises:
+        gymnasium.error.ResetNeeded: If the env has not been reset yet.
+    """
     if env.render_mode is None:
         gym.logger.warn(
             "render() called without a render_mode; pass render_mode='rgb_array', "
@@ -181,7 +309,14 @@ def ensure_renderer(env: Any) -> Any:
 
 def without_renderer(attributes: dict[str, Any]) -> dict[str, Any]:
     """An env's attributes for pickling and deep copies: a window or pygame surface does not
-    copy, so the renderer is left out and made again on the next ``render()``."""
+    copy, so the renderer is left out and made again on the next ``render()``.
+
+    Args:
+        attributes: The env's ``__dict__``.
+
+    Returns:
+        A shallow copy with ``_renderer`` set to ``None``.
+    """
     state = dict(attributes)
     state["_renderer"] = None
     return state
@@ -201,6 +336,10 @@ class NormalStreams:
     A pure function that may use up to ``k`` pairs per env (Topple's interval: one pair per
     gust update while the env runs) gets them from :meth:`peek` and reports how many it
     used, which :meth:`advance` then consumes.
+
+    Args:
+        batch: The number of envs (1 for a single env).
+        block: Pairs each env draws from its generator at a time.
     """
 
     def __init__(self, batch: int, block: int = 64) -> None:
@@ -217,17 +356,31 @@ class NormalStreams:
         self._block0: list | None = None  # env 0's rows as floats, for one()
 
     def seed(self, seeds: list[int | None]) -> None:
+        """Give every env a fresh generator seeded from ``seeds`` (its unused pairs go).
+
+        Args:
+            seeds: One seed per env: an int >= 0, or ``None`` for fresh entropy.
+        """
         for i, s in enumerate(seeds):
             self.set(i, seeding.np_random(s)[0])
 
     def set(self, i: int, rng: np.random.Generator) -> None:
-        """Give env ``i`` the generator ``rng`` (a single env's ``np_random``)."""
+        """Give env ``i`` the generator ``rng`` (a single env's ``np_random``).
+
+        Args:
+            i: The env's index in ``[0, batch)``.
+            rng: Its new generator; its unused pairs are discarded.
+        """
         self.rngs[i] = rng
         self.discard(self._rows == i)
 
     def discard(self, mask: np.ndarray) -> None:
         """Throw away the unused pairs of the envs in ``mask`` (a reset): their next pair
-        starts a new block, drawn from the generator after whatever the reset drew."""
+        starts a new block, drawn from the generator after whatever the reset drew.
+
+        Args:
+            mask: ``(batch,)`` bools: the envs that reset.
+        """
         self._end = np.where(mask, self._drawn, self._end)
         self._next = np.where(mask, self._end, self._next)
         for i in np.flatnonzero(mask):
@@ -235,7 +388,14 @@ class NormalStreams:
 
     def one(self, draw: bool) -> tuple[float, float]:
         """The single env's next pair as Python floats (zeros if not ``draw``), from the
-        same stream as :meth:`pairs`."""
+        same stream as :meth:`pairs`.
+
+        Args:
+            draw: Whether to draw a pair (``False``: nothing is used up).
+
+        Returns:
+            ``(first, second)``, two standard normals, or ``(0.0, 0.0)``.
+        """
         if not draw:
             return (0.0, 0.0)
         k = int(self._next[0])
@@ -253,7 +413,14 @@ class NormalStreams:
     def pairs(self, mask: np.ndarray) -> np.ndarray:
         """One pair of standard normals per env where ``mask``, zeros elsewhere: ``(2, batch)``.
 
-        Envs outside ``mask`` draw nothing, so no env's numbers depend on another's."""
+        Envs outside ``mask`` draw nothing, so no env's numbers depend on another's.
+
+        Args:
+            mask: ``(batch,)`` bools: the envs that draw.
+
+        Returns:
+            A ``(2, batch)`` float64 array.
+        """
         mask = np.asarray(mask, dtype=bool)
         for i in np.flatnonzero(mask & (self._next >= self._end)):
             self._refill(i, 1, use_now=True)
@@ -265,7 +432,15 @@ class NormalStreams:
         """The next ``count`` pairs of each env in ``mask`` without using them (zeros
         elsewhere): ``(count, 2, batch)``. :meth:`advance` uses them. Pairs beyond the
         env's current block come from a copy of its generator, which itself draws them
-        only once they are used: a reset in between leaves the stream as if never peeked."""
+        only once they are used: a reset in between leaves the stream as if never peeked.
+
+        Args:
+            mask: ``(batch,)`` bools: the envs whose pairs are shown.
+            count: Pairs shown per env (>= 0).
+
+        Returns:
+            A ``(count, 2, batch)`` float64 array.
+        """
         mask = np.asarray(mask, dtype=bool)
         for i in np.flatnonzero(mask & (self._end - self._next < count)):
             self._refill(i, count)
@@ -274,7 +449,11 @@ class NormalStreams:
         return np.where(mask[:, None, None], picked, 0.0).transpose(1, 2, 0)
 
     def advance(self, used: np.ndarray) -> None:
-        """Use up ``used[i]`` pairs of env ``i`` (at most what :meth:`peek` showed)."""
+        """Use up ``used[i]`` pairs of env ``i`` (at most what :meth:`peek` showed).
+
+        Args:
+            used: ``(batch,)`` ints (or bools, one pair each) >= 0: pairs each env used.
+        """
         self._next = self._next + np.asarray(used, dtype=np.int64)
         if (self._next > self._drawn).any():
             self._commit()
