@@ -50,11 +50,21 @@ class Backend:
     """Where and how a vector env's step runs (see the module docstring)."""
 
     name: str = "numpy"
+    """The array namespace that runs the step: ``"numpy"`` or ``"torch"``
+    (:data:`BACKENDS`)."""
     device: str = "cpu"
+    """Where torch runs it: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (always ``"cpu"`` for
+    numpy)."""
     dtype: str = "float64"
+    """The float dtype of the state: ``"float64"`` or ``"float32"`` (torch only)."""
     output: str = "numpy"
+    """What ``reset`` and ``step`` return: ``"numpy"`` arrays or ``"torch"`` tensors on
+    :attr:`device`."""
     compile: bool = True
+    """Whether torch runs the step under ``torch.compile`` (``False``: eagerly)."""
     step_graph: str = "auto"
+    """How torch compiles a step: ``"auto"``, ``"parts"`` or ``"one"``
+    (:data:`STEP_GRAPHS`)."""
 
     @property
     def xp(self) -> Any:
@@ -63,6 +73,8 @@ class Backend:
 
     @property
     def float_dtype(self) -> Any:
+        """The namespace's float dtype named by :attr:`dtype` (``np.float64``,
+        ``torch.float32``, ...)."""
         return getattr(self.xp, self.dtype)
 
 
@@ -74,7 +86,28 @@ def resolve_backend(
     compile: bool = True,
     step_graph: str = "auto",
 ) -> Backend:
-    """Validate the backend keywords of a vector env; errors name the argument."""
+    """Validate the backend keywords of a vector env; errors name the argument.
+
+    Args:
+        backend: ``"numpy"`` (the float64 reference) or ``"torch"``.
+        device: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (torch only); ``None``: ``"cpu"``.
+        dtype: ``"float64"``, or ``"float32"`` (torch only).
+        output: ``"numpy"``, or ``"torch"`` for tensors on ``device`` (torch only).
+        compile: Whether torch compiles the step (``False``: runs it eagerly).
+        step_graph: ``"auto"``, ``"parts"`` or ``"one"`` (torch only;
+            :data:`STEP_GRAPHS`).
+
+    Returns:
+        The checked :class:`Backend`.
+
+    Raises:
+        ValueError: If a keyword is not one of its accepted values, is one that needs
+            the torch backend while ``backend="numpy"``, or names a CUDA device torch
+            does not find.
+        TypeError: If ``compile`` is not a bool.
+        ImportError: If ``backend="torch"`` and torch or array-api-compat is not
+            installed; the message says how to install them.
+    """
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {list(BACKENDS)}, got {backend!r}")
     if dtype not in DTYPES:
@@ -128,6 +161,9 @@ def torch_namespace() -> Any:
     ``torch.where``, which does the same (two Python scalars, which torch would turn into
     float32, raise as the standard says).
     Everything else is array-api-compat's.
+
+    Returns:
+        A namespace object (made once per process) with the array API's functions.
     """
     global _TORCH_NAMESPACE
     if _TORCH_NAMESPACE is not None:
@@ -161,7 +197,10 @@ def torch_namespace() -> Any:
     def where(condition: Any, x1: Any, x2: Any, /) -> Any:
         if isinstance(x1, number) and isinstance(x2, number):
             # torch would make torch's default dtype (float32) of two Python floats
-            raise TypeError("where() needs an array in x1 or x2 (the standard's rule)")
+            raise TypeError(
+                "where() needs an array in x1 or x2 (the standard's rule): "
+                "xp.where(mask, 1.0, xp.full_like(x, -0.01))"
+            )
         return torch.where(condition, x1, x2)
 
     names = {k: getattr(compat, k) for k in dir(compat) if not k.startswith("_")}
@@ -208,6 +247,13 @@ def compiled(fn: Any, backend: Backend) -> Any:
     working C++ compiler, an op the compiler cannot take), the call raises a
     ``RuntimeError`` naming what failed; nothing falls back silently: ``compile=False``
     runs the torch backend eagerly (slower).
+
+    Args:
+        fn: A function of arrays (a step or a part of one), called positionally.
+        backend: The vector env's backend.
+
+    Returns:
+        A callable taking ``fn``'s positional arguments: ``fn`` compiled, or ``fn``.
     """
     if backend.name != "torch" or not backend.compile:
         return fn
@@ -248,7 +294,12 @@ def compiled(fn: Any, backend: Backend) -> Any:
 def compile_cache_dir() -> str:
     """Where torch's inductor keeps its on-disk compile cache (``TORCHINDUCTOR_CACHE_DIR``,
     by default a folder under the temp dir): a later process that compiles the same graph
-    reads its kernels from there instead of generating and compiling them again."""
+    reads its kernels from there instead of generating and compiling them again.
+
+    Returns:
+        The folder's path, or a sentence saying where to look where this torch keeps it
+        elsewhere.
+    """
     try:  # a private module of torch: where it moves, say where to look instead
         from torch._inductor.runtime.cache_dir_utils import cache_dir
     except ImportError:
@@ -346,6 +397,9 @@ def announced(message: str, threshold_s: float | None = None) -> Iterator[None]:
         message: what the block does, e.g. ``"VMGAutopilot: computing the polar ..."``.
         threshold_s: seconds the block runs before anything is said
             (:data:`NOTICE_AFTER_S` by default).
+
+    Yields:
+        Nothing; the block runs while a thread waits for the threshold.
     """
     threshold = NOTICE_AFTER_S if threshold_s is None else threshold_s
     start = time.perf_counter()
@@ -394,6 +448,9 @@ def compile_logged(
         batch: the batch size the graph is compiled for.
         graph: how the step compiles, ``"parts"`` or ``"one"`` (``STEP_GRAPHS``).
         interval_s: seconds between progress lines (:data:`PROGRESS_INTERVAL_S`).
+
+    Yields:
+        Nothing; the block compiles while a thread says it is still compiling.
     """
     from torch._dynamo.utils import counters
 
@@ -443,7 +500,15 @@ def _mul32(x: Any, c: int) -> Any:
 
 def hash32(x: Any) -> Any:
     """A 32-bit integer hash with good avalanche (Wellons' "lowbias32"), on int64 arrays
-    holding values in ``[0, 2^32)``."""
+    holding values in ``[0, 2^32)``.
+
+    Args:
+        x: An int64 array (NumPy, torch or any array-API namespace) of values in
+            ``[0, 2^32)``.
+
+    Returns:
+        An int64 array of the same shape, values in ``[0, 2^32)``.
+    """
     x = x ^ (x >> 16)
     x = _mul32(x, 0x7FEB352D)
     x = x ^ (x >> 15)
@@ -452,7 +517,17 @@ def hash32(x: Any) -> Any:
 
 
 def env_keys(seed: int, num_envs: int, xp: Any, device: Any = None) -> Any:
-    """One 32-bit key per env from a seed: env ``i`` gets ``hash(seed + i)``."""
+    """One 32-bit key per env from a seed: env ``i`` gets ``hash(seed + i)``.
+
+    Args:
+        seed: An int (taken modulo 2^32).
+        num_envs: The number of envs.
+        xp: The array namespace to return the keys in (``numpy`` or the torch namespace).
+        device: Where a torch array goes (``"cpu"``, ``"cuda"``); ignored for NumPy.
+
+    Returns:
+        A ``(num_envs,)`` int64 array of keys in ``[0, 2^32)``.
+    """
     base = (int(seed) & _MASK32) + np.arange(num_envs, dtype=np.int64)
     keys = hash32(hash32(base & _MASK32) ^ 0x5BD1E995)
     return keys if xp is np else xp.asarray(keys, device=device)
@@ -466,7 +541,20 @@ def _stream_base(key: Any, counter: Any, stream: int) -> Any:
 def uniforms(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> list:
     """``count`` uniform draws in (0, 1) per env: ``[(batch,)] * count``, a pure function of
     the env's key, its step counter and the stream number: one 32-bit hash per draw
-    (float64 draws carry 32 random bits, float32 draws 24, both strictly inside (0, 1))."""
+    (float64 draws carry 32 random bits, float32 draws 24, both strictly inside (0, 1)).
+
+    Args:
+        key: ``(batch,)`` int64 env keys (:func:`env_keys`).
+        counter: ``(batch,)`` int64 step counters.
+        stream: A small int that tells apart the draws of one step (initial state,
+            step noise, ...).
+        count: Draws per env (>= 1).
+        dtype: ``xp.float64`` or ``xp.float32``.
+        xp: The array namespace of ``key``.
+
+    Returns:
+        ``count`` arrays of shape ``(batch,)`` and dtype ``dtype``.
+    """
     rows = _uniform_rows(key, counter, stream, count, dtype, xp)
     return [rows[k, ...] for k in range(count)]
 
@@ -475,11 +563,20 @@ def _uniform_rows(key: Any, counter: Any, stream: int, count: int, dtype: Any, x
     """:func:`uniforms` as one ``(count, batch)`` array. All of a stream's draws are one
     broadcast hash, so a compiled graph holds the hash once however many draws it takes
     (its compile time does not grow with them)."""
+    return _uniform_rows_at(key, counter, stream, range(count), dtype, xp)
+
+
+def _uniform_rows_at(
+    key: Any, counter: Any, stream: int, places: range, dtype: Any, xp: Any
+) -> Any:
+    """The draws at ``places`` of a stream as one ``(len(places), batch)`` array: draw
+    ``k`` of a stream is the same whichever others are drawn beside it."""
+    count = len(places)
     base = _stream_base(key, counter, stream)
     # The salts as a constant table, not an arange times a constant: inductor turns an
     # arange into index arithmetic, which Triton does in int32, and 0x85EBCA77 does not
     # fit there (torch 2.11 on CUDA refused to compile the step; bits are the same).
-    salts = [(k * 0x85EBCA77) & _MASK32 for k in range(1, count + 1)]
+    salts = [(k * 0x85EBCA77) & _MASK32 for k in range(places.start + 1, places.stop + 1)]
     salt = xp.asarray(salts, dtype=xp.int64, device=base.device)
     bits = hash32(xp.expand_dims(base, axis=0) ^ xp.reshape(salt, (count,) + (1,) * base.ndim))
     if dtype == xp.float32:
@@ -489,7 +586,19 @@ def _uniform_rows(key: Any, counter: Any, stream: int, count: int, dtype: Any, x
 
 def normals(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> list:
     """``count`` standard normal draws per env (Box-Muller on :func:`uniforms`: draws
-    ``2j, 2j + 1`` make normals ``2j, 2j + 1``)."""
+    ``2j, 2j + 1`` make normals ``2j, 2j + 1``).
+
+    Args:
+        key: ``(batch,)`` int64 env keys (:func:`env_keys`).
+        counter: ``(batch,)`` int64 step counters.
+        stream: A small int that tells apart the draws of one step.
+        count: Draws per env (>= 0).
+        dtype: ``xp.float64`` or ``xp.float32``.
+        xp: The array namespace of ``key``.
+
+    Returns:
+        ``count`` arrays of shape ``(batch,)`` and dtype ``dtype`` (an empty list for 0).
+    """
     if count == 0:
         return []
     u = _uniform_rows(key, counter, stream, 2 * ((count + 1) // 2), dtype, xp)
@@ -502,8 +611,44 @@ def normals(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any
     return out[:count]
 
 
+def draw_at(
+    key: Any, counter: Any, stream: int, place: int, dtype: Any, xp: Any, normal: bool = False
+) -> Any:
+    """Draw ``place`` of a stream, alone: uniform in (0, 1), the same value as
+    ``uniforms(key, counter, stream, n, ...)[place]`` for any ``n > place``; or, with
+    ``normal``, standard normal, the same as ``normals(...)[place]`` (Box-Muller on the
+    uniform pair ``2j, 2j + 1`` of ``j = place // 2``).
+
+    Args:
+        key: each env's key (int64 array).
+        counter: each env's counter (int64 array, the key's shape).
+        stream: the stream number.
+        place: the draw's place in the stream (0 first).
+        dtype: the float dtype.
+        xp: the array namespace.
+        normal: a standard normal draw instead of a uniform one.
+
+    Returns:
+        An array of the key's shape.
+    """
+    if not normal:
+        return _uniform_rows_at(key, counter, stream, range(place, place + 1), dtype, xp)[0, ...]
+    pair = 2 * (place // 2)
+    u = _uniform_rows_at(key, counter, stream, range(pair, pair + 2), dtype, xp)
+    radius = xp.sqrt(-2.0 * xp.log(u[0, ...]))
+    angle = (2.0 * math.pi) * u[1, ...]
+    return radius * (xp.cos(angle) if place % 2 == 0 else xp.sin(angle))
+
+
 def to_numpy(x: Any) -> Any:
-    """A torch tensor as a NumPy array (zero-copy on the CPU); anything else unchanged."""
+    """A torch tensor as a NumPy array (zero-copy on the CPU); anything else unchanged.
+
+    Args:
+        x: A torch tensor (on any device), or anything else.
+
+    Returns:
+        A NumPy array for a tensor (copied to the host from a GPU), else ``x``.
+    """
     if hasattr(x, "detach"):
         x = x.detach()
         return (x if x.device.type == "cpu" else x.cpu()).numpy()

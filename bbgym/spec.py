@@ -14,6 +14,7 @@ like are callables that import what they need when called.
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import importlib
 import inspect
@@ -50,7 +51,15 @@ class Version:
     """What its actions are, where they differ from the family's ``EnvSpec.actions``."""
 
     def actions_of(self, spec: EnvSpec) -> str:
-        """What this version's actions are (its own words, else the family's)."""
+        """What this version's actions are (its own words, else the family's).
+
+        Args:
+            spec: The family this version belongs to (its :attr:`EnvSpec.actions` is the
+                fallback).
+
+        Returns:
+            A few words for the docs' table: :attr:`actions` if set, else ``spec.actions``.
+        """
         return self.actions or spec.actions
 
 
@@ -98,7 +107,10 @@ class EnvSpec:
     vector_env_class: str
     """The native vector env's class name in ``bbgym.envs.<family>``."""
     max_episode_steps: int
+    """The step limit every id is registered with (Gymnasium's ``TimeLimit`` truncates the
+    episode after this many steps)."""
     versions: tuple[Version, ...]
+    """The family's registered ids, oldest first."""
     summary: str
     """What the task is, in one line (``bbgym --help``, the docs)."""
     actions: str
@@ -123,6 +135,8 @@ class EnvSpec:
     ended: the text captions a recording, and a failure's text is its row in the failure
     breakdown (``"capsized"``, ``"missed long"``); by default success, timed out or failed."""
     fuzz: FuzzSpec | None = None
+    """How :mod:`bbgym.fuzz` draws the family's arguments and options; ``None``: the
+    family is not fuzzed."""
     keyboard: Callable[[Any, int | None], Any] | None = None
     """``keyboard(env, seed)``: the env wrapped for ``bbgym play``."""
     argument_table: tuple[tuple[str, str], ...] = ()
@@ -142,20 +156,46 @@ class EnvSpec:
 
     @property
     def module(self) -> str:
+        """The module that holds the env classes: :attr:`classes_module`, else
+        ``bbgym.envs.<family>``."""
         return self.classes_module or f"bbgym.envs.{self.family}"
 
     @property
     def ids(self) -> tuple[str, ...]:
+        """The family's env ids, in the order of :attr:`versions`."""
         return tuple(v.env_id for v in self.versions)
 
     def version(self, env_id: str) -> Version:
+        """One of the family's versions, by its id.
+
+        Args:
+            env_id: A Gymnasium id of this family, ``"Name-vN"``.
+
+        Returns:
+            The version registered as ``env_id`` (a :class:`Version`).
+
+        Raises:
+            KeyError: If the family has no version ``env_id``.
+        """
         for v in self.versions:
             if v.env_id == env_id:
                 return v
         raise KeyError(env_id)
 
     def policy(self, name: str, env: Any) -> Policy:
-        """The named non-learning policy for ``env``; ``ValueError`` if the family has none."""
+        """The named non-learning policy for ``env``; ``ValueError`` if the family has none.
+
+        Args:
+            name: A key of :attr:`policies`: ``"scripted"``, and where the family has them
+                ``"planner"`` and others.
+            env: A single env of this family made by ``gym.make`` (wrapped or not).
+
+        Returns:
+            ``policy(obs) -> action`` for ``env`` (:data:`Policy`).
+
+        Raises:
+            ValueError: If the family has no policy ``name``; the message lists those it has.
+        """
         if name not in self.policies:
             raise ValueError(
                 f"{env_id_of(env)!r} has no {name!r} policy; it has: "
@@ -167,7 +207,20 @@ class EnvSpec:
         self, env: Any, info: dict[str, Any], terminated: bool, truncated: bool
     ) -> tuple[str, bool | None]:
         """``(text, success)`` of an episode from its last step; ``success`` is None for an
-        episode cut short (neither terminated nor truncated)."""
+        episode cut short (neither terminated nor truncated).
+
+        Args:
+            env: The env the episode ran in.
+            info: The ``info`` of the episode's last step.
+            terminated: The last step's ``terminated`` flag.
+            truncated: The last step's ``truncated`` flag (the time limit).
+
+        Returns:
+            ``(text, success)``: the family's :attr:`outcome` where it has one, else
+            ``("success", True)``, ``("failed", False)`` or ``("timed out", False)``; for
+            an episode that neither terminated nor truncated, ``("cut short
+            (--max-steps)", None)``.
+        """
         if not (terminated or truncated):
             return "cut short (--max-steps)", None
         if self.outcome is not None:
@@ -175,13 +228,6 @@ class EnvSpec:
         if bool(info.get("is_success", False)):
             return "success", True
         return ("failed", False) if terminated else ("timed out", False)
-
-    def outcome_kind(
-        self, env: Any, info: dict[str, Any], terminated: bool, truncated: bool
-    ) -> str:
-        """An episode's row in the failure breakdown: ``success``, or how it failed."""
-        text, success = self.episode_outcome(env, info, terminated, truncated)
-        return "success" if success else text
 
 
 _SPECS: dict[str, EnvSpec] = {}
@@ -199,7 +245,17 @@ def merge_kwargs(
     150}`` is Sail-v2's sloop, 150 kg), ``None`` keeps it, a dataclass replaces it
     whole. Any other argument given replaces the registered one. A shorthand
     (:attr:`EnvSpec.shorthands`) given one way drops the version's value given the other
-    way, so that the user's value is the one used."""
+    way, so that the user's value is the one used.
+
+    Args:
+        spec: The version's family (its :attr:`EnvSpec.param_groups` and
+            :attr:`EnvSpec.shorthands`).
+        registered: The kwargs the version is registered with (:attr:`Version.kwargs`).
+        given: The kwargs the user passed to ``gym.make`` / ``gym.make_vec``.
+
+    Returns:
+        A new dict: the kwargs the env's constructor gets.
+    """
     merged = {**registered, **given}
     for group in spec.param_groups:
         base = registered.get(group)
@@ -249,7 +305,12 @@ class UnknownArgumentError(TypeError):
     the user never passed stay out of it. Gymnasium re-raises a ``TypeError`` from the env
     creator as ``type(e)(f"{e} was raised from the environment creator for {id} with kwargs
     ({every kwarg})")``; should this error ever come from there, the constructor keeps only
-    the part before that suffix, so the message stays the one written here."""
+    the part before that suffix, so the message stays the one written here.
+
+    Args:
+        message: The error's text; Gymnasium's suffix, if any, is cut off.
+        *args: Further exception arguments, kept as given.
+    """
 
     _GYMNASIUM_SUFFIX = " was raised from the environment creator"
 
@@ -262,6 +323,9 @@ class UnknownArgumentError(TypeError):
 def _parameters(creator: Any) -> tuple[list[str], bool]:
     """``(names, open)``: the keyword arguments ``creator`` takes by name, and whether it
     takes ``**kwargs`` as well."""
+    params_class = getattr(creator, "params_class", None)
+    if params_class is not None:  # a task whose arguments are one dataclass's fields
+        return [f.name for f in dataclasses.fields(params_class)], False
     names, open_ = [], False
     for parameter in inspect.signature(creator).parameters.values():
         if parameter.kind is parameter.VAR_KEYWORD:
@@ -345,16 +409,39 @@ class VersionKwargs(dict):
     and updates as a dict: it is only ever turned into JSON.)"""
 
     family: str | None = None
+    """The family whose spec merges updates (``None``: a plain dict's update)."""
     env_id: str | None = None
+    """The id these kwargs are registered for, named in an unknown argument's error
+    (``None``: the user's kwargs are not checked)."""
 
     @classmethod
     def of(cls, family: str, kwargs: Mapping[str, Any], env_id: str | None = None) -> VersionKwargs:
+        """A version's registered kwargs that merge a user's kwargs in as its family does.
+
+        Args:
+            family: The family's name (:attr:`EnvSpec.family`).
+            kwargs: The version's kwargs (:attr:`Version.kwargs`).
+            env_id: The version's id; ``None``: a user's kwargs are merged unchecked.
+
+        Returns:
+            A copy of ``kwargs`` as a :class:`VersionKwargs`.
+        """
         registered = cls(kwargs)
         registered.family = family
         registered.env_id = env_id
         return registered
 
     def update(self, other: Any = (), /, **kwargs: Any) -> None:
+        """Merge a user's kwargs in (:func:`merge_kwargs`), after checking their names.
+
+        Args:
+            other: A mapping or iterable of ``(name, value)`` pairs, as ``dict.update``
+                takes.
+            **kwargs: More ``name=value`` kwargs, on top of ``other``.
+
+        Raises:
+            UnknownArgumentError: If a name is an argument no env of :attr:`env_id` takes.
+        """
         given = dict(other, **kwargs)
         spec = _SPECS.get(self.family) if self.family is not None else None
         if spec is None:
@@ -369,7 +456,17 @@ class VersionKwargs(dict):
 
 def register_spec(spec: EnvSpec) -> EnvSpec:
     """Add ``spec`` to the registry and register each of its ids with Gymnasium (single
-    and native vector entry points). Registering the same family again replaces it."""
+    and native vector entry points). Registering the same family again replaces it.
+
+    Args:
+        spec: The family to register.
+
+    Returns:
+        ``spec`` itself.
+
+    Raises:
+        ValueError: If one of its ids is registered by another family.
+    """
     for version in spec.versions:
         owner = _BY_ID.get(version.env_id)
         if owner is not None and owner.family != spec.family:
@@ -393,7 +490,14 @@ def register_spec(spec: EnvSpec) -> EnvSpec:
 
 
 def unregister_spec(family: str) -> None:
-    """Remove a family and its ids (from Gymnasium's registry too)."""
+    """Remove a family and its ids (from Gymnasium's registry too).
+
+    Args:
+        family: The family's name (:attr:`EnvSpec.family`), e.g. ``"sail"``.
+
+    Raises:
+        KeyError: If no family of that name is registered.
+    """
     spec = _SPECS.pop(family)
     for env_id in spec.ids:
         _BY_ID.pop(env_id, None)
@@ -401,7 +505,12 @@ def unregister_spec(family: str) -> None:
 
 
 def specs() -> Iterator[EnvSpec]:
-    """The registered families, in registration order."""
+    """The registered families, in registration order.
+
+    Returns:
+        An iterator over a snapshot of the registry: registering or removing a family
+        while iterating is safe.
+    """
     return iter(list(_SPECS.values()))
 
 
@@ -410,10 +519,13 @@ def spec_of_class(cls: type) -> EnvSpec:
     class's name and module; ``LookupError`` if none registered it.
 
     Args:
-        cls: an env class (``BeachballSailVectorEnv``) or a subclass of one.
+        cls: An env class (``BeachballSailVectorEnv``) or a subclass of one.
 
     Returns:
         The family's spec.
+
+    Raises:
+        LookupError: If no registered family declares ``cls`` or one of its bases.
     """
     for klass in cls.__mro__:
         for spec in specs():
@@ -424,7 +536,17 @@ def spec_of_class(cls: type) -> EnvSpec:
 
 
 def spec_of(env_id: str) -> EnvSpec:
-    """The family of a registered bbgym id; ``ValueError`` naming the known ids if none."""
+    """The family of a registered bbgym id; ``ValueError`` naming the known ids if none.
+
+    Args:
+        env_id: A Gymnasium id, ``"Name-vN"``.
+
+    Returns:
+        The spec of the family that registered ``env_id``.
+
+    Raises:
+        ValueError: If no family registered ``env_id``; the message lists the known ids.
+    """
     try:
         return _BY_ID[env_id]
     except KeyError:
@@ -432,19 +554,31 @@ def spec_of(env_id: str) -> EnvSpec:
 
 
 def env_ids() -> list[str]:
-    """Every registered bbgym id."""
+    """Every registered bbgym id.
+
+    Returns:
+        The ids, family by family in registration order, each family's oldest first.
+    """
     return list(_BY_ID)
 
 
 def base_ids() -> list[str]:
-    """The ids of the base tasks (:attr:`Version.base`): what fuzzing and bench cover."""
+    """The ids of the base tasks (:attr:`Version.base`): what fuzzing and bench cover.
+
+    Returns:
+        The ids with ``base=True``, in registration order.
+    """
     return [v.env_id for s in _SPECS.values() for v in s.versions if v.base]
 
 
 def newest_ids() -> list[str]:
     """The newest version of every task (the highest ``-vN`` of each name), in registration
     order: what ``bbgym bench`` times by default, so that it makes no env
-    Gymnasium calls out of date."""
+    Gymnasium calls out of date.
+
+    Returns:
+        One id per task name, in the order the names were first registered.
+    """
     newest: dict[str, tuple[int, str]] = {}
     for spec in _SPECS.values():
         for version in spec.versions:
@@ -455,6 +589,13 @@ def newest_ids() -> list[str]:
 
 
 def env_id_of(env: Any) -> str:
-    """The id an env was made with (``""`` for one made without ``gym.make``)."""
+    """The id an env was made with (``""`` for one made without ``gym.make``).
+
+    Args:
+        env: A single or vector env, wrapped or not.
+
+    Returns:
+        ``env.spec.id``, or ``""`` where the env has no spec.
+    """
     spec = getattr(env, "spec", None)
     return spec.id if spec is not None else ""

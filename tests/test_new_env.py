@@ -1,38 +1,51 @@
 """A new env family through its spec alone (``docs/new-env.md``).
 
-The point-mass family of ``tests/point_mass.py`` is declared in the test suite, outside
-the package: registering its spec gives it ``gym.make`` / ``gym.make_vec``, ``check_env``,
+The template family, the puck (``bbgym/envs/puck/``), ships unregistered: registering its
+spec gives it ``gym.make`` / ``gym.make_vec``, ``check_env``,
 Gymnasium's Sync/Async vector envs, the fuzzer, ``bbgym evaluate``, ``bbgym bench`` and
 an RL Zoo hyperparameter block, with no edit to any module of the package.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
 
 import gymnasium as gym
 import numpy as np
-import point_mass
 import pytest
-from gymnasium.utils.env_checker import check_env
 
 from bbgym import fuzz
-from bbgym.spec import base_ids, env_ids, spec_of
+from bbgym.envs import puck
+from bbgym.spec import base_ids, env_ids, register_spec, spec_of, unregister_spec
 
-ENV_ID = point_mass.ENV_ID
+ENV_ID = puck.ENV_ID
+PRESET = """\
+env_id: BeachballPuck-v0
+env: {mass_kg: 0.5, drag_area_m2: 0.05}
+algo: ppo
+ppo: {n_steps: 32, batch_size: 64, learning_rate: 0.001}
+train: {n_envs: 4, total_timesteps: 256}
+"""
 
 
 @pytest.fixture(scope="module", autouse=True)
 def registered(tmp_path_factory):
-    spec = point_mass.register(tmp_path_factory.mktemp("presets"))
+    """The puck's spec with a training preset (the template ships none), registered for
+    this module only."""
+    preset = tmp_path_factory.mktemp("presets") / "puck.yaml"
+    preset.write_text(PRESET)
+    version = dataclasses.replace(puck.SPEC.versions[0], preset=preset)
+    spec = register_spec(dataclasses.replace(puck.SPEC, versions=(version,)))
     yield spec
-    point_mass.unregister()
+    unregister_spec("puck")
     assert ENV_ID not in env_ids() and ENV_ID not in gym.registry
 
 
 def test_the_spec_registers_its_id():
     assert ENV_ID in env_ids() and ENV_ID in base_ids()
-    assert spec_of(ENV_ID).family == "point_mass"
+    assert spec_of(ENV_ID).family == "puck"
     assert gym.spec(ENV_ID).max_episode_steps == 200
 
 
@@ -54,37 +67,31 @@ def test_the_time_limit_has_one_source_the_spec():
         spec_of_class(dict)
 
 
-def test_check_env_and_determinism():
+def test_the_jet_drags_the_puck_implicitly():
+    """One step from rest in a steady jet w (no gusts): the implicit drag step gives
+    v = (h k / m) w / (1 + h k / m), k = C_d A rho |w| / 2, and the puck never outruns the
+    jet, however large the step."""
+    kwargs = dict(mass_kg=0.5, drag_area_m2=0.05, air_density_kgm3=1.2, jet_noise_mps=0.0)
+    env = gym.make(ENV_ID, dt_s=0.1, **kwargs)
+    obs, _ = env.reset(seed=0, options={"distance": 5.0})
+    obs, *_ = env.step(np.array([1.0, 0.0], np.float32))
+    rate = 0.1 * 0.5 * 0.05 * 1.2 * 10.0 / 0.5
+    np.testing.assert_allclose(obs[2] * 10.0, rate * 10.0 / (1.0 + rate), rtol=1e-6)
+    fast = gym.make(ENV_ID, dt_s=0.5, **{**kwargs, "mass_kg": 0.01})
+    fast.reset(seed=0, options={"distance": 5.0})
+    for _ in range(20):
+        obs, *_ = fast.step(np.array([1.0, 0.0], np.float32))
+        assert 0.0 < obs[2] <= 1.0  # velocity / jet speed: never beyond the jet
+
+
+def test_the_start_is_drawn_on_a_ring():
     env = gym.make(ENV_ID)
-    check_env(env.unwrapped, skip_render_check=True)
-    a = [env.reset(seed=3)[0]] + [env.step(np.array([0.3], np.float32))[0] for _ in range(5)]
-    b = [env.reset(seed=3)[0]] + [env.step(np.array([0.3], np.float32))[0] for _ in range(5)]
-    np.testing.assert_array_equal(a, b)
-
-
-def test_the_physics_is_semi_implicit_euler():
-    """One step of force F from rest: v = F/m dt, x = x0 + v dt."""
-    env = gym.make(ENV_ID, mass_kg=2.0, max_force_n=4.0, dt=0.5)
-    obs, _ = env.reset(seed=0, options={"x": 5.0})
-    obs, *_ = env.step(np.array([1.0], np.float32))
-    v = 4.0 / 2.0 * 0.5
-    np.testing.assert_allclose(obs, [(5.0 + v * 0.5) / 10.0, v / 10.0], rtol=1e-6)
-
-
-@pytest.mark.parametrize("mode", ["sync", "async", "vector_entry_point"])
-def test_vector_envs_equal_the_single_env(mode):
-    """Gymnasium's Sync/Async vector envs and the native one: sub-env i equals the single
-    env seeded 7 + i."""
-    vec = gym.make_vec(ENV_ID, num_envs=3, vectorization_mode=mode)
-    obs, _ = vec.reset(seed=7)
-    actions = np.linspace(-1, 1, 3, dtype=np.float32)[:, None]
-    obs2, *_ = vec.step(actions)
-    vec.close()
-    for i in range(3):
-        env = gym.make(ENV_ID)
-        first, _ = env.reset(seed=7 + i)
-        np.testing.assert_array_equal(first, obs[i])
-        np.testing.assert_allclose(env.step(actions[i])[0], obs2[i], rtol=1e-6)
+    for seed in range(20):
+        _, info = env.reset(seed=seed)
+        assert 2.0 <= info["distance_m"] <= 4.0
+    _, info = env.reset(seed=0, options={"distance": 7.5})
+    assert info["distance_m"] == pytest.approx(7.5)
+    assert math.isfinite(info["distance_m"])
 
 
 def test_the_fuzzer_serves_it():
@@ -96,7 +103,7 @@ def test_the_fuzzer_serves_it():
         options = fuzz.sample_options(ENV_ID, probe, draw)
         assert fuzz.check_episode(ENV_ID, kwargs, options, 30, 1, num_envs) == 30 * max(num_envs, 1)
     names = fuzz.numeric_arguments(ENV_ID)
-    assert names == ["mass_kg", "max_force_n", "dt"]
+    assert names == list(puck.task.PuckParams.__dataclass_fields__)
     assert fuzz.check_rejections(ENV_ID) == len(names) * len(fuzz.BAD_NUMBERS)
 
 
@@ -157,11 +164,8 @@ def test_rl_zoo_hyperparameters_come_from_its_preset():
 
     params = zoo_hyperparams("ppo")[ENV_ID]
     assert params["n_envs"] == 4 and params["n_timesteps"] == 256
-    assert params["n_steps"] == 32 and params["env_kwargs"] == {
-        "mass_kg": 1.0,
-        "max_force_n": 1.0,
-        "dt": 0.1,
-    }
+    assert params["n_steps"] == 32
+    assert params["env_kwargs"] == {"mass_kg": 0.5, "drag_area_m2": 0.05}
 
 
 def test_no_module_of_the_package_names_an_env_id():

@@ -117,9 +117,10 @@ def _torchrl_policy(name: str, model_path: Path) -> Policy:
 
 def outcome_kind(env: gym.Env, info: dict[str, Any], terminated: bool, truncated: bool) -> str:
     """An episode's row in the failure breakdown: ``success``, or how it failed (the env
-    family's :meth:`~bbgym.spec.EnvSpec.outcome_kind`: ``capsized``, ``timed out``,
+    family's :meth:`~bbgym.spec.EnvSpec.episode_outcome`: ``capsized``, ``timed out``,
     ``missed long``, ...)."""
-    return spec_of(env_id_of(env)).outcome_kind(env, info, terminated, truncated)
+    text, success = spec_of(env_id_of(env)).episode_outcome(env, info, terminated, truncated)
+    return "success" if success else text
 
 
 def evaluate(env_id: str, policy_name: str, episodes: int, seed: int, model: Path | None) -> dict:

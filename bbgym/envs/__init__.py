@@ -1,8 +1,9 @@
 """Gymnasium environments: one folder per env family, each with its spec.
 
-Importing this package imports every family, and each family's ``spec`` module registers
-its ids (:func:`bbgym.spec.register_spec`). A new family is a new folder here and one
-name in the import below (``docs/new-env.md``).
+Importing this package imports every family of :data:`FAMILY_NAMES` and registers its
+``SPEC`` (:func:`bbgym.spec.register_spec`). A new family is a new folder here and its
+name in that tuple (``docs/new-env.md``); the template family, :mod:`bbgym.envs.puck`, is
+in no tuple: it is the example, registered only by those who check it.
 
 The race (:mod:`bbgym.envs.race`, PettingZoo's: the ``race`` extra) is no spec'd family;
 its ids register here by module path (the race's modules load at ``make``), so that
@@ -10,13 +11,20 @@ its ids register here by module path (the race's modules load at ``make``), so t
 "bbgym/BeachballRace-v0")`` work after ``import bbgym``.
 """
 
+import importlib
+
 import gymnasium as gym
 
-from bbgym.envs import sail, throw, topple
 from bbgym.envs.video import RecordFlightVideo
+from bbgym.spec import register_spec
 
-FAMILIES = (sail, throw, topple)
-"""The shipped families, in the order the command and the docs list them."""
+FAMILY_NAMES = ("sail", "throw", "topple")
+"""The shipped families, in the order the command and the docs list them: a new family
+is its folder and its name here (``docs/new-env.md``)."""
+FAMILIES = tuple(importlib.import_module(f"bbgym.envs.{name}") for name in FAMILY_NAMES)
+"""Their packages, each with its ``SPEC``."""
+for _family in FAMILIES:
+    register_spec(_family.SPEC)
 
 RACE_ENV_ID = "bbgym/BeachballRace-v0"
 """The race's id in PettingZoo's registries (:data:`bbgym.envs.race.env.ENV_ID`)."""
@@ -56,6 +64,7 @@ _register_race()
 
 __all__ = [
     "FAMILIES",
+    "FAMILY_NAMES",
     "RACE_ENV_ID",
     "RACE_SOLO_ENV_ID",
     "RecordFlightVideo",

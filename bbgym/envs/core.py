@@ -31,6 +31,7 @@ from bbgym.envs.common import (
 )
 from bbgym.envs.functional import (
     InitialNoise,
+    TaskCore,
     VectorStep,
     columns_to_observation,
     counter_initial_noise,
@@ -58,6 +59,12 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
     and of every step since, each step's flight (``_flight_scenes``) then its end, and
     ``render()`` returns them as a list and clears it. The frames are collected as drawing
     descriptions and drawn by ``render()``: a step costs no drawing until then.
+
+    Args:
+        render_mode: one of ``metadata["render_modes"]`` (``"human"``, ``"rgb_array"``,
+            ``"rgb_array_list"``), or None for no rendering.
+        **kwargs: the task's arguments (the fields of its ``params_class``), checked by the
+            task; an argument of the native vector env only is refused, naming it.
     """
 
     metadata: dict[str, Any] = {"render_modes": list(RENDER_MODES)}
@@ -73,6 +80,13 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         self.state: Any = None
         self.events: Any = None
         self.streams = NormalStreams(1)
+        # The one step order (functional.VectorStep) on Python floats; the draws from the
+        # counter-based keys, or, for a "generator" task, from np_random (GeneratorDraws).
+        self._stepper: VectorStep | None = None  # made on use (it holds no state to pickle)
+        generator = self.task.randomness == "generator"
+        self._draws = GeneratorDraws(self.streams, 1, one_env=True) if generator else None
+        self._key: int | None = None
+        self._counter = 0
         self._measures: Any = None
         self._renderer: Any = None
         self._animate = False
@@ -85,22 +99,41 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
 
     @property
     def started(self) -> bool:
+        """Whether the env has been reset (it holds a state)."""
         return self.state is not None
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Start a new episode (Gymnasium's ``Env.reset``).
+
+        Args:
+            seed: an int >= 0 that seeds the env (``np_random`` and the counter-based key,
+                that of sub-env ``i`` of a vector env seeded ``seed - i``), or None to go on
+                with the env's random stream (fresh entropy on the first reset).
+            options: the task's reset options (:meth:`TaskCore.check_options`), or None.
+
+        Returns:
+            ``(observation, info)``: the ``(size,)`` float32 observation in [-1, 1] and the
+            task's infos (Python floats and bools, small NumPy arrays).
+
+        Raises:
+            TypeError: for a seed that is not an int, or an unknown option, naming it.
+            ValueError: for a negative seed or an option out of its interval.
+        """
         super().reset(seed=None if seed is None else check_seed(seed))
         options = self.task.check_options(options)
-        self.streams.set(0, self.np_random)
-        n_uniform, n_normal = self.task.initial_noise_counts
-        uniform = self.np_random.random(n_uniform).tolist()
-        normal = self.np_random.standard_normal(n_normal).tolist()
-        self.streams.discard(np.ones(1, dtype=bool))
-        stream = []
-        for _ in range(self.task.initial_stream_pairs):
-            stream += self.streams.one(True)
-        self.state = self.task.initial(InitialNoise(uniform, normal, stream), options, floats)
+        if self._draws is not None:
+            self.streams.set(0, self.np_random)
+            noise = self._draws.initial(self.task, True)
+        else:
+            if seed is not None or self._key is None:
+                # The key of sub-env i of a vector env seeded seed - i (backends.env_keys).
+                base = seed if seed is not None else int(self.np_random.integers(2**32))
+                self._key, self._counter = int(backends.env_keys(base, 1, np)[0]), 0
+            noise = counter_initial_noise(self.task, self._key, self._counter, float, floats)
+            self._counter += 1
+        self.state = restart(self.task, None, True, noise, options, floats)
         self._measures = self.task.measure(self.state, floats)
         self._on_reset()
         if self.render_mode == "human":
@@ -110,22 +143,30 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         return self._observation(), self._info()
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """Take one step (Gymnasium's ``Env.step``).
+
+        Args:
+            action: an array-like of the action space's shape, checked by the task
+                (:meth:`TaskCore.check_action`: a Box action is clipped to [-1, 1]).
+
+        Returns:
+            ``(observation, reward, terminated, truncated, info)``; ``truncated`` is always
+            False here (``gym.make``'s ``TimeLimit`` truncates).
+
+        Raises:
+            gymnasium.error.ResetNeeded: before the first ``reset()``.
+            ValueError: for an action of the wrong shape, or a NaN or inf.
+        """
         if not self.started:
             raise gym.error.ResetNeeded("Call reset() before step()")
         a = self.task.check_action(action, 0)
-        mask = self.task.step_noise_mask(self.state, floats)
-        pairs = self.task.step_noise_pairs
-        if pairs == 1:
-            noise: Any = self.streams.one(mask)
-        elif pairs:
-            noise = self.streams.peek(np.array([mask]), pairs)[..., 0].reshape(-1).tolist()
-        else:
-            noise = ()
-        self.state, self.events = self.task.transition(
-            self.state, a, noise, floats, record=self.records
+        if self._stepper is None:
+            self._stepper = VectorStep(self.task, None, floats, float)
+        self._stepper.record = self.records
+        self.state, self.events = self._stepper.transition(
+            self.state, a, self._key, self._counter, True, self._draws
         )
-        if pairs > 1:
-            self.streams.advance(np.array([self.events.noise_used]))
+        self._counter += 1
         self._measures = self.task.measure(self.state, floats)
         self._on_step(a)
         if self.render_mode == "human":
@@ -134,14 +175,12 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         elif self.render_mode == LIST_MODE:
             scene = self._scene()
             self._collected += [*self._flight_scenes(scene), scene]
-        reward = self.task.reward(self.state, floats)
-        terminated = self.task.terminal(self.state, floats)
+        reward, terminated, _, _ = settle(self.task, self.state, False, 0, None, floats)
         return self._observation(), float(reward), bool(terminated), False, self._info()
 
     def _observation(self) -> np.ndarray:
         columns = self.task.observation(self.state, self._measures, floats)
-        # clip the floats first: one small array, no temporaries
-        return np.array([min(max(c, -1.0), 1.0) for c in columns], dtype=np.float32)
+        return columns_to_observation(columns, floats)
 
     records = True
     """Whether transitions keep the samples a renderer or ``info`` needs (``events``)."""
@@ -165,7 +204,12 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         """``rgb_array``: the frame of the state now, ``(H, W, 3)`` uint8. ``rgb_array_list``:
         the frames collected since the last ``render()`` or ``reset()`` (the reset's, then
         per step its flight and its end), a list, cleared. ``human``: ``None`` (the window
-        shows every reset and step by itself)."""
+        shows every reset and step by itself).
+
+        Returns:
+            A frame, a list of frames, or None (``human``, or no ``render_mode``), by render
+            mode as above.
+        """
         renderer = ensure_renderer(self)
         if renderer is None:
             return None
@@ -192,12 +236,103 @@ class CoreEnv(gym.Env[np.ndarray, np.ndarray]):
         raise NotImplementedError
 
     def __getstate__(self) -> dict[str, Any]:
-        return without_renderer(self.__dict__)
+        return {**without_renderer(self.__dict__), "_stepper": None}
 
     def close(self) -> None:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+class GeneratorDraws:
+    """The host draws of a task of ``randomness = "generator"`` (the versions made before
+    the counter-based keys): each env's own ``numpy.random.Generator`` and its stream of
+    normal pairs (:class:`~bbgym.envs.common.NormalStreams`), so sub-env ``i`` equals the
+    single env seeded ``seed + i`` on NumPy. Their golden replays pin these bits; this is
+    the one place they are drawn (torch draws those tasks' declared counts from the keys,
+    :func:`~bbgym.envs.functional.counter_initial_noise`).
+
+    Args:
+        streams: every env's generator and pair stream.
+        num_envs: how many envs draw.
+        one_env: a single env on Python floats (its masks are Python bools).
+    """
+
+    def __init__(self, streams: NormalStreams, num_envs: int, one_env: bool = False) -> None:
+        self.streams, self.num_envs, self.one_env = streams, num_envs, one_env
+
+    def initial(self, task: TaskCore, mask: Any) -> InitialNoise:
+        """A fresh episode's draws for the envs in ``mask`` (zeros elsewhere).
+
+        Args:
+            task: the task core (its declared counts).
+            mask: which envs restart (``True`` for a single env).
+
+        Returns:
+            The draws, as floats for a single env or rows of the batch.
+        """
+        n_uniform, n_normal = task.initial_noise_counts
+        if self.one_env:
+            rng = self.streams.rngs[0]
+            uniform = rng.random(n_uniform).tolist()
+            normal = rng.standard_normal(n_normal).tolist()
+            self.streams.discard(np.ones(1, dtype=bool))
+            stream: list = []
+            for _ in range(task.initial_stream_pairs):
+                stream += self.streams.one(True)
+            return InitialNoise(uniform, normal, stream)
+        uniform_rows = np.zeros((n_uniform, self.num_envs))
+        normal_rows = np.zeros((n_normal, self.num_envs))
+        for i in np.flatnonzero(mask):
+            rng = self.streams.rngs[i]
+            uniform_rows[:, i] = rng.random(n_uniform)
+            normal_rows[:, i] = rng.standard_normal(n_normal)
+        self.streams.discard(mask)
+        pairs = [self.streams.pairs(mask) for _ in range(task.initial_stream_pairs)]
+        # sequences of per-env rows: what a core indexes (noise.uniform[k])
+        rows = [row for pair in pairs for row in pair]
+        return InitialNoise(list(uniform_rows), list(normal_rows), rows)
+
+    def step_noise(self, task: TaskCore, state: Any, active: Any) -> Any:
+        """A step's pairs of normals (``task.step_noise_pairs``) for the active envs of
+        ``task.step_noise_mask``.
+
+        Args:
+            task: the task core.
+            state: the state before the step.
+            active: which envs step (``True`` for a single env).
+
+        Returns:
+            A sequence of ``2 * step_noise_pairs`` rows (floats for a single env).
+        """
+        pairs = task.step_noise_pairs
+        if self.one_env:
+            mask = task.step_noise_mask(state, floats)
+            if pairs == 1:
+                return self.streams.one(mask)
+            if pairs:
+                return self.streams.peek(np.array([mask]), pairs)[..., 0].reshape(-1).tolist()
+            return ()
+        mask = task.step_noise_mask(state, np) & active
+        if pairs == 1:
+            return tuple(self.streams.pairs(mask))
+        if pairs:
+            return tuple(self.streams.peek(mask, pairs).reshape(2 * pairs, self.num_envs))
+        return ()
+
+    def stepped(self, task: TaskCore, events: Any, active: Any) -> None:
+        """Use up the pairs a window transition used (``events.noise_used``).
+
+        Args:
+            task: the task core.
+            events: the transition's events.
+            active: which envs stepped.
+        """
+        if task.step_noise_pairs > 1:
+            if self.one_env:
+                self.streams.advance(np.array([events.noise_used]))
+            else:
+                self.streams.advance(np.where(active, events.noise_used, 0))
 
 
 def check_single_env_arguments(env_name: str, kwargs: dict[str, Any]) -> None:
@@ -233,7 +368,12 @@ class FlightFrames:
         a step, and those ``rgb_array_list`` collects before a step's end. In ``rgb_array``
         and ``rgb_array_list`` mode: a list of ``(H, W, 3)`` uint8 arrays
         (``rgb_array_list``'s collected frames stay as they are); in ``human`` mode the
-        flight is shown again and the list is empty."""
+        flight is shown again and the list is empty.
+
+        Returns:
+            The flight's ``(H, W, 3)`` uint8 frames (none in ``human`` mode, before the
+            first step, or without a ``render_mode``).
+        """
         renderer = ensure_renderer(self)
         if renderer is None:
             return []
@@ -243,7 +383,19 @@ class FlightFrames:
 
 def check_info_keys(info_keys: Any, task: Any) -> tuple[str, ...] | None:
     """``info_keys`` as a tuple of the task's info names (None: all), or an error naming
-    ``info_keys``."""
+    ``info_keys``.
+
+    Args:
+        info_keys: a list or tuple of the task's info names, or None.
+        task: the task core whose infos they name.
+
+    Returns:
+        The names as a tuple, or None (every info).
+
+    Raises:
+        TypeError: for an ``info_keys`` that is not a list, a tuple or None (a string too).
+        ValueError: for a name that is not one of the task's infos.
+    """
     if info_keys is None:
         return None
     if isinstance(info_keys, str) or not isinstance(info_keys, (tuple, list)):
@@ -314,6 +466,27 @@ class CoreVectorEnv(VectorEnv):
     adds its new episode's first frame), ``human`` the first in a window. In
     ``rgb_array_list`` mode the frames wait (as drawing descriptions) for ``render()``:
     call it regularly, since autoreset never clears them.
+
+    Args:
+        num_envs: how many envs the batch holds (an int >= 1).
+        render_mode: ``"human"``, ``"rgb_array"``, ``"rgb_array_list"``, or None for no
+            rendering.
+        max_episode_steps: the time limit in steps (an int >= 1); None: the family's
+            registered one (its spec's ``max_episode_steps``).
+        backend: ``"numpy"`` (float64, the reference) or ``"torch"``.
+        device: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (torch only); None: ``"cpu"``.
+        dtype: ``"float64"``, or ``"float32"`` (torch only).
+        output: ``"numpy"``, or ``"torch"`` for tensors on ``device`` (torch only).
+        compile: whether torch compiles the step (False: it runs eagerly).
+        step_graph: ``"auto"``, ``"parts"`` or ``"one"`` (torch only;
+            :data:`bbgym.backends.STEP_GRAPHS`).
+        info_keys: the task's info names to keep (a list or tuple), or None for all.
+        **kwargs: the task's arguments (the fields of its ``params_class``), checked by the
+            task.
+
+    Raises:
+        TypeError: for a ``num_envs`` that is not an int, or a wrong argument type.
+        ValueError: for a value out of its accepted ones, naming the argument.
     """
 
     metadata: dict[str, Any] = {
@@ -367,6 +540,9 @@ class CoreVectorEnv(VectorEnv):
         self._any_restarting: bool | None = None
         self._renderer: Any = None
         self._collected: list[list[Any]] = []  # rgb_array_list: per drawn sub-env
+        # A "generator" task on NumPy draws from each env's generator (the one adapter
+        # that keeps those versions' bits); everything else from the counter-based keys.
+        self._draws = None if self.keyed else GeneratorDraws(self.streams, self.num_envs)
         self._init_host_state()
 
     def _init_host_state(self) -> None:
@@ -375,47 +551,43 @@ class CoreVectorEnv(VectorEnv):
 
     @property
     def started(self) -> bool:
+        """Whether the env has been reset (it holds a batched state)."""
         return self.state is not None
 
     @property
     def xp(self) -> Any:
+        """The backend's array namespace (``numpy``, or torch's through array-api-compat)."""
         return self.backend.xp
 
-    # -- the NumPy reference path -------------------------------------------------------------
-    def _initial_noise(self, mask: np.ndarray) -> InitialNoise:
-        """Each env in ``mask`` draws from its own generator (zeros elsewhere)."""
-        n_uniform, n_normal = self.task.initial_noise_counts
-        uniform = np.zeros((n_uniform, self.num_envs))
-        normal = np.zeros((n_normal, self.num_envs))
-        for i in np.flatnonzero(mask):
-            rng = self.streams.rngs[i]
-            uniform[:, i] = rng.random(n_uniform)
-            normal[:, i] = rng.standard_normal(n_normal)
-        self.streams.discard(mask)
-        stream = [self.streams.pairs(mask) for _ in range(self.task.initial_stream_pairs)]
-        # sequences of per-env rows: what a core indexes (noise.uniform[k])
-        return InitialNoise(list(uniform), list(normal), [row for pair in stream for row in pair])
+    @property
+    def keyed(self) -> bool:
+        """Whether the draws come from the counter-based keys (every backend for a
+        ``"keys"`` task, torch for every task), not from each env's generator."""
+        return self.backend.name == "torch" or self.task.randomness == "keys"
 
     def _restart(self, mask: np.ndarray, options: dict[str, Any]) -> None:
         """Fresh episodes for the envs in ``mask`` (:func:`restart`), each from its own
-        random stream: a generator per env on NumPy, the counter-based one on torch."""
-        if self.backend.name == "numpy":
-            self.state = restart(
-                self.task, self.state, mask, self._initial_noise(mask), options, np
-            )
+        random stream: the counter-based keys, or a "generator" task's generators."""
+        if self._draws is not None:
+            noise = self._draws.initial(self.task, mask)
+            self.state = restart(self.task, self.state, mask, noise, options, np)
             return
         xp, m = self.xp, self._tensor(mask)
         noise = counter_initial_noise(
             self.task, self._keys, self._counter, self.backend.float_dtype, xp
         )
         state = restart(self.task, self.state, m, noise, options, xp)
-        # Distinct tensors per leaf: the compiled step's guards would otherwise see the
-        # fields a fresh state shares (zeros) as aliases, and recompile once they part.
-        self.state = tree_map(lambda t: t.clone(), state)
+        if self.backend.name == "torch":
+            # Distinct tensors per leaf: the compiled step's guards would otherwise see the
+            # fields a fresh state shares (zeros) as aliases, and recompile once they part.
+            state = tree_map(lambda t: t.clone(), state)
+        self.state = state
         self._counter = self._counter + xp.astype(m, xp.int64)
 
-    # -- the torch path -----------------------------------------------------------------------
     def _tensor(self, x: Any, dtype: Any = None) -> Any:
+        """``x`` as an array of the backend (on its device)."""
+        if self.backend.name != "torch":
+            return np.asarray(x, dtype=dtype)
         import torch
 
         return torch.as_tensor(x, dtype=dtype, device=self.backend.device)
@@ -437,6 +609,15 @@ class CoreVectorEnv(VectorEnv):
         step = VectorStep(
             self.task, self.max_episode_steps, self.xp, self.backend.float_dtype, self.info_keys
         )
+        if self.backend.name != "torch":  # a "keys" task on NumPy: the host step
+
+            def run_host(*args: Any, any_restarting: bool | None = None) -> tuple:
+                step.record = self.records
+                out = step(*args, any_restarting=any_restarting)
+                self.events = step.events
+                return out
+
+            return run_host
         if self.step_graph == "one":
             fused = backends.compiled(step.fused, self.backend)
 
@@ -458,6 +639,28 @@ class CoreVectorEnv(VectorEnv):
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[Any, dict[str, Any]]:
+        """Reset every sub-env (Gymnasium's ``VectorEnv.reset``).
+
+        Args:
+            seed: an int >= 0 (sub-env ``i`` gets ``seed + i``), a list of ``num_envs``
+                seeds (ints >= 0 or None), or None to go on with each sub-env's random
+                stream (fresh entropy on the first reset).
+            options: the task's reset options (:meth:`TaskCore.check_options`) for every
+                sub-env, or None.
+
+        Returns:
+            ``(observations, infos)``: the ``(num_envs, size)`` float32 observations in
+            [-1, 1] and the infos, arrays with Gymnasium's ``_key`` masks (NumPy, or
+            tensors with ``output="torch"``).
+
+        Raises:
+            TypeError: for a seed or option of the wrong kind, naming it.
+            ValueError: for a negative seed, a list of the wrong length or an option out
+                of its interval.
+        """
+        return self._reset(seed, options)
+
+    def _reset(self, seed: Any, options: dict[str, Any] | None) -> tuple[Any, dict[str, Any]]:
         options = self.task.check_options(options)
         everyone = np.ones(self.num_envs, dtype=bool)
         if seed is not None or not self.started:
@@ -465,17 +668,13 @@ class CoreVectorEnv(VectorEnv):
             self.streams.seed(seeds)
             if seed is not None:
                 self._np_random, self._np_random_seed = seeding.np_random(seeds[0])
-            if self.backend.name == "torch":
-                self._seed_torch(seeds)
-        self.state = None if self.backend.name == "torch" and seed is not None else self.state
+            if self.keyed:
+                self._seed_keys(seeds)
+        self.state = None if self.keyed and seed is not None else self.state
         self._restart(everyone, options)
-        if self.backend.name == "numpy":
-            self._steps = np.zeros(self.num_envs, dtype=np.int64)
-            self._autoreset = np.zeros(self.num_envs, dtype=bool)
-        else:
-            self._steps = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
-            self._autoreset = self._tensor(np.zeros(self.num_envs, dtype=bool))
-            self._any_restarting = False
+        self._steps = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
+        self._autoreset = self._tensor(np.zeros(self.num_envs, dtype=bool))
+        self._any_restarting = False
         self._on_reset(everyone)
         if self.render_mode == LIST_MODE:
             self._collected = [[] for _ in range(self._drawn_envs)]
@@ -487,7 +686,7 @@ class CoreVectorEnv(VectorEnv):
             info = {**info, **self._step_info()}
         return self._out(obs), self._vector_info(info)
 
-    def _seed_torch(self, seeds: list[int | None]) -> None:
+    def _seed_keys(self, seeds: list[int | None]) -> None:
         base = seeds[0]
         if base is None:
             base = int(np.random.SeedSequence().generate_state(1)[0])
@@ -501,42 +700,55 @@ class CoreVectorEnv(VectorEnv):
         self._counter = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
 
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        """Step every sub-env (Gymnasium's ``VectorEnv.step``), with next-step autoreset:
+        a sub-env whose episode ended on the previous step starts anew, ignores its action
+        and reports reward 0.
+
+        Args:
+            actions: a ``(num_envs, size)`` array-like, checked by the task (a Box action is
+                clipped to [-1, 1]), or on the torch backend a tensor of that shape (moved
+                to its device and dtype).
+
+        Returns:
+            ``(observations, rewards, terminated, truncated, infos)``, each of ``num_envs``
+            entries: NumPy arrays, or tensors on the device with ``output="torch"``.
+
+        Raises:
+            gymnasium.error.ResetNeeded: before the first ``reset()``.
+            ValueError: for actions of the wrong shape, or a NaN or inf.
+        """
         if not self.started:
             raise gym.error.ResetNeeded("Call reset() before step()")
-        if self.backend.name == "torch":
-            return self._step_torch(actions)
+        if self.keyed:
+            return self._step_keyed(actions)
+        # A "generator" task on NumPy: the same step, its draws from GeneratorDraws.
         a = self.task.check_action(actions, self.num_envs)
         restarting = self._autoreset
-        active = ~restarting
-        mask = self.task.step_noise_mask(self.state, np) & active
-        pairs = self.task.step_noise_pairs
-        if pairs == 1:
-            noise: Any = tuple(self.streams.pairs(mask))
-        elif pairs:
-            noise = tuple(self.streams.peek(mask, pairs).reshape(2 * pairs, self.num_envs))
-        else:
-            noise = ()
-        self.state, self.events = self.task.transition(
-            self.state, a, noise, np, record=self.records
+        any_restarting = bool(restarting.any())
+        self._host_step.record = self.records
+        out = self._host_step(
+            self.state, a, None, None, self._steps, restarting, None, any_restarting, self._draws
         )
-        if pairs > 1:
-            self.streams.advance(np.where(active, self.events.noise_used, 0))
-        reward, terminated, truncated, self._steps = settle(
-            self.task, self.state, restarting, self._steps, self.max_episode_steps, np
-        )
-        if restarting.any():
-            # Next-step autoreset: the finished envs start anew and ignore this action.
-            self._restart(restarting, {})
+        self.state, obs, reward, terminated, truncated, info, _, self._steps = out
+        self.events = self._host_step.events
+        if any_restarting:
+            # Next-step autoreset: the finished envs started anew and ignored this action.
             self._on_reset(restarting)
         self._autoreset = terminated | truncated
         self._on_step(a)
         if self.render_mode == LIST_MODE:
             self._collect(restarting)
-        m = self.task.measure(self.state, np)
-        obs = columns_to_observation(self.task.observation(self.state, m, np), np)
-        info = select_info(self.task.info(self.state, m, np), self.info_keys)
         info = self._vector_info({**info, **self._step_info()})
         return obs, reward.astype(np.float64), terminated, truncated, info
+
+    @property
+    def _host_step(self) -> VectorStep:
+        """The step of a "generator" task on NumPy (made on first use)."""
+        if self._compiled_step is None:
+            self._compiled_step = VectorStep(
+                self.task, self.max_episode_steps, np, np.float64, self.info_keys
+            )
+        return self._compiled_step
 
     records = True
     """Whether NumPy transitions keep the samples a renderer or ``info`` needs (the torch
@@ -547,7 +759,7 @@ class CoreVectorEnv(VectorEnv):
         the batch, or object arrays), {} after a reset."""
         return {}
 
-    def _step_torch(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+    def _step_keyed(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         if hasattr(actions, "detach"):  # a tensor from a GPU-resident learner
             a = check_tensor_actions(actions, self.action_space.shape, self.backend)
         else:
@@ -562,7 +774,8 @@ class CoreVectorEnv(VectorEnv):
             # nothing), so every part compiles now rather than when the first episode ends.
             any_restarting = True
         restarting = self._autoreset
-        with self._compile_logged() if first and self.backend.compile else nullcontext():
+        compiling = first and self.backend.name == "torch" and self.backend.compile
+        with self._compile_logged() if compiling else nullcontext():
             out = self._compiled_step(
                 self.state,
                 a,
@@ -578,7 +791,7 @@ class CoreVectorEnv(VectorEnv):
         if self.backend.output == "numpy":  # the host has the ends: no sync next step
             terminated, truncated = backends.to_numpy(terminated), backends.to_numpy(truncated)
             self._any_restarting = bool(terminated.any() or truncated.any())
-        if self._wants_reset_hook:
+        if self._wants_reset_hook or self.backend.name != "torch":
             self._on_reset(backends.to_numpy(restarting))
         self._on_step(a)
         if self.render_mode == LIST_MODE:
@@ -606,11 +819,21 @@ class CoreVectorEnv(VectorEnv):
         """Restart the envs in ``mask`` now, without seeds (each continues its own random
         stream), and return every env's observation. Adapters whose API resets on the step
         that ends an episode (stable-baselines3) use this instead of waiting for the next
-        ``step``."""
-        mask = np.asarray(mask, dtype=bool)
+        ``step``.
+
+        Args:
+            mask: a ``(num_envs,)`` bool array-like: the envs to restart.
+
+        Returns:
+            Every env's observation, ``(num_envs, size)`` float32 (NumPy, or a tensor with
+            ``output="torch"``).
+        """
+        return self._reset_envs(np.asarray(mask, dtype=bool))
+
+    def _reset_envs(self, mask: np.ndarray) -> Any:
         if mask.any():
             self._restart(mask, {})
-            m = mask if self.backend.name == "numpy" else self._tensor(mask)
+            m = self._tensor(mask)
             self._steps = self.xp.where(m, 0, self._steps)
             self._autoreset = self._autoreset & self.xp.logical_not(m)
             self._any_restarting = None
@@ -636,7 +859,14 @@ class CoreVectorEnv(VectorEnv):
         """Hook: a step with ``actions`` has just been taken."""
 
     def element_state(self, i: int) -> Any:
-        """Sub-env ``i``'s state as Python floats."""
+        """Sub-env ``i``'s state as Python floats.
+
+        Args:
+            i: the sub-env's index, in ``[0, num_envs)``.
+
+        Returns:
+            The state's tree with Python scalars (NumPy arrays for leaves with more axes).
+        """
         return element(self.state, i)
 
     @property
@@ -647,7 +877,12 @@ class CoreVectorEnv(VectorEnv):
     def render(self) -> tuple[np.ndarray, ...] | tuple[list[np.ndarray], ...] | None:
         """Frames of the first (up to 4) sub-envs: a tuple of frames (``rgb_array``) or of
         lists of frames since the last ``render()`` or ``reset()`` (``rgb_array_list``);
-        ``human`` shows the first in a window and returns ``None``."""
+        ``human`` shows the first in a window and returns ``None``.
+
+        Returns:
+            A tuple with one entry per drawn sub-env (a ``(H, W, 3)`` uint8 frame or a list
+            of them, by render mode), or None (``human``, or no ``render_mode``).
+        """
         renderer = ensure_renderer(self)
         if renderer is None:
             return None

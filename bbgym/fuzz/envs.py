@@ -282,6 +282,13 @@ def numeric_arguments(env_id: str) -> list[str]:
 
     spec = spec_of(env_id)
     env_class = getattr(importlib.import_module(spec.module), spec.env_class)
+    params_class = getattr(env_class.task_class, "params_class", None)
+    if params_class is not None:  # every argument is a field of one dataclass
+        return [
+            f.name
+            for f in fields(params_class)
+            if "interval" in f.metadata and not isinstance(f.default, bool)
+        ]
     names = []
     for name, parameter in inspect.signature(env_class.task_class.__init__).parameters.items():
         default = parameter.default

@@ -108,6 +108,21 @@ numpy = np
 """The batched reference namespace."""
 
 
+def as_float(x: Any, like: Any, xp: Any) -> Any:
+    """Counts or flags ``x`` as floats of ``like``'s dtype (a Python float on
+    :data:`floats`): the standard mixes no int or bool array with a float one.
+
+    Args:
+        x: an int or bool array (a Python int or bool for one env).
+        like: a float array of the dtype wanted (a float for one env).
+        xp: the array namespace.
+
+    Returns:
+        ``x`` as floats.
+    """
+    return float(x) if xp is floats else xp.astype(x, like.dtype)
+
+
 def replaced(record: Any, **changes: Any) -> Any:
     """``record`` (a NamedTuple) with the fields in ``changes`` replaced: ``_replace``
     spelled as a plain constructor call. Under ``torch.compile`` in torch 2.11, a record

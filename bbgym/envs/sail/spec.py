@@ -9,7 +9,7 @@ from bbgym.physics.calibration import CALIBRATED_SLOOP
 from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.water import WaterParams
 from bbgym.physics.wind import GustParams
-from bbgym.spec import EnvSpec, FuzzSpec, Showcase, Version, register_spec
+from bbgym.spec import EnvSpec, FuzzSpec, Showcase, Version
 
 SHOWCASE = Showcase(seed=16, frame_skip=1, fps=10.0)
 """Seed 16 puts the mark upwind, so the episode is a beat with tacks, what the env is
@@ -147,48 +147,46 @@ def _sample_options(sail_task: Any, draw: Any) -> dict[str, Any] | None:
     return options or None
 
 
-SPEC = register_spec(
-    EnvSpec(
-        family="sail",
-        env_class="BeachballSailEnv",
-        vector_env_class="BeachballSailVectorEnv",
-        max_episode_steps=MAX_EPISODE_STEPS,
-        summary="sail a dinghy to a mark anywhere on the water (beat, tack, jibe) upright",
-        actions="rudder, main sheet",
-        versions=(
-            Version(
-                "BeachballSail-v0",
-                "the first version: progress, +10 at the mark, -10 a capsize, -0.01 a step",
-                preset="beachball_sail",
-                base=True,
-            ),
-            # Time costs enough to race: 0.1 a step, against 0.01, and a capsize 30, more than
-            # the discounted cost of the time left in any episode.
-            Version(
-                "BeachballSail-v1",
-                "v0's physics; time costs 0.1 a step, a capsize 30",
-                kwargs={"time_penalty": 0.1, "capsize_penalty": 30.0},
-                preset="beachball_sail_v1",
-            ),
-            Version(
-                "BeachballSail-v2",
-                "a sloop calibrated to a Laser (cambered sails, a jib sheet as a third action), "
-                "a light current and small waves; v1's reward",
-                kwargs=V2_KWARGS,
-                preset="beachball_sail_v2",
-                actions="rudder, main sheet, jib sheets",
-            ),
+SPEC = EnvSpec(
+    family="sail",
+    env_class="BeachballSailEnv",
+    vector_env_class="BeachballSailVectorEnv",
+    max_episode_steps=MAX_EPISODE_STEPS,
+    summary="sail a dinghy to a mark anywhere on the water (beat, tack, jibe) upright",
+    actions="rudder, main sheet",
+    versions=(
+        Version(
+            "BeachballSail-v0",
+            "the first version: progress, +10 at the mark, -10 a capsize, -0.01 a step",
+            preset="beachball_sail",
+            base=True,
         ),
-        param_groups={"dinghy": DinghyParams, "gust_params": GustParams, "water": WaterParams},
-        shorthands={"sail_model": "dinghy.sail_model"},
-        integer_arguments=("water.wave_components",),
-        policies={"scripted": _scripted, "simple": _simple},
-        timed_by_oracle=True,
-        outcome=_outcome,
-        argument_table=ARGUMENT_TABLE,
-        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.4, episode_steps=300),
-        keyboard=_keyboard,
-        demo=_demo,
-        showcase=SHOWCASE,
-    )
+        # Time costs enough to race: 0.1 a step, against 0.01, and a capsize 30, more than
+        # the discounted cost of the time left in any episode.
+        Version(
+            "BeachballSail-v1",
+            "v0's physics; time costs 0.1 a step, a capsize 30",
+            kwargs={"time_penalty": 0.1, "capsize_penalty": 30.0},
+            preset="beachball_sail_v1",
+        ),
+        Version(
+            "BeachballSail-v2",
+            "a sloop calibrated to a Laser (cambered sails, a jib sheet as a third action), "
+            "a light current and small waves; v1's reward",
+            kwargs=V2_KWARGS,
+            preset="beachball_sail_v2",
+            actions="rudder, main sheet, jib sheets",
+        ),
+    ),
+    param_groups={"dinghy": DinghyParams, "gust_params": GustParams, "water": WaterParams},
+    shorthands={"sail_model": "dinghy.sail_model"},
+    integer_arguments=("water.wave_components",),
+    policies={"scripted": _scripted, "simple": _simple},
+    timed_by_oracle=True,
+    outcome=_outcome,
+    argument_table=ARGUMENT_TABLE,
+    fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.4, episode_steps=300),
+    keyboard=_keyboard,
+    demo=_demo,
+    showcase=SHOWCASE,
 )

@@ -12,7 +12,7 @@ from bbgym.envs.ball import sample_ball_kwargs, sample_wind_option
 from bbgym.envs.throw.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wind import GustParams
-from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
+from bbgym.spec import EnvSpec, FuzzSpec, Version
 
 MAX_EPISODE_STEPS = 100
 CURVE = {"screen": True, "target_distance_range": (7.0, 10.0)}
@@ -138,57 +138,55 @@ def _sample_options(throw_task: Any, draw: Any) -> dict[str, Any] | None:
     return options or None
 
 
-SPEC = register_spec(
-    EnvSpec(
-        family="throw",
-        env_class="BeachballThrowEnv",
-        vector_env_class="BeachballThrowVectorEnv",
-        max_episode_steps=MAX_EPISODE_STEPS,
-        summary="throw a beach ball through the wind into a target, several throws an episode "
-        "(Curve: round a screen, so only a spinning throw scores)",
-        actions="launch velocity, spin",
-        versions=(
-            Version(
-                "BeachballThrow-v0",
-                "the first version: a ring 3-10 m away",
-                preset="beachball_throw",
-                base=True,
-            ),
-            Version(
-                "BeachballCurve-v0",
-                "Throw-v0 with a screen in the way and targets 7-10 m out (5% cannot be won)",
-                kwargs=CURVE,
-                preset="beachball_throw",
-                base=True,
-            ),
-            # v1: the curves the planner can throw: a mean wind of at most 2 m/s.
-            Version(
-                "BeachballCurve-v1",
-                "Curve-v0 in a mean wind of at most 2 m/s (the planner wins 100%)",
-                kwargs={**CURVE, "wind_speed_range": (0.0, 2.0)},
-                preset="beachball_curve",
-            ),
-            Version(
-                "BeachballThrow-v1",
-                "Throw-v0 flown in RK4 steps of 0.05 s with the touchdown and screen hits "
-                "located inside a step, to the first touchdown (several times faster)",
-                kwargs=RK4_FLIGHT,
-                preset="beachball_throw",
-            ),
-            Version(
-                "BeachballCurve-v2",
-                "Curve-v1 flown as Throw-v1",
-                kwargs={**CURVE, "wind_speed_range": (0.0, 2.0), **RK4_FLIGHT},
-                preset="beachball_curve_v2",
-            ),
+SPEC = EnvSpec(
+    family="throw",
+    env_class="BeachballThrowEnv",
+    vector_env_class="BeachballThrowVectorEnv",
+    max_episode_steps=MAX_EPISODE_STEPS,
+    summary="throw a beach ball through the wind into a target, several throws an episode "
+    "(Curve: round a screen, so only a spinning throw scores)",
+    actions="launch velocity, spin",
+    versions=(
+        Version(
+            "BeachballThrow-v0",
+            "the first version: a ring 3-10 m away",
+            preset="beachball_throw",
+            base=True,
         ),
-        param_groups={"ball": BallParams, "gust_params": GustParams},
-        integer_arguments=("throws_per_episode",),
-        policies={"scripted": _scripted, "planner": _planner},
-        outcome=_outcome,
-        argument_table=ARGUMENT_TABLE,
-        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=12, fit=_fit),
-        keyboard=_keyboard,
-        step_unit="throws",
-    )
+        Version(
+            "BeachballCurve-v0",
+            "Throw-v0 with a screen in the way and targets 7-10 m out (5% cannot be won)",
+            kwargs=CURVE,
+            preset="beachball_throw",
+            base=True,
+        ),
+        # v1: the curves the planner can throw: a mean wind of at most 2 m/s.
+        Version(
+            "BeachballCurve-v1",
+            "Curve-v0 in a mean wind of at most 2 m/s (the planner wins 100%)",
+            kwargs={**CURVE, "wind_speed_range": (0.0, 2.0)},
+            preset="beachball_curve",
+        ),
+        Version(
+            "BeachballThrow-v1",
+            "Throw-v0 flown in RK4 steps of 0.05 s with the touchdown and screen hits "
+            "located inside a step, to the first touchdown (several times faster)",
+            kwargs=RK4_FLIGHT,
+            preset="beachball_throw",
+        ),
+        Version(
+            "BeachballCurve-v2",
+            "Curve-v1 flown as Throw-v1",
+            kwargs={**CURVE, "wind_speed_range": (0.0, 2.0), **RK4_FLIGHT},
+            preset="beachball_curve_v2",
+        ),
+    ),
+    param_groups={"ball": BallParams, "gust_params": GustParams},
+    integer_arguments=("throws_per_episode",),
+    policies={"scripted": _scripted, "planner": _planner},
+    outcome=_outcome,
+    argument_table=ARGUMENT_TABLE,
+    fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=12, fit=_fit),
+    keyboard=_keyboard,
+    step_unit="throws",
 )

@@ -56,7 +56,7 @@ from bbgym.physics.flight_events import (
     roll_display,
     simulate_event_throw,
 )
-from bbgym.physics.namespace import Array, floats, replaced
+from bbgym.physics.namespace import Array, as_float, floats, replaced
 from bbgym.physics.validation import (
     build_params,
     check_bool,
@@ -237,6 +237,8 @@ class ThrowTask(TaskCore):
     Holds the validated arguments shared by :class:`BeachballThrowEnv` and
     :class:`BeachballThrowVectorEnv`; see the env docstring for their meaning.
     """
+
+    randomness = "generator"  # its versions' bits, pinned by golden replays
 
     initial_noise_counts = (4, 2)
     """Uniform draws (target distance and bearing, wind speed and direction) and normal
@@ -670,22 +672,9 @@ class ThrowTask(TaskCore):
         flight as a step's (:func:`simulate_throw` drives the same masked substeps)."""
         wind_x, wind_y, _, _ = wind_vector(scenario.wind_speed, scenario.wind_from, gust, xp)
         start = ball_at(0.0, 0.0, self.launch_height, *velocity.T, *spin.T, xp=xp)
-        if self.events:
-            result = simulate_event_throw(
-                self.ball,
-                start,
-                wind_x,
-                wind_y,
-                self.screen_geometry(scenario, xp),
-                self.sim_dt,
-                self.max_flight_time,
-                self.max_roll_time,
-                self.field_radius,
-                RECORD_DT_S,
-                xp=xp,
-            )
-            return result, wind_x, wind_y
-        result = simulate_throw(
+        # The event-located RK4 flight and the substepped one take the same arguments.
+        simulate = simulate_event_throw if self.events else simulate_throw
+        result = simulate(
             self.ball,
             start,
             wind_x,
@@ -727,7 +716,7 @@ class ThrowTask(TaskCore):
             state.sock_y / WIND_SCALE_MPS,
             thrown * (state.landing_x - sc.target_x) / d,
             thrown * (state.landing_y - sc.target_y) / d,
-            (zero + state.throws_left) / self.throws_per_episode,
+            as_float(state.throws_left, zero, xp) / self.throws_per_episode,
             thrown,
             *state.action,
             on,

@@ -9,7 +9,7 @@ from bbgym.envs.topple.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wall import WallParams
 from bbgym.physics.wind import GustParams
-from bbgym.spec import EnvSpec, FuzzSpec, Version, register_spec
+from bbgym.spec import EnvSpec, FuzzSpec, Version
 
 MAX_EPISODE_STEPS = 100
 # v1: the walls the planner can bring down: nearer, in an onshore breeze (from behind the
@@ -127,42 +127,40 @@ def _sample_options(topple_task: Any, draw: Any) -> dict[str, Any] | None:
     return options or None
 
 
-SPEC = register_spec(
-    EnvSpec(
-        family="topple",
-        env_class="BeachballToppleEnv",
-        vector_env_class="BeachballToppleVectorEnv",
-        max_episode_steps=MAX_EPISODE_STEPS,
-        summary="bring down a wall standing in gusty wind by throwing beach balls at it",
-        actions="launch velocity, spin",
-        versions=(
-            Version(
-                "BeachballTopple-v0",
-                "the first version: walls 4-8 m away, wind from anywhere (half cannot be won)",
-                preset="beachball_topple",
-                base=True,
-            ),
-            Version(
-                "BeachballTopple-v1",
-                "walls 3-5 m away in an onshore breeze (the planner wins 100%)",
-                kwargs=ONSHORE,
-                preset="beachball_topple",
-            ),
-            Version(
-                "BeachballTopple-v2",
-                "Topple-v1 in RK4 steps of 0.05 s with the ball's bounces and hits located "
-                "inside a step (faster, and closer to a fine integration)",
-                kwargs={**ONSHORE, **RK4_INTERVAL},
-                preset="beachball_topple",
-            ),
+SPEC = EnvSpec(
+    family="topple",
+    env_class="BeachballToppleEnv",
+    vector_env_class="BeachballToppleVectorEnv",
+    max_episode_steps=MAX_EPISODE_STEPS,
+    summary="bring down a wall standing in gusty wind by throwing beach balls at it",
+    actions="launch velocity, spin",
+    versions=(
+        Version(
+            "BeachballTopple-v0",
+            "the first version: walls 4-8 m away, wind from anywhere (half cannot be won)",
+            preset="beachball_topple",
+            base=True,
         ),
-        param_groups={"ball": BallParams, "wall": WallParams, "gust_params": GustParams},
-        integer_arguments=("throws_per_episode",),
-        policies={"scripted": _scripted, "planner": _planner},
-        outcome=_outcome,
-        argument_table=ARGUMENT_TABLE,
-        fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=8, fit=_fit),
-        keyboard=_keyboard,
-        step_unit="throws",
-    )
+        Version(
+            "BeachballTopple-v1",
+            "walls 3-5 m away in an onshore breeze (the planner wins 100%)",
+            kwargs=ONSHORE,
+            preset="beachball_topple",
+        ),
+        Version(
+            "BeachballTopple-v2",
+            "Topple-v1 in RK4 steps of 0.05 s with the ball's bounces and hits located "
+            "inside a step (faster, and closer to a fine integration)",
+            kwargs={**ONSHORE, **RK4_INTERVAL},
+            preset="beachball_topple",
+        ),
+    ),
+    param_groups={"ball": BallParams, "wall": WallParams, "gust_params": GustParams},
+    integer_arguments=("throws_per_episode",),
+    policies={"scripted": _scripted, "planner": _planner},
+    outcome=_outcome,
+    argument_table=ARGUMENT_TABLE,
+    fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=8, fit=_fit),
+    keyboard=_keyboard,
+    step_unit="throws",
 )

@@ -38,7 +38,7 @@ from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
 # (validation.interval by its module: the constructor's argument `interval` shadows the name)
 from bbgym.physics import validation
 from bbgym.physics.ball import BallParams, ball_at
-from bbgym.physics.namespace import Array, floats, replaced
+from bbgym.physics.namespace import Array, as_float, floats, replaced
 from bbgym.physics.toppling import (
     INTEGRATORS,
     IntervalCarry,
@@ -194,6 +194,8 @@ class ToppleTask(TaskCore):
     Holds the validated arguments shared by :class:`BeachballToppleEnv` and
     :class:`BeachballToppleVectorEnv`; see the env docstring for their meaning.
     """
+
+    randomness = "generator"  # its versions' bits, pinned by golden replays
 
     initial_noise_counts = (3, 2)
     """Uniform draws (wall distance, wind speed, wind direction) and normals (the gusts)."""
@@ -407,17 +409,15 @@ class ToppleTask(TaskCore):
         of ``gust_every`` substeps, checked for an early stop between them (the results do
         not depend on the chunks: :meth:`chunk` runs the compiled step's short ones)."""
         carry = self.begin(state, action, noise, xp, record)
+        return self.end(state, self._run(run_interval, self.host_interval_params, carry, xp), xp)
+
+    def _run(self, run: Any, params: Any, carry: ToppleCarry, xp: Any) -> ToppleCarry:
+        """``carry`` after ``run`` (the whole interval, or one chunk of it) in its wind."""
         sc = carry.scenario
-        interval = run_interval(
-            self.host_interval_params,
-            carry.interval,
-            sc.wind_speed,
-            sc.wind_from,
-            sc.gusts,
-            carry.noise,
-            xp,
+        interval = run(
+            params, carry.interval, sc.wind_speed, sc.wind_from, sc.gusts, carry.noise, xp
         )
-        return self.end(state, replaced(carry, interval=interval), xp)
+        return replaced(carry, interval=interval)
 
     def begin(
         self, state: ToppleState, action: Any, noise: Any, xp: Any, record: bool = False
@@ -461,17 +461,7 @@ class ToppleTask(TaskCore):
     def chunk(self, carry: ToppleCarry, xp: Any) -> ToppleCarry:
         """One chunk of the interval: ``chunk_substeps`` substeps
         (:func:`~bbgym.physics.toppling.interval_chunk`)."""
-        sc = carry.scenario
-        interval = interval_chunk(
-            self.interval_params,
-            carry.interval,
-            sc.wind_speed,
-            sc.wind_from,
-            sc.gusts,
-            carry.noise,
-            xp,
-        )
-        return replaced(carry, interval=interval)
+        return self._run(interval_chunk, self.interval_params, carry, xp)
 
     def all_done(self, carry: ToppleCarry, xp: Any) -> Any:
         """Per env: its interval has ended (its wall is down and its ball stopped)."""
@@ -537,7 +527,7 @@ class ToppleTask(TaskCore):
         """The 19 observation values (unclipped), in the order of the env's table."""
         wp, wall = self.wall, state.wall
         zero = xp.zeros_like(wall.angle)
-        throws_left = xp.astype(state.throws_left, floats.float64 if xp is floats else zero.dtype)
+        throws_left = as_float(state.throws_left, zero, xp)
         return (
             wall.angle / (0.5 * math.pi),
             wall.rate / 2.0,
