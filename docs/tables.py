@@ -584,7 +584,7 @@ def sph_speed_table(path: Path | None = None) -> str:
 
 def polar_table(path: Path | None = None) -> str:
     """The polar's figures (best upwind VMG, straight upwind, fastest, leeway) from the
-    CSV of ``bbgym polar``, beside a Laser's and the bands ``tests/test_polar.py`` asserts."""
+    CSV of ``bbgym polar``, beside a Laser's and the bands ``tests/sail/test_polar.py`` asserts."""
     path = path or RESULTS / POLAR_FILE
     meta = read_json(path)
     command = field(meta, "command", path, str)
@@ -605,7 +605,7 @@ def polar_table(path: Path | None = None) -> str:
     if not rows:
         raise ResultsError(f"{_name(csv_path)}: no rows")
     lines = [
-        "| figure | bbgym | real dinghy (Laser) | band asserted by `tests/test_polar.py` |",
+        "| figure | bbgym | real dinghy (Laser) | band asserted by `tests/sail/test_polar.py` |",
         "|---|---|---|---|",
         f"| best upwind VMG | {best['true_wind_angle_deg']:.0f} deg, {best['vmg_mps']:.2f} m/s "
         "| about 40 deg | 38-48 deg |",
@@ -818,20 +818,20 @@ def scenes_table() -> str:
     claims and the test that checks it, from the registry."""
     from bbgym.scenes import SCENES
 
-    tests = Path(__file__).resolve().parents[1] / "tests"
+    root = Path(__file__).resolve().parents[1]
     lines = [
         "| scene | section | what the text shows, as the test checks it | test |",
         "|---|---|---|---|",
     ]
     for scene in SCENES.values():
         file = next(
-            path.name
-            for path in sorted(tests.glob("test_scenes*.py"))
+            path.relative_to(root).as_posix()
+            for path in sorted((root / "tests").rglob("test_scenes*.py"))
             if f"\ndef {scene.test}(" in path.read_text()
         )
         lines.append(
             f"| `{scene.name}`: {scene.title} | {scene.section} | {scene.claim} | "
-            f"`tests/{file}::{scene.test}` |"
+            f"`{file}::{scene.test}` |"
         )
     return "\n".join(lines)
 

@@ -8,7 +8,7 @@ Prints, per scheme, the p95 of each throw's largest difference of the wall's lea
 the 3 s (sampled every 0.05 s), the share of walls ending in the reference's state and
 of throws hitting as in it, the p95 of the hit's height difference and of the ball's
 position over its first 0.6 s, and the time of the interval (NumPy, one run).
-``tests/test_topple_events.py`` asserts these bounds on 128 envs."""
+``tests/topple/test_topple_events.py`` asserts these bounds on 128 envs."""
 
 from __future__ import annotations
 

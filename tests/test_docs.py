@@ -318,7 +318,7 @@ def test_every_test_the_physics_page_cites_exists():
     page = "".join(path.read_text() for path in sorted((DOCS / "pages").glob("physics*.md")))
     cited = set(re.findall(r"`(test_\w+)`", page))
     defined = set()
-    for path in (ROOT / "tests").glob("test_*.py"):
+    for path in (ROOT / "tests").rglob("test_*.py"):
         defined |= set(re.findall(r"^def (test_\w+)", path.read_text(), re.MULTILINE))
     assert len(cited) > 40
     assert sorted(cited - defined) == []

@@ -26,57 +26,68 @@ from gymnasium.wrappers import vector as vector_wrappers
 
 import bbgym  # noqa: F401  (registers the ids)
 from bbgym.envs import RecordFlightVideo
+from bbgym.spec import spec_of, specs
 
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 
-ENV_IDS = [
-    "BeachballSail-v0",
-    "BeachballSail-v1",
-    "BeachballThrow-v0",
-    "BeachballCurve-v0",
-    "BeachballTopple-v0",
-    "BeachballTopple-v1",
-    "BeachballTopple-v2",
-]
-BALL_IDS = [e for e in ENV_IDS if not e.startswith("BeachballSail")]
-LENGTH_KEY = {
-    "BeachballThrow-v0": "trajectory_length",
-    "BeachballCurve-v0": "trajectory_length",
-    "BeachballTopple-v0": "samples_length",
-    "BeachballTopple-v1": "samples_length",
-    "BeachballTopple-v2": "samples_length",
-}
-"""The info counting a step's recorded rows (its flight's frames: one per row)."""
+ENV_IDS = list(dict.fromkeys(i for s in specs() for i in (s.ids[0], s.ids[-1])))
+"""Every registered family's oldest and newest version."""
+BALL_IDS = [e for e in ENV_IDS if spec_of(e).step_unit == "throws"]
+"""The ball envs: a step is a throw (or a wait), its flight recorded."""
+LENGTH_KEY = {"throw": "trajectory_length", "topple": "samples_length"}
+"""By family: the info counting a step's recorded rows (its flight's frames: one per row)."""
 PADDED = {
-    "BeachballSail-v0": {},
-    "BeachballThrow-v0": {"trajectory": (121, 3), "orientations": (121, 4)},
-    "BeachballCurve-v0": {"trajectory": (121, 3), "orientations": (121, 4)},
-    "BeachballTopple-v0": {
-        "ball_trajectory": (60, 3),
-        "ball_orientations": (60, 4),
-        "wall_angle_samples": (60,),
-        "loose_samples": (60, 3),
-        "loose_mask": (60,),
+    "throw": {"trajectory": (3,), "orientations": (4,)},
+    "topple": {
+        "ball_trajectory": (3,),
+        "ball_orientations": (4,),
+        "wall_angle_samples": (),
+        "loose_samples": (3,),
+        "loose_mask": (),
     },
 }
-PADDED["BeachballTopple-v1"] = PADDED["BeachballTopple-v2"] = PADDED["BeachballTopple-v0"]
-PADDED["BeachballSail-v1"] = PADDED["BeachballSail-v0"]
-"""The per-step records of each env and their fixed shapes (record_capacity rows)."""
+"""By family: the per-step records and the shape of a row (each has the task's
+``record_capacity`` rows)."""
+END_FRAME = {"topple": 1}
+"""By family: frames ``rgb_array_list`` adds after a step's recorded rows (Topple's end)."""
+
+
+def family(env_id: str) -> str:
+    return spec_of(env_id).family
+
+
+def length_key(env_id: str) -> str | None:
+    """The info counting the step's recorded rows; None for an env that records none."""
+    return LENGTH_KEY.get(family(env_id))
+
+
+def padded(env_id: str) -> dict[str, tuple[int, ...]]:
+    """The per-step records of an env and their fixed shapes (record_capacity rows)."""
+    records = PADDED.get(family(env_id), {})
+    if not records:
+        return {}
+    capacity = gym.make(env_id).unwrapped.task.record_capacity
+    return {key: (capacity, *row) for key, row in records.items()}
 
 
 def step_frames(env_id: str, info: dict[str, Any]) -> int:
     """The frames ``rgb_array_list`` collects for a step: a throw's flight, one per recorded
     pose but the last, then its landing; Topple's interval, one per sample, then its end;
     Sail's one."""
-    if env_id.startswith("BeachballSail"):
+    key = length_key(env_id)
+    if key is None:
         return 1
-    return int(info[LENGTH_KEY[env_id]]) + env_id.startswith("BeachballTopple")
+    return int(info[key]) + END_FRAME.get(family(env_id), 0)
+
+
+def action_shape(env_id: str) -> tuple[int, ...]:
+    return gym.make(env_id).action_space.shape
 
 
 def actions_for(env_id: str, shape: tuple[int, ...], seed: int = 0) -> np.ndarray:
     """Random actions in [-1, 1]; the ball envs' throws forward and up (long flights)."""
     a = np.random.default_rng(seed).uniform(-1.0, 1.0, shape)
-    if not env_id.startswith("BeachballSail"):
+    if env_id in BALL_IDS:
         a[..., 0], a[..., 2] = np.abs(a[..., 0]) * 0.5 + 0.2, np.abs(a[..., 2]) * 0.4 + 0.2
     return a.astype(np.float32)
 
@@ -149,7 +160,7 @@ def run_singles(env_id: str, n: int, seed: int, actions: np.ndarray, **kwargs: A
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_sync_async_native_and_single_envs_agree(env_id):
     n, steps, seed, limit = 3, 7, 21, 4
-    actions = actions_for(env_id, (steps, n, 2 if env_id.startswith("BeachballSail") else 6))
+    actions = actions_for(env_id, (steps, n, *action_shape(env_id)))
     runs = {
         mode: run_vector(
             gym.make_vec(env_id, num_envs=n, vectorization_mode=mode, max_episode_steps=limit),
@@ -159,6 +170,7 @@ def test_sync_async_native_and_single_envs_agree(env_id):
         for mode in ("sync", "async", "vector_entry_point")
     }
     singles = run_singles(env_id, n, seed, actions, max_episode_steps=limit)
+    records = padded(env_id)
     sync, native = runs["sync"], runs["vector_entry_point"]
     ends = 0
     for t in range(steps + 1):
@@ -183,10 +195,10 @@ def test_sync_async_native_and_single_envs_agree(env_id):
                 assert (singles[i][t][2], singles[i][t][3]) == (sync[t][2][i], sync[t][3][i])
         # The records stack: fixed shapes, lengths per env (0 after a reset).
         info = sync[t][-1]
-        for key, shape in PADDED[env_id].items():
+        for key, shape in records.items():
             assert info[key].shape == (n, *shape) and info[f"_{key}"].all()
-        if env_id in LENGTH_KEY:
-            lengths = info[LENGTH_KEY[env_id]]
+        if length_key(env_id) is not None:
+            lengths = info[length_key(env_id)]
             assert lengths.shape == (n,) and lengths.dtype == np.int64
             if t < 2:  # the reset's, then the first step's
                 fresh = np.full(n, t == 0)
@@ -200,7 +212,8 @@ def test_sync_async_native_and_single_envs_agree(env_id):
 def test_padded_records_repeat_the_last_row_and_match_the_vector_env(env_id):
     env = gym.make(env_id)
     _, info = env.reset(seed=4)
-    key, length = next(iter(PADDED[env_id])), LENGTH_KEY[env_id]
+    records = padded(env_id)
+    key, length = next(iter(records)), length_key(env_id)
     assert info[length] == 0 and not np.any(info[key])  # zeros: nothing recorded
     vec = gym.make_vec(env_id, num_envs=2)
     vec.reset(seed=4)
@@ -208,11 +221,11 @@ def test_padded_records_repeat_the_last_row_and_match_the_vector_env(env_id):
     _, _, _, _, info = env.step(action[0])
     _, _, _, _, vec_info = vec.step(action)
     k, rows = info[length], info[key]
-    assert 5 < k <= len(rows) and (k < len(rows) or env_id.startswith("BeachballTopple"))
+    assert 5 < k <= len(rows) and (k < len(rows) or family(env_id) == "topple")
     assert np.isfinite(rows).all()
     np.testing.assert_array_equal(rows[k:], np.broadcast_to(rows[k - 1], rows[k:].shape))
     assert vec_info[length][0] == k
-    for name in PADDED[env_id]:
+    for name in records:
         np.testing.assert_allclose(vec_info[name][0], info[name], atol=1e-9)
 
 
@@ -310,9 +323,9 @@ def test_rgb_array_list_collects_every_frame_since_the_last_render(env_id):
     frames = env.render()
     # A ball env's step is its flight (render_flight()), then its end (render()).
     assert len(frames) == step_frames(env_id, info)
-    assert len(frames) > 10 or env_id.startswith("BeachballSail")
+    assert len(frames) > 10 or length_key(env_id) is None
     np.testing.assert_array_equal(frames[-1], twin.render())
-    if env_id in LENGTH_KEY:
+    if length_key(env_id) is not None:
         flight = twin.unwrapped.render_flight()
         assert len(flight) == len(frames) - 1
         for k in (0, len(flight) // 2, len(flight) - 1):
@@ -330,7 +343,7 @@ def test_native_vector_env_rgb_array_list(env_id):
     frames = vec.render()
     assert isinstance(frames, tuple) and len(frames) == 2
     for i, lst in enumerate(frames):
-        sub_info = {k: v[i] for k, v in info.items() if k in LENGTH_KEY.values()}
+        sub_info = {k: v[i] for k, v in info.items() if k == length_key(env_id)}
         assert len(lst) == 1 + step_frames(env_id, sub_info)
         assert all(f.shape == (480, 640, 3) for f in lst)
     assert vec.render() == ([], [])
@@ -368,7 +381,7 @@ def record_episode(env: RecordVideo, env_id: str, steps: int) -> tuple[list[dict
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_record_video(env_id, tmp_path):
-    steps = 4 if env_id.startswith("BeachballSail") else 1
+    steps = 1 if env_id in BALL_IDS else 4
     every = dict(episode_trigger=lambda episode: True)
     # rgb_array: one frame per reset and step.
     env = RecordVideo(gym.make(env_id, render_mode="rgb_array"), str(tmp_path / "a"), **every)
@@ -381,7 +394,7 @@ def test_record_video(env_id, tmp_path):
     infos, recorded = record_episode(env, env_id, 1)
     assert recorded == 2 and len(env.render_history) == 1 + step_frames(env_id, infos[0])
     assert_video(tmp_path / "b", recorded)
-    if env_id.startswith("BeachballSail"):
+    if length_key(env_id) is None:
         return
     # RecordFlightVideo puts every frame of the lists in the video: the flights.
     env = RecordFlightVideo(
@@ -471,9 +484,7 @@ def test_frame_stack_and_time_limit(env_id):
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_vector_wrappers_on_the_native_vector_env(env_id):
     n, steps = 2, 4
-    actions = actions_for(
-        env_id, (steps, n, 2 if env_id.startswith("BeachballSail") else 6), seed=7
-    )
+    actions = actions_for(env_id, (steps, n, *action_shape(env_id)), seed=7)
     plain = run_vector(gym.make_vec(env_id, num_envs=n), 11, actions)
     raw_obs = np.concatenate([row[0] for row in plain])
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -297,8 +298,9 @@ def test_finished_boats_at_one_spot_have_four_readable_labels() -> None:
 
 
 @pytest.mark.parametrize("mark", [(-200.0, -150.0), (-12.0, -14.0), (200.0, 0.0)])
-def test_the_sail_scale_bar_keeps_clear_of_the_mark(mark) -> None:
+def test_the_sail_scale_bar_keeps_clear_of_the_mark(mark, monkeypatch) -> None:
     pytest.importorskip("pygame")
+    monkeypatch.syspath_prepend(Path(__file__).parent / "sail")  # where test_render_sail is
     from test_render_sail import make_scene
 
     from bbgym.envs.sail.view import SailRenderer

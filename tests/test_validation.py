@@ -26,8 +26,10 @@ from bbgym.physics.validation import (
     interval,
 )
 from bbgym.physics.wind import GustParams
+from bbgym.spec import base_ids
 
-ENV_IDS = ("BeachballSail-v0", "BeachballThrow-v0", "BeachballCurve-v0", "BeachballTopple-v0")
+ENV_IDS = tuple(base_ids())
+"""Every family's base tasks, from the registry (what fuzzing and ``bbgym bench`` cover)."""
 
 
 def raises(error: type, match: str):

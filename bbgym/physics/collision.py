@@ -37,7 +37,7 @@ from bbgym.physics.namespace import Array
 
 PUSH_PASSES = 4
 """Passes of the overlap push per contact resolution: eight hulls heaped in a 12 m square
-are within a centimetre of touching after a step's five (tests/test_race_physics.py)."""
+are within a centimetre of touching after a step's five (tests/race/test_race_physics.py)."""
 
 
 class Hulls(NamedTuple):

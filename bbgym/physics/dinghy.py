@@ -32,14 +32,14 @@ class DinghyParams:
     """Physical constants of a Laser-like single-handed dinghy, SI units.
 
     The defaults are the default preset (``configs/beachball_sail.yaml``), calibrated so the
-    polar matches a real dinghy's (see ``bbgym polar`` and ``tests/test_polar.py``).
+    polar matches a real dinghy's (see ``bbgym polar`` and ``tests/sail/test_polar.py``).
 
     Accepted intervals (checked on construction by :func:`check_fields`; errors name
     ``DinghyParams.<field>``). They span a 20 kg sailboard-like hull to a few-tonne 15 m
     keelboat; bounds are where the model stops meaning anything, and 0 is allowed where it
     is a meaningful degenerate boat (no windage, no centreboard, no damping: the implicit
     integration needs no damping to stay stable). Every combination is stable at any
-    ``dt <= 0.25 s`` (``tests/test_sailing_stability.py``). Cross-field rules:
+    ``dt <= 0.25 s`` (``tests/sail/test_sailing_stability.py``). Cross-field rules:
     ``sheet_min_rad < sheet_max_rad <= pi/2``, ``jib_sheet_min_rad < jib_sheet_max_rad``,
     ``capsize_heel_rad < pi/2``. The fields marked (sloop) act only with ``rig="sloop"``,
     those marked (cambered) only with ``sail_model="cambered"``.

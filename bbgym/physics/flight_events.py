@@ -70,7 +70,7 @@ them all before landing ends where it is (only a ball pinned to the screen could
 NEWTON_ITERATIONS = 4
 """Of the bracketed Newton iteration for an event's time in a step: from the secant's
 start, the cubic's root to about 1e-12 of a step (Newton converges quadratically; the
-touchdown of a parabola is exact to rounding, tests/test_flight_events.py)."""
+touchdown of a parabola is exact to rounding, tests/throw/test_flight_events.py)."""
 ROLL_DISPLAY_DT_S = 0.01
 """Substep of the bounces and the roll after the touchdown, flown for display only."""
 

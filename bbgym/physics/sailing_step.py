@@ -38,7 +38,7 @@ not depend on the step. Explicit (semi-implicit Euler): the forces' values at th
 the substep, the cross-couplings (keel lift ~ ``|u|`` acting on ``v``, the sail's moment on
 the heel), the positions, and the jibing boom (a real instability). Every boat inside the
 intervals of :class:`DinghyParams` stays finite at any ``dt`` up to 0.25 s in any true wind
-(``tests/test_sailing_stability.py``); the error is first order in ``dt`` (a course sailed
+(``tests/sail/test_sailing_stability.py``); the error is first order in ``dt`` (a course sailed
 40 s at 0.05 s ends within a metre of a 20x finer integration).
 """
 

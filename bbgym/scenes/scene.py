@@ -116,7 +116,7 @@ class Scene:
     bodies: tuple[str, ...] = field(default=())
     """Each body's (row's) name, for the measures' table."""
     test: str = ""
-    """The test that checks the claim (a function of ``tests/test_scenes*.py``)."""
+    """The test that checks the claim (a function of ``tests/scenes/test_scenes*.py``)."""
     floor: bool = True
     """The view draws a floor at y = 0."""
     body_names: Callable[[Any], tuple[str, ...]] | None = None

@@ -67,7 +67,7 @@ WAVE_OFF_WIND_RAD = math.radians(30.0)
 travel downwind, turned by a uniform draw in [-30, 30] deg."""
 # Accepted intervals of the task's arguments and reset options (the documentation's
 # "Validation and errors" page shows them). The physics is stable for any boat at any of
-# these (tests/test_sailing_stability.py).
+# these (tests/sail/test_sailing_stability.py).
 WIND_SPEED_MPS = interval(0.0, 25.0)
 """True wind, mean of an episode: calm to a full gale (50 knots); gusts add to it."""
 INITIAL_SPEED_MPS = interval(0.0, 15.0)

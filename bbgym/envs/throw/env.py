@@ -185,7 +185,7 @@ class BeachballThrowEnv(FlightFrames, CoreEnv):
       first 100 episodes, random play none.
     * BeachballThrow-v1 and BeachballCurve-v2 (unreleased, after bbgym 0.8.0): Throw-v0
       and Curve-v1 flown in RK4 steps with event location to the first touchdown
-      (Description), with their own golden replays (``tests/test_golden_throw_v1.py``);
+      (Description), with their own golden replays (``tests/throw/test_golden_throw_v1.py``);
       the same spaces, rewards and draws. They refuse a ball too light for the RK4 step
       (before the check, a 0.02 kg/m^2 shell thrown forward landed behind the thrower):
       the error names the ball's mass field and `sim_dt` and quotes the bounds

@@ -1,7 +1,8 @@
 """BeachballSail-v2 never changes behaviour: the single and native vector env replay the
 observations, rewards and ends recorded when it was registered (fixed seeds and random
 actions: the jib backed and trimmed, the current and waves drawn, autoresets included).
-Regenerate only for a new env version: ``python tests/test_golden_v2.py --write``."""
+Regenerate only for a new env version:
+``PYTHONPATH=tests python tests/sail/test_golden_v2.py --write``."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import numpy as np
 import pytest
 from test_golden_v0 import STEPS, check_replay, record
 
-GOLDEN = Path(__file__).parent / "data" / "golden_v2.npz"
+GOLDEN = Path(__file__).parents[1] / "data" / "golden_v2.npz"
 ENV_IDS = ("BeachballSail-v2",)
 STEPS["BeachballSail-v2"] = 120
 

@@ -21,7 +21,7 @@ from bbgym.physics.calibration import (
     polars,
 )
 
-RESULTS = Path(__file__).resolve().parents[1] / "docs" / "results" / "polar" / "compare.csv"
+RESULTS = Path(__file__).resolve().parents[2] / "docs" / "results" / "polar" / "compare.csv"
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-PAGE = Path(__file__).resolve().parent.parent / "docs" / "pages" / "envs" / "race.md"
+PAGE = Path(__file__).resolve().parents[2] / "docs" / "pages" / "envs" / "race.md"
 
 
 def first_python_block(text: str) -> str:

@@ -18,7 +18,7 @@ from bbgym.physics.toppling import IntervalParams, interval_start, run_interval
 from bbgym.physics.wall import WallParams, _lever, wall_at, wall_rk4_step
 from bbgym.physics.wind import GustParams, gust_init
 
-sys.path.insert(0, str(Path(__file__).parents[1] / "scripts"))
+sys.path.insert(0, str(Path(__file__).parents[2] / "scripts"))
 from topple_accuracy import V2, accuracy_run, errors_against  # noqa: E402
 
 VACUUM = BallParams(drag_coefficient=0.0, lift_coefficient_max=0.0)

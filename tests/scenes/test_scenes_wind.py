@@ -1,6 +1,6 @@
 """§8's turbulence and falling-wall scenes: the drag crisis, gusts as randomness, and the
 wall that turns about its edge (the claims measured; the generic checks of every scene are
-in tests/test_scenes.py)."""
+in tests/scenes/test_scenes.py)."""
 
 from __future__ import annotations
 

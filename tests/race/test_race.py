@@ -337,7 +337,7 @@ def test_bad_options_and_actions_name_themselves() -> None:
     env = parallel_env(num_boats=2)
     with pytest.raises(ValueError, match=r"options\['wind_speed'\]"):
         env.reset(options={"wind_speed": -1.0})
-    # a typo of a known key (other unknown keys are ignored: tests/test_race_inputs.py)
+    # a typo of a known key (other unknown keys are ignored: tests/race/test_race_inputs.py)
     with pytest.raises(TypeError, match=r"options\['wind_sped'\]"):
         env.reset(options={"wind_sped": 1.0})
     env.reset(seed=0)

@@ -2,7 +2,7 @@
 changes behaviour: the single and native vector env replay the observations, rewards and
 ends recorded when it was registered (fixed seeds and random actions, gusts on, autoresets
 included). Regenerate only for a new env version:
-``python tests/test_golden_topple_v2.py --write``."""
+``PYTHONPATH=tests python tests/topple/test_golden_topple_v2.py --write``."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 from test_golden_v0 import STEPS, check_replay, record
 
-GOLDEN = Path(__file__).parent / "data" / "golden_topple_v2.npz"
+GOLDEN = Path(__file__).parents[1] / "data" / "golden_topple_v2.npz"
 ENV_ID = "BeachballTopple-v2"
 STEPS[ENV_ID] = 24
 LAST_HIT = 8

@@ -33,7 +33,7 @@ from bbgym.envs.sail.view import (  # noqa: E402
 )
 
 WIDTH, HEIGHT, PPM = 640, 480, 12.0
-REPO_ROOT = Path(__file__).resolve().parents[1]
+REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 def make_scene(**overrides: object) -> SailScene:

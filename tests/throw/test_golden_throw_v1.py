@@ -2,7 +2,7 @@
 change behaviour: the single and native vector env replay the observations, rewards and
 ends recorded when they were registered (fixed seeds and random actions, gusts on,
 autoresets included). Regenerate only for a new env version:
-``python tests/test_golden_throw_v1.py --write``."""
+``PYTHONPATH=tests python tests/throw/test_golden_throw_v1.py --write``."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from test_golden_v0 import STEPS, check_replay, record
 
-GOLDEN = Path(__file__).parent / "data" / "golden_throw_v1.npz"
+GOLDEN = Path(__file__).parents[1] / "data" / "golden_throw_v1.npz"
 ENV_IDS = ("BeachballThrow-v1", "BeachballCurve-v2")
 STEPS.update({"BeachballThrow-v1": 24, "BeachballCurve-v2": 24})
 

@@ -35,7 +35,7 @@ from bbgym.render.beach import (  # noqa: E402
 )
 
 WIDTH, HEIGHT = 640, 480
-REPO_ROOT = Path(__file__).resolve().parents[1]
+REPO_ROOT = Path(__file__).resolve().parents[2]
 IDENTITY = (1.0, 0.0, 0.0, 0.0)
 
 

@@ -30,7 +30,7 @@ from bbgym.envs.topple.view import (  # noqa: E402
 )
 
 WIDTH, HEIGHT = 640, 480
-REPO_ROOT = Path(__file__).resolve().parents[1]
+REPO_ROOT = Path(__file__).resolve().parents[2]
 D = 6.0
 K2 = 60
 

@@ -148,7 +148,7 @@ def test_a_pinned_current_is_what_the_boat_senses_and_drifts_with() -> None:
     for _ in range(120):  # 30 s
         _, _, _, _, info = env.step(np.zeros(3))
     # The still air holds the hull back a little (windage against the hull's drag in the
-    # water: 0.89 of a 1 m/s current, tests/test_sailing_water.py), along the set.
+    # water: 0.89 of a 1 m/s current, tests/sail/test_sailing_water.py), along the set.
     speed = np.hypot(*info["velocity"])
     assert 0.8 * 0.6 < speed < 0.6
     assert math.atan2(info["velocity"][1], info["velocity"][0]) == pytest.approx(set_rad, abs=2e-3)

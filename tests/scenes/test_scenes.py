@@ -348,7 +348,7 @@ def test_the_scenes_keep_to_the_array_api(name: str) -> None:
 
 
 def test_every_scene_names_a_test_of_its_claim_that_exists() -> None:
-    """A scene's ``test`` is a test function of ``tests/test_scenes*.py``."""
+    """A scene's ``test`` is a test function of ``tests/scenes/test_scenes*.py``."""
     sources = "".join(path.read_text() for path in Path(__file__).parent.glob("test_scenes*.py"))
     tests = set(re.findall(r"^def (test_\w+)\(", sources, flags=re.MULTILINE))
     for scene in SCENES.values():
