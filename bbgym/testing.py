@@ -237,8 +237,9 @@ def _check_options(env_id: str, steps: int, num_envs: int, seed: int) -> None:
 
 
 def _check_arguments(env_id: str, steps: int, num_envs: int, seed: int) -> None:
+    expected = len(fuzz.numeric_arguments(env_id)) * len(fuzz.BAD_NUMBERS)
     checked = fuzz.check_rejections(env_id)
-    assert checked > 0 or not fuzz.numeric_arguments(env_id), env_id
+    assert checked == expected, f"{env_id} arguments: {checked} refusals checked of {expected}"
 
 
 def _check_fuzz(env_id: str, steps: int, num_envs: int, seed: int) -> None:
