@@ -17,7 +17,7 @@ def test_every_version_conforms_on_the_host(env_id):
     """Python floats (the single env) and NumPy (the vector envs): every check but the
     kit's one fuzzed episode (tests/test_fuzz.py fuzzes every version with hypothesis,
     many episodes a run)."""
-    report = testing.check_family(spec_of(env_id).family, ids=[env_id], checks=HOST, steps=16)
+    report = testing.check_family(spec_of(env_id).family, ids=[env_id], checks=HOST, steps=10)
     assert len(report) == len(HOST)
 
 
@@ -29,7 +29,7 @@ def test_the_newest_version_steps_alike_on_every_eager_backend(family):
     newest = next(s for s in specs() if s.family == family).ids[-1]
     backends = ("array_api_strict", "torch")
     report = testing.check_family(
-        family, ids=[newest], checks=["backends"], backends_=backends, steps=6
+        family, ids=[newest], checks=["backends"], backends_=backends, steps=4
     )
     assert all(line.split(": ")[1].startswith("ok") for line in report), report
 
