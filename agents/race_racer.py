@@ -65,7 +65,7 @@ class RaceRacer:
 
     @classmethod
     def for_env(cls, env: Any, tack_cone_deg: float | None = None, **kwargs: Any) -> RaceRacer:
-        """A racer for the boats of a :class:`~bbgym.envs.race.env.BeachballRaceEnv` (or of
+        """A racer for the boats of a :class:`~bbgym.envs.race.parallel.BeachballRaceEnv` (or of
         a fleet, whose rows are its boats in order); ``tack_cone_deg`` is its autopilot's
         (:class:`~bbgym.agents.VMGAutopilot`: play the shifts on a beat).
 

@@ -16,7 +16,6 @@ costs no Python loop over the batch beyond the finished envs.
 from __future__ import annotations
 
 import json
-import sys
 import warnings
 import zipfile
 from collections.abc import Sequence
@@ -28,26 +27,16 @@ import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
 from bbgym.envs.core import CoreVectorEnv
+from bbgym.spec import is_native_vector_env
 
 BBGYM_VECTOR_ENVS = (CoreVectorEnv,)
-
-
-def _is_race_vector_env(venv: Any) -> bool:
-    """Whether ``venv`` is one of the other native vector envs that restart what a step
-    ended at once: the race's fleet and its matches against scripted boats. Their module
-    needs the race extra, so it is looked up, not imported: a race env made means it is
-    loaded."""
-    race = sys.modules.get("bbgym.envs.race")
-    return race is not None and isinstance(
-        venv, (race.BeachballRaceFleetEnv, race.BeachballRaceMatchEnv)
-    )
 
 
 class NativeVecEnvAdapter(VecEnv):
     """A bbgym native vector env seen through stable-baselines3's ``VecEnv`` interface."""
 
     def __init__(self, venv: Any, info_keys: Sequence[str] = ("is_success",)) -> None:
-        if not (isinstance(venv, BBGYM_VECTOR_ENVS) or _is_race_vector_env(venv)):
+        if not (isinstance(venv, BBGYM_VECTOR_ENVS) or is_native_vector_env(venv)):
             raise ValueError(f"venv must be a bbgym native vector env, got {type(venv).__name__}")
         self.venv = venv
         self.info_keys = tuple(info_keys)

@@ -230,8 +230,106 @@ class EnvSpec:
         return ("failed", False) if terminated else ("timed out", False)
 
 
+AgentsEpisode = Iterator[tuple[Any, str]]
+"""One recorded episode of every agent: ``(frame, caption)`` pairs, a frame per step and
+the first; the generator returns the episode's statistics (``steps``, ``outcome`` in words,
+``capped``: cut by ``max_steps``, and the family's own)."""
+
+
+@dataclass(frozen=True)
+class MultiAgentSpec:
+    """A family of many agents in one env (PettingZoo's), declared as :class:`EnvSpec`
+    declares a Gymnasium family: what registration, ``bbgym record``, ``bbgym bench`` and
+    the stable-baselines3 adapter need to know of it, so none of them names the family.
+
+    Its ids are PettingZoo's (parallel and AEC) and a Gymnasium id of one agent against
+    scripted others; none is in :func:`env_ids` (those are the single-agent families').
+    Its classes live in ``bbgym.envs.<family>``, loaded only when made: the family's
+    extra (PettingZoo) is imported then.
+    """
+
+    family: str
+    """The folder's name under ``bbgym/envs/`` (``"race"``)."""
+    env_id: str
+    """The id in PettingZoo's registries (``pettingzoo.make("parallel", env_id)``)."""
+    summary: str
+    """What the task is, in one line (``bbgym --help``, the docs)."""
+    extra: str
+    """The extra that installs what the env needs (PettingZoo), named in its errors."""
+    one_agent_env_id: str
+    """A Gymnasium id of one agent against scripted others, for single-agent learners."""
+    one_agent_env_class: str
+    """That env's class name in ``bbgym.envs.<family>``."""
+    vector_env_classes: tuple[str, ...]
+    """The family's native Gymnasium vector envs (class names), which restart what a step
+    ended on the next step and offer ``reset_envs`` (the stable-baselines3 adapter takes
+    them); the first, ``first(num_episodes, num_agents=..., **backend)``, runs every agent
+    of ``num_episodes`` episodes (what ``bbgym bench`` times)."""
+    agents: int
+    """Agents an episode has by default (the bench rows' episodes)."""
+    agents_argument: str
+    """The keyword of the envs' constructors that sets the agents an episode has
+    (``"num_boats"``)."""
+    parallel_env: str = "parallel_env"
+    """The parallel env's factory in ``bbgym.envs.<family>``."""
+    aec_env: str = "env"
+    """The AEC env's factory in ``bbgym.envs.<family>``."""
+    agent_name: str = "agent"
+    """What an agent is called in the bench rows (``"boat"``)."""
+    episode_name: str = "episode"
+    """What an episode is called in the bench rows (``"race"``)."""
+    policies: tuple[str, ...] = ()
+    """What ``bbgym record`` sails every agent by (``"scripted"``, ``"random"``, ...)."""
+    record: Callable[..., AgentsEpisode] | None = None
+    """``record(policy_name, seed=, max_steps=, model=, load_policy=)``: one episode of
+    every agent as frames with captions (:data:`AgentsEpisode`); ``load_policy(env,
+    model)`` is the command's loader of a saved model (``None`` where none is given)."""
+
+    @property
+    def module(self) -> str:
+        """The module that holds the env classes and factories: ``bbgym.envs.<family>``."""
+        return f"bbgym.envs.{self.family}"
+
+    @property
+    def step_unit(self) -> str:
+        """What one agent's step is called in throughput figures (``"boat-steps"``)."""
+        return f"{self.agent_name}-steps"
+
+    @property
+    def ids(self) -> tuple[str, ...]:
+        """The family's ids: PettingZoo's, then the one-agent Gymnasium id."""
+        return (self.env_id, self.one_agent_env_id)
+
+    def load(self, name: str) -> Any:
+        """One of the family's classes or factories, importing its module (and extra).
+
+        Args:
+            name: A name in ``bbgym.envs.<family>`` (:attr:`vector_env_classes`' first, ...).
+
+        Returns:
+            The class or function.
+        """
+        return getattr(importlib.import_module(self.module), name)
+
+    def register_pettingzoo(self) -> None:
+        """Register the family's parallel and AEC ids in PettingZoo's registries (by module
+        path: PettingZoo imports the family at ``make``), once; where PettingZoo is not
+        installed, nothing (``gym.make`` of the one-agent id names the extra)."""
+        try:
+            import pettingzoo
+        except ImportError:
+            return
+        for kind, factory, known in (
+            ("parallel", self.parallel_env, pettingzoo.parallel_registry),
+            ("aec", self.aec_env, pettingzoo.aec_registry),
+        ):
+            if self.env_id not in known:
+                pettingzoo.register(kind, self.env_id, entry_point=f"{self.module}:{factory}")
+
+
 _SPECS: dict[str, EnvSpec] = {}
 _BY_ID: dict[str, EnvSpec] = {}
+_MULTI_AGENT: dict[str, MultiAgentSpec] = {}
 
 
 def merge_kwargs(
@@ -454,9 +552,11 @@ class VersionKwargs(dict):
         super().update(merged)
 
 
-def register_spec(spec: EnvSpec) -> EnvSpec:
+def register_spec(spec: EnvSpec | MultiAgentSpec) -> EnvSpec | MultiAgentSpec:
     """Add ``spec`` to the registry and register each of its ids with Gymnasium (single
-    and native vector entry points). Registering the same family again replaces it.
+    and native vector entry points; a :class:`MultiAgentSpec`'s one-agent id, and its
+    PettingZoo ids where PettingZoo is installed). Registering the same family again
+    replaces it.
 
     Args:
         spec: The family to register.
@@ -467,6 +567,12 @@ def register_spec(spec: EnvSpec) -> EnvSpec:
     Raises:
         ValueError: If one of its ids is registered by another family.
     """
+    if isinstance(spec, MultiAgentSpec):
+        _MULTI_AGENT[spec.family] = spec
+        registry.pop(spec.one_agent_env_id, None)
+        register(id=spec.one_agent_env_id, entry_point=f"{spec.module}:{spec.one_agent_env_class}")
+        spec.register_pettingzoo()
+        return spec
     for version in spec.versions:
         owner = _BY_ID.get(version.env_id)
         if owner is not None and owner.family != spec.family:
@@ -502,6 +608,48 @@ def unregister_spec(family: str) -> None:
     for env_id in spec.ids:
         _BY_ID.pop(env_id, None)
         registry.pop(env_id, None)
+
+
+def multi_agent_specs() -> Iterator[MultiAgentSpec]:
+    """The registered families of many agents (:class:`MultiAgentSpec`), in registration
+    order.
+
+    Returns:
+        An iterator over a snapshot of them.
+    """
+    return iter(list(_MULTI_AGENT.values()))
+
+
+def multi_agent_spec_of(env_id: str) -> MultiAgentSpec | None:
+    """The family of many agents that registered ``env_id`` (its PettingZoo id or its
+    one-agent id), or ``None``.
+
+    Args:
+        env_id: An id, such as a PettingZoo id ``"bbgym/Name-vN"``.
+
+    Returns:
+        The family's spec, or ``None`` where no such family has that id.
+    """
+    return next((s for s in _MULTI_AGENT.values() if env_id in s.ids), None)
+
+
+def is_native_vector_env(env: Any) -> bool:
+    """Whether ``env`` is one of bbgym's native vector envs (a registered family's: it
+    restarts what a step ended on the next step and offers ``reset_envs``).
+
+    Args:
+        env: Any object.
+
+    Returns:
+        True for an instance of a family's vector env class or a subclass of one.
+    """
+    classes = [(s.module, (s.vector_env_class,)) for s in _SPECS.values()]
+    classes += [(s.module, s.vector_env_classes) for s in _MULTI_AGENT.values()]
+    return any(
+        klass.__name__ in names and klass.__module__.startswith(module)
+        for klass in type(env).__mro__
+        for module, names in classes
+    )
 
 
 def specs() -> Iterator[EnvSpec]:

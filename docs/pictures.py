@@ -162,7 +162,7 @@ def race_frame(seed: int, steps: int):
     scripted racers (their autopilot's polar takes seconds first: it says so on stderr)."""
     from bbgym.agents import RaceRacer
 
-    from bbgym.envs.race.env import BeachballRaceEnv
+    from bbgym.envs.race.parallel import BeachballRaceEnv
 
     env = BeachballRaceEnv(render_mode="rgb_array")
     racer = RaceRacer.for_env(env)

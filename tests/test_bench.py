@@ -178,8 +178,9 @@ def test_bench_times_tensors_in_and_out():
 
 
 def test_bench_quick_race_rows(tmp_path):
-    """``--race``: the PettingZoo race beside CartPole's single env, the fleet vector env
-    beside CartPole's vector env at the same N, in boat-steps."""
+    """``--race`` (``--multi-agent``'s other spelling): the PettingZoo race beside CartPole's
+    single env, the fleet vector env beside CartPole's vector env at the same N, in
+    boat-steps: the race spec's rows."""
     done = subprocess.run(
         [
             sys.executable,
@@ -213,11 +214,12 @@ def test_bench_quick_race_rows(tmp_path):
 
 
 def test_race_backend_rows_time_the_fleet_on_torch():
-    """``--race --backends``: the race fleet on torch for each dtype beside CartPole's vector
+    """``--multi-agent --backends``: the race fleet on torch for each dtype beside CartPole's vector
     env at the same N, with the first step's time."""
     pytest.importorskip("pettingzoo")
     pytest.importorskip("torch")
-    from bbgym.cli.bench import race_backend_rows
+    from bbgym.cli.bench import agents_backend_rows
+    from bbgym.envs.race import SPEC
 
     args = argparse.Namespace(
         device="cpu",
@@ -229,7 +231,7 @@ def test_race_backend_rows_time_the_fleet_on_torch():
         compile=False,
         repeats=1,
     )
-    rows = race_backend_rows(args)
+    rows = agents_backend_rows(SPEC, args)
     assert [r["kind"] for r in rows] == [
         "fleet N=8 (2 races) torch float64",
         "fleet N=8 (2 races) torch float32",

@@ -122,7 +122,7 @@ def test_the_autopilots_polar_is_announced(capfd, monkeypatch) -> None:
     takes long (the polar: seconds per boat and process)."""
     from bbgym.agents import RaceRacer, VMGAutopilot, sail_autopilot
 
-    from bbgym.envs.race.env import BeachballRaceEnv
+    from bbgym.envs.race.parallel import BeachballRaceEnv
 
     def slow_tables(*args):  # the polar stood in for: a pause, no tables
         time.sleep(0.2)

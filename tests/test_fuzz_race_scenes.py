@@ -92,7 +92,7 @@ def test_the_race_refuses_every_invalid_number_naming_its_path():
 @needs_race
 def test_a_race_check_fails_where_a_bad_action_is_let_through(monkeypatch):
     """The check is no formality: a race that let a NaN action through fails it."""
-    from bbgym.envs.race.env import BeachballRaceEnv
+    from bbgym.envs.race.parallel import BeachballRaceEnv
 
     monkeypatch.setattr(
         BeachballRaceEnv,

@@ -1,6 +1,6 @@
 """Benchmark the bbgym envs against Gymnasium's CartPole, all measured in one run.
 
-    bbgym bench [--quick] [--backends] [--training] [--race] [--device DEVICE]
+    bbgym bench [--quick] [--backends] [--training] [--multi-agent] [--device DEVICE]
         [--out runs/bench] [--seconds S] [--repeats R]
     bbgym bench --scenes [--no-compile]
 
@@ -19,10 +19,11 @@ to ``--out``:
   (``bbgym train --engine torchrl``, each env's preset) on ``--device``, timesteps per
   second of collecting and learning after the first batch (which compiles), beside
   stable-baselines3's PPO on CartPole;
-* ``--race`` (the ``race`` extra): BeachballRace's boat-steps per second, the PettingZoo
-  env of 4 boats beside CartPole's single env, and the fleet vector env of N / 4 races
-  (:class:`bbgym.envs.race.BeachballRaceFleetEnv`) beside CartPole's native vector env at
-  the same N; with ``--backends`` the fleet on torch too (each of ``--dtypes``, at the
+* ``--multi-agent`` (or ``--race``; the family's extra: PettingZoo): each family of many
+  agents (:func:`bbgym.spec.multi_agent_specs`: the race), in agent-steps per second
+  (boat-steps): its PettingZoo env of the spec's agents beside CartPole's single env, and
+  its fleet vector env of N / agents episodes beside CartPole's native vector env at the
+  same N; with ``--backends`` the fleet on torch too (each of ``--dtypes``, at the
   backend rows' N, on ``--device``), with its first step's time (the compile);
 * ``--scenes``: the course's spring system (:mod:`bbgym.scenes`, ``sproing``, its
   three integrators' copies of the grid) at 1,024, 4,096 and 16,384 particles, on NumPy
@@ -77,16 +78,12 @@ from bbgym._extras import extra_needs
 from bbgym.backends import STEP_GRAPHS
 from bbgym.cli import add_aliased, check_device, positive_float, positive_int, require_all
 from bbgym.cli import env_id as env_id_type
-from bbgym.spec import newest_ids, spec_of
+from bbgym.spec import MultiAgentSpec, multi_agent_spec_of, multi_agent_specs, newest_ids, spec_of
 
 REFERENCE = "CartPole-v1"
 
 GPU_ENVS = (4096, 65536, 2**20)
 """The batch sizes of ``--device cuda``: up to about 10^6 envs, where a GPU fills."""
-
-
-RACE_BOATS = 4
-"""Boats in the ``--race`` rows' races (the race's default fleet)."""
 
 
 SPH_SIZES = (1024, 4096, 16384, 65536)
@@ -106,8 +103,9 @@ def per_second(env_id: str) -> str:
         return ""
     if env_id.startswith("scene "):
         return " particle-steps/s"
-    if env_id.startswith("bbgym/"):  # PettingZoo's ids: a race's steps, boat by boat
-        return " boat-steps/s"
+    agents = multi_agent_spec_of(env_id)
+    if agents is not None:  # a PettingZoo id: the steps of every agent, one by one
+        return f" {agents.step_unit}/s"
     unit = spec_of(env_id).step_unit
     return "" if unit == "steps" else f" {unit}/s"
 
@@ -136,25 +134,30 @@ def time_single(env_id: str, steps: int, seconds: float, seed: int) -> float:
     return done / elapsed
 
 
-def time_race(num_races: int, steps: int, seconds: float, seed: int, **backend: Any) -> dict:
-    """Boat-steps per second (``rate``) of BeachballRace (:data:`RACE_BOATS` boats a race,
-    seeded random actions): the PettingZoo env (``num_races`` 0) or ``num_races`` races as
-    one fleet vector env (:class:`bbgym.envs.race.BeachballRaceFleetEnv`, on ``backend``'s
+def time_agents(
+    spec: MultiAgentSpec, episodes: int, steps: int, seconds: float, seed: int, **backend: Any
+) -> dict:
+    """Agent-steps per second (``rate``) of a family of many agents (``spec.agents`` an
+    episode, seeded random actions): its PettingZoo env (``episodes`` 0) or ``episodes``
+    episodes as its fleet vector env (the spec's first vector env class, on ``backend``'s
     keywords; its first step, which compiles on torch, is ``warmup_s`` and not timed)."""
     import numpy as np
 
-    from bbgym.envs.race import BeachballRaceFleetEnv, parallel_env
-
     rng = np.random.default_rng(seed)
-    n = max(num_races, 1) * RACE_BOATS
-    actions = rng.uniform(-1.0, 1.0, (min(steps, 256), n, 3)).astype(np.float32)
-    fleet = None
-    if num_races:
-        fleet = BeachballRaceFleetEnv(num_races, num_boats=RACE_BOATS, **backend)
-        if backend.get("output") == "torch":  # actions made on the device, untimed
-            actions = fleet.xp.asarray(actions, device=fleet.backend.device)
-    race = None if fleet else parallel_env(num_boats=RACE_BOATS)
-    (fleet or race).reset(seed=seed)
+    n = max(episodes, 1) * spec.agents
+    fleet = parallel = None
+    fleet_size = {spec.agents_argument: spec.agents}
+    if episodes:
+        fleet_class = spec.load(spec.vector_env_classes[0])
+        fleet = fleet_class(episodes, **fleet_size, **backend)
+        size = fleet.single_action_space.shape
+    else:
+        parallel = spec.load(spec.parallel_env)(**fleet_size)
+        size = parallel.action_space(parallel.possible_agents[0]).shape
+    actions = rng.uniform(-1.0, 1.0, (min(steps, 256), n, *size)).astype(np.float32)
+    if fleet is not None and backend.get("output") == "torch":  # made on the device, untimed
+        actions = fleet.xp.asarray(actions, device=fleet.backend.device)
+    (fleet or parallel).reset(seed=seed)
     warmup = time.perf_counter()
     if fleet is not None:
         fleet.step(actions[0])
@@ -165,10 +168,14 @@ def time_race(num_races: int, steps: int, seconds: float, seed: int, **backend: 
         if fleet is not None:
             fleet.step(action)
         else:
-            if not race.agents:
-                race.reset()
-            race.step(
-                {a: action[i] for i, a in enumerate(race.possible_agents) if a in race.agents}
+            if not parallel.agents:
+                parallel.reset()
+            parallel.step(
+                {
+                    a: action[i]
+                    for i, a in enumerate(parallel.possible_agents)
+                    if a in parallel.agents
+                }
             )
         done += 1
     if fleet is not None and fleet.backend.device != "cpu":
@@ -537,8 +544,8 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
         if reference is not None:
             rows.append({"env": REFERENCE, "kind": "PPO 8 envs", "rate": reference, "ratio": 1.0})
         rows += torchrl_training_rows(args, reference)
-        if args.race:
-            rows += race_backend_rows(args)
+        if args.multi_agent:
+            rows += [r for spec in multi_agent_specs() for r in agents_backend_rows(spec, args)]
         return {"rows": rows, "backend_rows": backend, "memory_mb": {}, "machine": machine_info()}
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     rows: list[dict[str, Any]] = []
@@ -570,8 +577,8 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
 
     if args.training:
         rows += torchrl_training_rows(args, ppo_reference)
-    if args.race:
-        rows += race_rows(args)
+    if args.multi_agent:
+        rows += [r for spec in multi_agent_specs() for r in agents_rows(spec, args)]
 
     memory = {
         env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
@@ -580,69 +587,54 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
     return {"rows": rows, "backend_rows": backend, "memory_mb": memory, "machine": machine_info()}
 
 
-def race_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
-    """BeachballRace's rows: the PettingZoo env beside CartPole's single env, and the fleet
-    vector env of ``N / 4`` races beside CartPole's native vector env at the same N (boat
-    by boat: a boat's step is a sub-env's step)."""
-    from bbgym.envs.race import ENV_ID
-
+def agents_rows(spec: MultiAgentSpec, args: argparse.Namespace) -> list[dict[str, Any]]:
+    """A family of many agents' rows (:func:`time_agents`): its PettingZoo env beside
+    CartPole's single env, and its fleet vector env of ``N / agents`` episodes beside
+    CartPole's native vector env at the same N (agent by agent: an agent's step is a
+    sub-env's step); with ``--backends`` :func:`agents_backend_rows` too."""
     best = lambda fn, *a: max(fn(*a) for _ in range(args.repeats))  # noqa: E731
     reference = best(time_single, REFERENCE, args.steps, args.seconds, args.seed)
     rate = max(
-        time_race(0, args.steps, args.seconds, args.seed)["rate"] for _ in range(args.repeats)
+        time_agents(spec, 0, args.steps, args.seconds, args.seed)["rate"]
+        for _ in range(args.repeats)
     )
-    rows = [
-        {
-            "env": ENV_ID,
-            "kind": f"PettingZoo, {RACE_BOATS} boats",
-            "rate": rate,
-            "ratio": rate / reference,
-        }
-    ]
+    kind = f"PettingZoo, {spec.agents} {spec.agent_name}s"
+    rows = [{"env": spec.env_id, "kind": kind, "rate": rate, "ratio": rate / reference}]
     for n in args.num_envs:
-        races = max(n // RACE_BOATS, 1)
-        size = races * RACE_BOATS
-        reference = time_vector(
-            REFERENCE, size, max(2, args.steps // size), args.seconds, args.seed
-        )
-        rate = time_race(races, max(2, args.steps // size), args.seconds, args.seed)["rate"]
-        plural = "s" if races > 1 else ""
-        rows.append(
-            {
-                "env": ENV_ID,
-                "kind": f"fleet N={size} ({races} race{plural})",
-                "rate": rate,
-                "ratio": rate / reference,
-            }
-        )
-    return rows + (race_backend_rows(args) if args.backends else [])
+        episodes = max(n // spec.agents, 1)
+        size = episodes * spec.agents
+        steps = max(2, args.steps // size)
+        reference = time_vector(REFERENCE, size, steps, args.seconds, args.seed)
+        rate = time_agents(spec, episodes, steps, args.seconds, args.seed)["rate"]
+        kind = f"fleet N={size} ({episodes} {spec.episode_name}{'s' if episodes > 1 else ''})"
+        rows.append({"env": spec.env_id, "kind": kind, "rate": rate, "ratio": rate / reference})
+    return rows + (agents_backend_rows(spec, args) if args.backends else [])
 
 
-def race_backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
-    """The fleet of BeachballRace on the torch backend (each of ``--dtypes``, compiled
-    unless ``--quick``, on ``--device``) at the backend rows' N boats, beside CartPole's
+def agents_backend_rows(spec: MultiAgentSpec, args: argparse.Namespace) -> list[dict[str, Any]]:
+    """A family of many agents' fleet on the torch backend (each of ``--dtypes``, compiled
+    unless ``--quick``, on ``--device``) at the backend rows' N agents, beside CartPole's
     NumPy vector env at the same N, with the first step's time (the compile)."""
-    from bbgym.envs.race import ENV_ID
-
     on_device = {} if args.device == "cpu" else {"device": args.device, "output": "torch"}
     where = "" if args.device == "cpu" else f" {args.device}"
     rows: list[dict[str, Any]] = []
     for n in args.backend_envs:
-        races = max(n // RACE_BOATS, 1)
-        size, steps = races * RACE_BOATS, max(3, args.steps // n)
+        episodes = max(n // spec.agents, 1)
+        size, steps = episodes * spec.agents, max(3, args.steps // n)
         reference = time_vector(REFERENCE, size, steps, args.seconds, args.seed)
         for dtype in args.dtypes:
             backend = {"backend": "torch", "dtype": dtype, "compile": args.compile, **on_device}
             runs = [
-                time_race(races, steps, args.seconds, args.seed, **backend)
+                time_agents(spec, episodes, steps, args.seconds, args.seed, **backend)
                 for _ in range(args.repeats)
             ]
             # the best rate; the first run's warm-up, the one that compiled
             r = {"rate": max(run["rate"] for run in runs), "warmup_s": runs[0]["warmup_s"]}
-            kind = f"fleet N={size} ({races} races) torch {dtype}{where}"
-            rows.append({"env": ENV_ID, "kind": kind, **r, "ratio": r["rate"] / reference})
+            kind = f"fleet N={size} ({episodes} {spec.episode_name}s) torch {dtype}{where}"
+            rows.append({"env": spec.env_id, "kind": kind, **r, "ratio": r["rate"] / reference})
             print(
-                f"{ENV_ID} {kind}: {r['rate']:,.0f} boat-steps/s, warm-up {r['warmup_s']:.1f} s",
+                f"{spec.env_id} {kind}: {r['rate']:,.0f} {spec.step_unit}/s, "
+                f"warm-up {r['warmup_s']:.1f} s",
                 flush=True,
             )
     return rows
@@ -767,7 +759,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="add TorchRL PPO's training throughput (the torchrl extra; always with --device cuda)",
     )
     parser.add_argument(
-        "--race", action="store_true", help="add BeachballRace's rows (the race extra: PettingZoo)"
+        "--multi-agent",
+        "--race",
+        dest="multi_agent",
+        action="store_true",
+        help="add the rows of the families of many agents (the race; their extra: PettingZoo)",
     )
     parser.add_argument(
         "--scenes",
@@ -819,12 +815,14 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs: the ``torch`` extra for ``--backends``, the
     ``torchrl`` extra for ``--training`` or a ``--device`` (the stable-baselines3 PPO rows
     are timed only where it is installed)."""
-    race = extra_needs("race") if args.race else []
+    multi = (
+        [n for s in multi_agent_specs() for n in extra_needs(s.extra)] if args.multi_agent else []
+    )
     if args.scenes:
         return extra_needs("torch")
     if args.training or args.device != "cpu":
-        return extra_needs("torchrl") + race
-    return (extra_needs("torch") if args.backends else []) + race
+        return extra_needs("torchrl") + multi
+    return (extra_needs("torch") if args.backends else []) + multi
 
 
 def run(args: argparse.Namespace) -> int:

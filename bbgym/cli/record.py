@@ -22,13 +22,14 @@ away), and on the last frame the final return and the outcome ("success: reached
 "capsized", "timed out", "missed", "success: wall down", "failed: out of throws", ...).
 Runs headless (SDL's dummy video driver). Prints a one-line summary.
 
-The race (``--env bbgym/BeachballRace-v0``, the PettingZoo env; the ``race`` extra): a
-whole race, every boat, a frame per 0.25 s step. ``--policy scripted``: every boat the
-scripted racer; ``random``: every boat random; ``ppo --model M.zip``: a model of
-``scripts/race_selfplay.py`` sails its learning boats (as it was trained: the
-``M.json`` beside it says which, and whether it corrects the racer) against scripted
-racers. The last frame's caption gives the places ("1st boat_1, 2nd boat_2, ...; boat_0
-did not finish").
+A family of many agents (the race, PettingZoo's: ``--env`` its PettingZoo id, the
+family's extra) records a whole episode of every agent, a frame per step, by the policies
+its spec names (:attr:`bbgym.spec.MultiAgentSpec.policies`). The race: ``--policy
+scripted``: every boat the scripted racer; ``random``: every boat random; ``ppo --model
+M.zip``: a model of ``scripts/race_selfplay.py`` sails its learning boats (as it was
+trained: the ``M.json`` beside it says which, and whether it corrects the racer) against
+scripted racers. The last frame's caption gives the places ("1st boat_1, 2nd boat_2, ...;
+boat_0 did not finish").
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ from bbgym.cli import (
 )
 from bbgym.cli.evaluate import LEARNT, POLICIES, make_policy, model_needs
 from bbgym.render.gif import MAX_GIF_FRAMES, GifWriter
-from bbgym.spec import env_id_of, spec_of
+from bbgym.spec import MultiAgentSpec, env_id_of, multi_agent_spec_of, spec_of
 
 FORMATS = (".gif", ".mp4")
 DEFAULT_FPS = 20.0
@@ -294,24 +295,18 @@ def default_out(args: argparse.Namespace) -> Path:
 
 def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs: :func:`animation_needs`, and for a saved model's
-    policy the extra that loads it (:func:`~bbgym.cli.evaluate.model_needs`); a race needs
-    PettingZoo (``race``)."""
-    race = [("pettingzoo", "race")] if is_race(args) else []
-    return [*race, *animation_needs(default_out(args)), *model_needs([args.policy], args.model)]
+    policy the extra that loads it (:func:`~bbgym.cli.evaluate.model_needs`); a family of
+    many agents needs PettingZoo (its extra)."""
+    agents = multi_agent_spec_of(args.env)
+    multi = [("pettingzoo", agents.extra)] if agents is not None else []
+    return [*multi, *animation_needs(default_out(args)), *model_needs([args.policy], args.model)]
 
 
-RACE_POLICIES = ("scripted", "random", "ppo")
-"""What sails a recorded race's boats."""
-
-
-def race_or_env_id(text: str) -> str:
-    """An argparse ``type``: a bbgym env id, or a PettingZoo id of bbgym's (``bbgym/...``,
-    checked once the race extra is known to be there)."""
-    return text if text.startswith("bbgym/") else env_id(text)
-
-
-def is_race(args: argparse.Namespace) -> bool:
-    return args.env.startswith("bbgym/")
+def recordable_id(text: str) -> str:
+    """An argparse ``type``: a bbgym env id, or the PettingZoo id of a family of many
+    agents (:class:`~bbgym.spec.MultiAgentSpec`)."""
+    agents = multi_agent_spec_of(text)
+    return text if agents is not None and text == agents.env_id else env_id(text)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -319,8 +314,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--env",
         required=True,
-        type=race_or_env_id,
-        help="a bbgym env id, or the race's PettingZoo id",
+        type=recordable_id,
+        help="a bbgym env id, or the PettingZoo id of a family of many agents (the race)",
     )
     add_aliased(
         parser,
@@ -378,8 +373,9 @@ def run(args: argparse.Namespace) -> int:
     # a whole episode takes seconds to a minute to draw and write: say so first
     starting = f"recording {args.env} {args.policy} seed {args.seed} into {args.out} ..."
     print(starting, file=sys.stderr, flush=True)
-    if is_race(args):
-        return run_race(args)
+    agents = multi_agent_spec_of(args.env)
+    if agents is not None:
+        return run_agents(agents, args)
     stats = record_to_file(args.env, args.policy, args.out, **recording_options(args))
     print(
         f"{recorded_text(args, stats)}, return {stats['return']:.2f}, "
@@ -389,8 +385,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def recording_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The keyword arguments of :func:`record_to_file` and :func:`record_race` that
-    ``bbgym record``'s options set, the same for an env and the race."""
+    """The keyword arguments of :func:`record_to_file` and :func:`record_agents` that
+    ``bbgym record``'s options set, the same for an env and a family of many agents."""
     return {
         "model": args.model,
         "seed": args.seed,
@@ -402,7 +398,7 @@ def recording_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def recorded_text(args: argparse.Namespace, stats: dict[str, Any]) -> str:
-    """The head of ``bbgym record``'s last line, for an env or the race: what was recorded,
+    """The head of ``bbgym record``'s last line, for any env: what was recorded,
     its steps (and whether ``--max-steps`` cut it) and frames."""
     capped = f" (cut at --max-steps {args.max_steps})" if stats["capped"] else ""
     return (
@@ -456,48 +452,20 @@ def record_to_file(
     return stats
 
 
-def run_race(args: argparse.Namespace) -> int:
-    """``bbgym record`` of a race (:func:`record_race`)."""
-    from bbgym.envs.race import ENV_ID
-
-    if args.env != ENV_ID:
-        raise UsageError(f"argument --env: unknown env id {args.env!r}; the race is {ENV_ID}")
-    if args.policy not in RACE_POLICIES:
+def run_agents(spec: MultiAgentSpec, args: argparse.Namespace) -> int:
+    """``bbgym record`` of an episode of every agent (:func:`record_agents`)."""
+    if args.policy not in spec.policies:
         raise UsageError(
-            f"{as_passed(args, 'policy', '--policy')} {args.policy}: a race records "
-            f"{', '.join(RACE_POLICIES)}"
+            f"{as_passed(args, 'policy', '--policy')} {args.policy}: {spec.env_id} records "
+            f"{', '.join(spec.policies)}"
         )
-    stats = record_race(args.policy, args.out, **recording_options(args))
+    stats = record_agents(spec, args.policy, args.out, **recording_options(args))
     print(f"{recorded_text(args, stats)}, {stats['outcome']} -> {args.out}")
     return 0
 
 
-def race_model_settings(model: Path) -> dict[str, Any]:
-    """How a self-play model races (``learners``, ``residual``): the JSON file
-    ``scripts/race_selfplay.py`` writes beside it."""
-    import json
-
-    settings = model.with_suffix(".json")
-    try:
-        found = json.loads(settings.read_text())
-        return {"learners": int(found["learners"]), "residual": bool(found["residual"])}
-    except (OSError, KeyError, TypeError, ValueError) as err:
-        raise UsageError(
-            f"--model {model}: {settings.name} beside it should say how it races "
-            f"(learners, residual; scripts/race_selfplay.py writes it): {err}"
-        ) from None
-
-
-def race_outcome(place: np.ndarray, learned: np.ndarray) -> str:
-    """The last caption of a race: the places in words
-    (:func:`~bbgym.envs.race.view.places_text`: ``"1st boat_1, 2nd boat_2, 3rd boat_3;
-    boat_0 did not finish"``), learned boats marked ``*`` where only some boats learn."""
-    from bbgym.envs.race.view import places_text
-
-    return places_text(np.asarray(place).tolist(), np.asarray(learned, bool).tolist())
-
-
-def record_race(
+def record_agents(
+    spec: MultiAgentSpec,
     policy_name: str,
     out: Path,
     *,
@@ -509,69 +477,58 @@ def record_race(
     hold: float = 1.0,
     title: bool = True,
 ) -> dict[str, Any]:
-    """Record one race (``reset(seed=seed)``) into ``out``: every boat by the scripted
-    racer (``scripted``), at random (``random``), or the learning boats by the self-play
-    model ``model`` (``ppo``) against scripted racers; return its statistics."""
-    from bbgym.envs.race import ENV_ID
-    from bbgym.envs.race.match import BeachballRaceMatchEnv
-    from bbgym.envs.race.view import RaceRenderer, race_scene
+    """Record one episode of every agent of a family of many agents (its spec's
+    :attr:`~bbgym.spec.MultiAgentSpec.record`) into ``out``; return its statistics.
 
+    Args:
+        spec: The family.
+        policy_name: One of the spec's :attr:`~bbgym.spec.MultiAgentSpec.policies`.
+        out: The file, ``.gif`` or ``.mp4``.
+        model: A saved model, for a learnt policy.
+        seed: The episode's seed.
+        fps: Playback rate.
+        frame_skip: Keep every K-th frame (and the last).
+        max_steps: Cut the episode after this many steps.
+        hold: Seconds the last frame is shown.
+        title: Whether the frames have captions.
+
+    Returns:
+        The spec's statistics (``steps``, ``outcome``, ``capped``, ...), with ``frames``
+        and ``file_frames``.
+
+    Raises:
+        UsageError: If the spec records no such policy, or the model does not fit.
+    """
     check_format(out)
     require_all(animation_needs(out))
-    boats = BeachballRaceMatchEnv(1).num_boats
-    if policy_name == "ppo":
-        if model is None:
-            raise UsageError("--policy ppo needs --model (a model of scripts/race_selfplay.py)")
-        settings = race_model_settings(model)
-        env = BeachballRaceMatchEnv(1, **settings)
-        learnt = make_policy("ppo", env, model, seed)
-    else:  # every boat: the racer (a zero correction of its own action) or random
-        env = BeachballRaceMatchEnv(1, learners=boats, residual=policy_name == "scripted")
-        env.action_space.seed(seed)
-        learnt = None
-    renderer = RaceRenderer("rgb_array", 640, 480, fps)
+    if spec.record is None or policy_name not in spec.policies:
+        raise UsageError(f"{spec.env_id} records {', '.join(spec.policies) or 'nothing'}")
+
+    def load_policy(env: Any, saved: Path) -> Callable[[Any], Any]:
+        return make_policy(policy_name, env, saved, seed)
+
+    try:
+        episode = spec.record(
+            policy_name, seed=seed, max_steps=max_steps, model=model, load_policy=load_policy
+        )
+    except ValueError as err:
+        raise UsageError(str(err)) from None
     out.parent.mkdir(parents=True, exist_ok=True)
     writer = open_writer(out, fps)
     frames = _CaptionedFrames(
         writer,
-        f"{ENV_ID} \N{MIDDLE DOT} {policy_name}",
+        f"{spec.env_id} \N{MIDDLE DOT} {policy_name}",
         title=title,
         frame_skip=frame_skip,
         hold_periods=max(1, round(hold * fps)),
     )
-    try:
-        obs, _ = env.reset(seed=seed)
-
-        def frame() -> np.ndarray:
-            return renderer.render(race_scene(env.task, env.fleet.state))
-
-        def clock() -> str:
-            return f"race clock {float(env.fleet.state.clock_s[0]):+.0f} s"
-
-        frames.add(frame(), clock(), key=False)
-        steps = 0
-        while not env.fleet.races_ended[0] and (max_steps is None or steps < max_steps):
-            if learnt is not None:
-                action = learnt(obs)
-            elif policy_name == "scripted":
-                action = np.zeros(env.action_space.shape, np.float32)
-            else:
-                action = env.action_space.sample()
-            obs, *_ = env.step(action)
-            steps += 1
-            frames.add(frame(), clock(), key=False)
-        state = env.fleet.state
-        outcome = race_outcome(state.place[0], env.mask[0])
-        frames.finish(outcome, NEUTRAL_COLOR)
-        writer.close()
-    finally:
-        renderer.close()
-        env.close()
-    return {
-        "steps": steps,
-        "frames": frames.kept,
-        "outcome": outcome,
-        "file_frames": file_frames(writer, frames.kept),
-        "capped": not bool(env.fleet.races_ended[0]),
-        "place": state.place[0].tolist(),
-    }
+    while True:
+        try:
+            frame, caption = next(episode)
+        except StopIteration as end:
+            stats = dict(end.value)
+            break
+        frames.add(frame, caption, key=False)
+    frames.finish(stats["outcome"], NEUTRAL_COLOR)
+    writer.close()
+    return {**stats, "frames": frames.kept, "file_frames": file_frames(writer, frames.kept)}

@@ -17,7 +17,7 @@ from pettingzoo.test import api_test, parallel_api_test  # noqa: E402
 from pettingzoo.utils import parallel_to_aec  # noqa: E402
 
 from bbgym.envs.race import ENV_ID, BeachballRaceEnv, parallel_env  # noqa: E402
-from bbgym.envs.race.env import newest_boat  # noqa: E402
+from bbgym.envs.race.parallel import newest_boat  # noqa: E402
 from bbgym.physics.namespace import replaced  # noqa: E402
 
 

@@ -199,7 +199,7 @@ def test_a_partial_dinghy_changes_only_its_fields_on_the_newest_boat() -> None:
     (it was the default cat rig with two actions), as ``gym.make`` merges Sail-v2's."""
     import dataclasses
 
-    from bbgym.envs.race.env import parallel_env
+    from bbgym.envs.race.parallel import parallel_env
 
     heavy = parallel_env(boat={"dinghy": {"mass_kg": 150.0}})
     default = parallel_env()

@@ -175,7 +175,7 @@ def test_bbgym_record_draws_a_race(tmp_path, capsys) -> None:
 def test_race_outcome_gives_the_places_in_words() -> None:
     """The last caption of a recorded race: the places in order, learned boats marked ``*``
     only where some (not all) learn."""
-    from bbgym.cli.record import race_outcome
+    from bbgym.envs.race.recording import race_outcome
 
     place, learned = np.array([0, 1, 2, 3]), np.array([True, False, False, False])
     assert (

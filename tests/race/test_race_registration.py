@@ -18,11 +18,16 @@ def run(code: str) -> subprocess.CompletedProcess:
     return subprocess.run(args, capture_output=True, text=True, timeout=120)
 
 
-def test_the_ids_are_the_race_modules_ids() -> None:
-    from bbgym.envs.race import ENV_ID, SOLO_ENV_ID
+def test_the_ids_are_the_race_specs_ids() -> None:
+    from bbgym.envs.race import ENV_ID, SOLO_ENV_ID, SPEC
+    from bbgym.spec import env_ids, multi_agent_spec_of, multi_agent_specs
 
-    assert (envs.RACE_ENV_ID, envs.RACE_SOLO_ENV_ID) == (ENV_ID, SOLO_ENV_ID)
+    assert SPEC in envs.SPECS and list(multi_agent_specs()) == [SPEC]
+    assert SPEC.ids == (ENV_ID, SOLO_ENV_ID)
     assert ENV_ID == "bbgym/BeachballRace-v0" and SOLO_ENV_ID == "bbgym/BeachballRaceSolo-v0"
+    assert multi_agent_spec_of(ENV_ID) is SPEC and multi_agent_spec_of(SOLO_ENV_ID) is SPEC
+    assert multi_agent_spec_of("BeachballSail-v2") is None
+    assert not set(SPEC.ids) & set(env_ids())  # env_ids: the single-agent families' ids
 
 
 def test_import_bbgym_registers_the_race_ids_in_gymnasium_and_pettingzoo() -> None:
@@ -30,7 +35,7 @@ def test_import_bbgym_registers_the_race_ids_in_gymnasium_and_pettingzoo() -> No
         import sys
         import bbgym
         import gymnasium as gym
-        print("bbgym.envs.race" in sys.modules)  # loaded by make, not by import bbgym
+        print("bbgym.envs.race.parallel" in sys.modules)  # loaded by make, not by import bbgym
         print("bbgym/BeachballRaceSolo-v0" in gym.registry)
         print("BeachballRaceSolo-v0" in gym.pprint_registry(disable_print=True))
         env = gym.make("bbgym/BeachballRaceSolo-v0", num_boats=2)

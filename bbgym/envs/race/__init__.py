@@ -24,24 +24,31 @@ many races against scripted racers, and :func:`play_matches` the pairings they w
 alone.
 """
 
-from bbgym.envs import register_race_pettingzoo
-from bbgym.envs.race.env import ENV_ID, BeachballRaceEnv, env, parallel_env
-from bbgym.envs.race.fleet import BeachballRaceFleetEnv
-from bbgym.envs.race.match import BeachballRaceMatchEnv, play_matches
-from bbgym.envs.race.solo import SOLO_ENV_ID, BeachballRaceSoloEnv
+import importlib
+from typing import Any
 
-# ``import bbgym`` registered the ids (bbgym.envs) where PettingZoo is installed; env.py
-# imports PettingZoo first, so where it is not, its ImportError names the extra's install.
-register_race_pettingzoo()
+from bbgym.envs.race.spec import SPEC
 
-__all__ = [
-    "ENV_ID",
-    "SOLO_ENV_ID",
-    "BeachballRaceEnv",
-    "BeachballRaceFleetEnv",
-    "BeachballRaceMatchEnv",
-    "BeachballRaceSoloEnv",
-    "env",
-    "parallel_env",
-    "play_matches",
-]
+_PLACES = {
+    "ENV_ID": "parallel",
+    "BeachballRaceEnv": "parallel",
+    "env": "parallel",
+    "parallel_env": "parallel",
+    "BeachballRaceFleetEnv": "fleet",
+    "BeachballRaceMatchEnv": "match",
+    "play_matches": "match",
+    "SOLO_ENV_ID": "solo",
+    "BeachballRaceSoloEnv": "solo",
+}
+"""Where each public name lives. They load on first use (PEP 562): the spec, which
+``import bbgym`` registers, needs no PettingZoo; the env modules import it first, so where
+it is missing their ``ImportError`` names the extra's install."""
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _PLACES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_PLACES[name]}"), name)
+
+
+__all__ = ["SPEC", *_PLACES]

@@ -15,7 +15,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from bbgym import backends
 from bbgym.envs.common import check_box_action, vector_info, vector_seeds
 from bbgym.envs.functional import tree_map, tree_select
-from bbgym.envs.race.env import race_boat
+from bbgym.envs.race.parallel import race_boat
 from bbgym.envs.race.task import RaceState, RaceTask
 from bbgym.physics.namespace import replaced
 
@@ -27,7 +27,7 @@ class BeachballRaceFleetEnv(VectorEnv):
     stable-baselines3's or TorchRL's single-agent learners take it.
 
     Each sub-env's observation, action and reward are its boat's in
-    :class:`~bbgym.envs.race.env.BeachballRaceEnv` (the same spaces and the same races:
+    :class:`~bbgym.envs.race.parallel.BeachballRaceEnv` (the same spaces and the same races:
     race ``r`` reset with ``seed=s`` is the PettingZoo env reset with ``seed=s + r``, under
     the same actions). A boat's episode ends when it finishes or capsizes (terminated) or
     when its race's time is up (truncated). Until its race ends it then sits out: zero

@@ -9,10 +9,11 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from bbgym.envs.race.env import BeachballRaceEnv
+from bbgym.envs.race.parallel import BeachballRaceEnv
+from bbgym.envs.race.spec import SPEC
 
 LEARNER = "boat_0"
-SOLO_ENV_ID = "bbgym/BeachballRaceSolo-v0"
+SOLO_ENV_ID = SPEC.one_agent_env_id
 """Its Gymnasium id (``gym.make(SOLO_ENV_ID)`` after ``import bbgym``, which registers it
 without importing PettingZoo: :mod:`bbgym.envs`); no time limit of Gymnasium's, the race's
 own ``max_race_time_s`` truncates it."""
@@ -20,7 +21,7 @@ own ``max_race_time_s`` truncates it."""
 
 class BeachballRaceSoloEnv(gym.Env):
     """One boat (``boat_0``) racing a fleet of scripted racers (:class:`bbgym.agents.RaceRacer`)
-    in a :class:`~bbgym.envs.race.env.BeachballRaceEnv`: a Gymnasium ``Env`` for
+    in a :class:`~bbgym.envs.race.parallel.BeachballRaceEnv`: a Gymnasium ``Env`` for
     single-agent learners.
 
     Its action, observation and reward are ``boat_0``'s (the race env's tables); the

@@ -273,7 +273,7 @@ def check_option_key(key: Any) -> None:
 class RaceTask:
     """The race's pure functions over a batch of :class:`RaceState` (NumPy arrays here; the
     same calls as the sail core's, through ``xp``). Holds the validated arguments of
-    :class:`~bbgym.envs.race.env.BeachballRaceEnv`; its docstring says what each means."""
+    :class:`~bbgym.envs.race.parallel.BeachballRaceEnv`; its docstring says what each means."""
 
     def __init__(
         self,

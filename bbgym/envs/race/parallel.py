@@ -23,9 +23,10 @@ except ImportError as error:  # the fix, not a bare ModuleNotFoundError
 
 from bbgym.envs.common import check_box_action
 from bbgym.envs.functional import tree_map
+from bbgym.envs.race.spec import SPEC
 from bbgym.envs.race.task import RaceState, RaceTask, boat_mapping
 
-ENV_ID = "bbgym/BeachballRace-v0"
+ENV_ID = SPEC.env_id
 """The race's id in PettingZoo's registries (``pettingzoo.make("parallel", ENV_ID)``)."""
 BOAT_KEYS = ("sail_model", "dinghy", "initial_sheet")
 
