@@ -280,10 +280,12 @@ class MultiAgentSpec:
     """What an episode is called in the bench rows (``"race"``)."""
     policies: tuple[str, ...] = ()
     """What ``bbgym record`` sails every agent by (``"scripted"``, ``"random"``, ...)."""
-    record: Callable[..., AgentsEpisode] | None = None
-    """``record(policy_name, seed=, max_steps=, model=, load_policy=)``: one episode of
-    every agent as frames with captions (:data:`AgentsEpisode`); ``load_policy(env,
-    model)`` is the command's loader of a saved model (``None`` where none is given)."""
+    record: str | None = None
+    """Where ``bbgym record`` finds the episode recorder, ``"module:function"`` in the
+    family's package (``"recording:recorded_race"``): ``record(policy_name, seed=,
+    max_steps=, model=, load_policy=)`` gives one episode of every agent as frames with
+    captions (:data:`AgentsEpisode`); ``load_policy(env, model)`` is the command's loader
+    of a saved model. A path, not the function: the spec imports none of its family."""
 
     @property
     def module(self) -> str:
@@ -304,12 +306,15 @@ class MultiAgentSpec:
         """One of the family's classes or factories, importing its module (and extra).
 
         Args:
-            name: A name in ``bbgym.envs.<family>`` (:attr:`vector_env_classes`' first, ...).
+            name: A name in ``bbgym.envs.<family>`` (:attr:`vector_env_classes`' first,
+                ...), or ``"module:name"`` in one of its modules (:attr:`record`).
 
         Returns:
             The class or function.
         """
-        return getattr(importlib.import_module(self.module), name)
+        module, _, attribute = name.rpartition(":")
+        where = f"{self.module}.{module}" if module else self.module
+        return getattr(importlib.import_module(where), attribute)
 
     def register_pettingzoo(self) -> None:
         """Register the family's parallel and AEC ids in PettingZoo's registries (by module

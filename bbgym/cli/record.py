@@ -508,7 +508,7 @@ def record_agents(
         return make_policy(policy_name, env, saved, seed)
 
     try:
-        episode = spec.record(
+        episode = spec.load(spec.record)(
             policy_name, seed=seed, max_steps=max_steps, model=model, load_policy=load_policy
         )
     except ValueError as err:

@@ -4,26 +4,7 @@ modules: ``import bbgym`` registers the race through it."""
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import Any
-
-from bbgym.spec import AgentsEpisode, MultiAgentSpec
-
-
-def _record(
-    policy_name: str,
-    *,
-    seed: int,
-    max_steps: int | None,
-    model: Path | None,
-    load_policy: Any,
-) -> AgentsEpisode:
-    from bbgym.envs.race.recording import recorded_race
-
-    return recorded_race(
-        policy_name, seed=seed, max_steps=max_steps, model=model, load_policy=load_policy
-    )
-
+from bbgym.spec import MultiAgentSpec
 
 SPEC = MultiAgentSpec(
     family="race",
@@ -38,6 +19,6 @@ SPEC = MultiAgentSpec(
     agent_name="boat",
     episode_name="race",
     policies=("scripted", "random", "ppo"),
-    record=_record,
+    record="recording:recorded_race",
 )
 """``pettingzoo.make("parallel", SPEC.env_id)``; ``gym.make(SPEC.one_agent_env_id)``."""
