@@ -27,6 +27,7 @@ Pure functions over a batch of races: every array is ``(races, K)``, pairs
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -148,28 +149,21 @@ def collide(
     close = xp.any(pairs & near, axis=(1, 2))
     if xp is np and not close.any():
         return x, y, vx, vy, yaw_rate, pairs & near
+    boats = (x, y, heading, vx, vy, yaw_rate)
     if xp is np and not close.all():  # NumPy: the races with boats close, alone
         busy = np.flatnonzero(close)
-        subset = [take(a, busy) for a in (x, y, heading, vx, vy, yaw_rate, pairs)]
-        out = _resolve(h, restitution, *subset, xp)
+        out = _resolve(h, restitution, [take(a, busy) for a in boats], take(pairs, busy), xp)
         full = (x, y, vx, vy, yaw_rate, np.zeros_like(pairs))
         return tuple(scatter(a, busy, b) for a, b in zip(full, out, strict=True))
-    return _resolve(h, restitution, x, y, heading, vx, vy, yaw_rate, pairs, xp)
+    return _resolve(h, restitution, boats, pairs, xp)
 
 
 def _resolve(
-    h: Hulls,
-    restitution: float,
-    x: Array,
-    y: Array,
-    heading: Array,
-    vx: Array,
-    vy: Array,
-    yaw_rate: Array,
-    pairs: Array,
-    xp: Any,
+    h: Hulls, restitution: float, boats: Sequence[Array], pairs: Array, xp: Any
 ) -> tuple[Array, Array, Array, Array, Array, Array]:
-    """:func:`collide`'s narrow phase, impulses and push for the races given."""
+    """:func:`collide`'s narrow phase, impulses and push for the races given: ``boats``
+    their ``(x, y, heading, vx, vy, yaw_rate)``."""
+    x, y, heading, vx, vy, yaw_rate = boats
     contacts = hull_contacts(h, x, y, heading, xp)
     touching = pairs & (contacts.gap_m < 0.0)
     if xp is np and not touching.any():  # close, but none touching: nothing to resolve

@@ -34,6 +34,7 @@ balls bounce and roll in the substeps of :mod:`bbgym.physics.flight`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -418,18 +419,14 @@ def simulate_event_throw(
     ``record``, the trajectory has the pose after every step (``dt_s`` apart but for the
     cut steps), then the landed balls' bounces and roll for display (:func:`roll_display`)."""
     spin_parameter = launch_spin_parameter(p, launch, wind_x, wind_y, xp)
-    flight, poses = fly_events(
-        p,
-        flight_start(p, launch, xp),
-        wind_x,
-        wind_y,
-        screen,
-        dt_s,
-        max_time_s,
-        field_radius_m,
-        record,
-        xp,
-    )
+
+    def step(flight: Flight) -> tuple[Flight, Any]:
+        return event_flight_step(
+            p, flight, wind_x, wind_y, screen, dt_s, max_time_s, field_radius_m, xp
+        )
+
+    start = flight_start(p, launch, xp)
+    flight, poses = fly_events(step, start, flight_steps(dt_s, max_time_s), record, xp)
     trajectory, steps = [], flight.steps
     if record:
         trajectory, steps = roll_display(
@@ -448,25 +445,30 @@ def simulate_event_throw(
 
 
 def fly_events(
-    p: BallParams,
+    step: Callable[[Flight], tuple[Flight, Any]],
     flight: Flight,
-    wind_x: Array,
-    wind_y: Array,
-    screen: Screen | None,
-    dt_s: float,
-    max_time_s: float,
-    field_radius_m: float,
+    steps: int,
     record: bool = True,
     xp: Any = np,
 ) -> tuple[Flight, list]:
-    """A flight to its end on the host: :func:`event_flight_step` until every ball is
-    done. Returns the flight and, if ``record``, the pose after every step (cut to the
-    last ball's end)."""
+    """A flight to its end on the host: ``step`` (:func:`event_flight_step` with the
+    throw's arguments bound) until every ball is done, at most ``steps`` times
+    (:func:`flight_steps`).
+
+    Args:
+        step: One RK4 step of the flight: the flight after it, and the pose.
+        flight: The flight so far.
+        steps: The most steps the flight takes.
+        record: Keep the poses.
+        xp: The array namespace.
+
+    Returns:
+        The flight and, if ``record``, the pose after every step (cut to the last ball's
+        end).
+    """
     poses: list = []
-    for _ in range(flight_steps(dt_s, max_time_s)):
-        flight, pose = event_flight_step(
-            p, flight, wind_x, wind_y, screen, dt_s, max_time_s, field_radius_m, xp
-        )
+    for _ in range(steps):
+        flight, pose = step(flight)
         if record:
             poses.append(pose)
         if bool(xp.all(flight.done)):

@@ -85,6 +85,15 @@ class SafeDraw:
         size = surface.get_size()
         return safe_box(size), float(max(size))
 
+    def _vertices(
+        self, surface: Any, points: Sequence[Sequence[float]], least: int
+    ) -> tuple[list, Box, float]:
+        """``points`` as a list (empty if fewer than ``least``: an object shrunk to nothing,
+        which pygame would refuse), with the surface's :meth:`_limits`."""
+        box, cap = self._limits(surface)
+        pts = list(points)
+        return (pts if len(pts) >= least else []), box, cap
+
     def line(
         self,
         surface: Any,
@@ -110,10 +119,9 @@ class SafeDraw:
         points: Sequence[Sequence[float]],
         width: int = 1,
     ) -> Any:
-        box, cap = self._limits(surface)
-        pts = list(points)
-        if len(pts) < 2:
-            return None  # a vanishing object: pygame would raise
+        pts, box, cap = self._vertices(surface, points, 2)
+        if not pts:
+            return None
         if all(in_box(p, box) for p in pts) and width <= cap:
             return self._draw.lines(surface, color, closed, pts, width)
         w = _safe_width(width, cap)
@@ -127,10 +135,9 @@ class SafeDraw:
     def polygon(
         self, surface: Any, color: Any, points: Sequence[Sequence[float]], width: int = 0
     ) -> Any:
-        box, cap = self._limits(surface)
-        pts = list(points)
-        if len(pts) < 3:
-            return None  # a vanishing object: pygame would raise
+        pts, box, cap = self._vertices(surface, points, 3)
+        if not pts:
+            return None
         if all(in_box(p, box) for p in pts) and width <= cap:
             return self._draw.polygon(surface, color, pts, width)
         w = _safe_width(width, cap)

@@ -294,6 +294,12 @@ class SailRenderer(PygameRenderer[SailScene]):
     def _body_points(self, scene: SailScene, points: Iterable[Vec2]) -> list[Vec2]:
         return [self._body_to_screen(scene, p) for p in points]
 
+    def _body_line(
+        self, scene: SailScene, color: Color, start: Vec2, end: Vec2, width_px: int
+    ) -> None:
+        """A line between two points of the boat's body frame."""
+        self._pg.draw.line(self._surface, color, *self._body_points(scene, (start, end)), width_px)
+
     def _px(self, metres: float, minimum: int = 1) -> int:
         return max(minimum, round(metres * self.pixels_per_meter))
 
@@ -510,7 +516,6 @@ class SailRenderer(PygameRenderer[SailScene]):
         trailing edge must point to port: it deflects the water to port, the reaction pushes the
         stern to starboard and the bow swings to port. The tiller is on the other side.
         """
-        pg = self._pg
         r = scene.rudder_angle_rad
         stern = (-scene.hull_length_m / 2, 0.0)
         blade_end = (
@@ -518,25 +523,13 @@ class SailRenderer(PygameRenderer[SailScene]):
             stern[1] + RUDDER_LENGTH_M * math.sin(r),
         )
         width = self._px(0.1, minimum=2)
-        pg.draw.line(
-            self._surface,
-            RUDDER_COLOR,
-            self._body_to_screen(scene, stern),
-            self._body_to_screen(scene, blade_end),
-            width,
-        )
+        self._body_line(scene, RUDDER_COLOR, stern, blade_end, width)
         if with_tiller:
             tiller_end = (
                 stern[0] + TILLER_LENGTH_M * math.cos(r),
                 stern[1] - TILLER_LENGTH_M * math.sin(r),
             )
-            pg.draw.line(
-                self._surface,
-                SPAR_COLOR,
-                self._body_to_screen(scene, stern),
-                self._body_to_screen(scene, tiller_end),
-                max(1, width - 1),
-            )
+            self._body_line(scene, SPAR_COLOR, stern, tiller_end, max(1, width - 1))
 
     def _draw_crew(self, scene: SailScene, positions_body: Sequence[Vec2]) -> None:
         """Crew as orange life jackets with a head in the middle."""
@@ -633,24 +626,12 @@ class SailRenderer(PygameRenderer[SailScene]):
         sail = self._body_points(scene, [mast, mast_tip, clew])
         pg.draw.polygon(self._surface, SAIL_FLAT_COLOR, sail)
         pg.draw.polygon(self._surface, SAIL_LINE_COLOR, sail, 1)
-        pg.draw.line(
-            self._surface,
-            SPAR_COLOR,
-            self._body_to_screen(scene, mast),
-            self._body_to_screen(scene, mast_tip),
-            self._px(0.08, minimum=2),
-        )
+        self._body_line(scene, SPAR_COLOR, mast, mast_tip, self._px(0.08, minimum=2))
         beam = self._draw_hull(scene, HULL_BOTTOM_COLOR)
         # Centreboard sticks out of the hull towards the high side.
         board_root = (mast[0] - 0.4, -down * beam * 0.3)
         board_tip = (mast[0] - 0.4, -down * (beam * 0.3 + 0.9))
-        pg.draw.line(
-            self._surface,
-            RUDDER_COLOR,
-            self._body_to_screen(scene, board_root),
-            self._body_to_screen(scene, board_tip),
-            self._px(0.12, minimum=3),
-        )
+        self._body_line(scene, RUDDER_COLOR, board_root, board_tip, self._px(0.12, minimum=3))
         self._draw_rudder(scene, with_tiller=False)
         # Crew in the water by the centreboard, about to right the boat.
         self._draw_crew(

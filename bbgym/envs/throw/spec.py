@@ -12,7 +12,7 @@ from bbgym.envs.ball import sample_ball_kwargs, sample_wind_option
 from bbgym.envs.throw.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wind import GustParams
-from bbgym.spec import EnvSpec, FuzzSpec, Version
+from bbgym.spec import EnvSpec, FuzzSpec, PolicyFactory, Version
 
 MAX_EPISODE_STEPS = 100
 CURVE = {"screen": True, "target_distance_range": (7.0, 10.0)}
@@ -68,6 +68,38 @@ def _keyboard(env: Any, seed: int | None) -> Any:
     from bbgym.envs.ball_keys import ThrowKeys
 
     return ThrowKeys(env, seed)
+
+
+def ball_family_spec(
+    family: str, policies: tuple[PolicyFactory, PolicyFactory], **fields: Any
+) -> EnvSpec:
+    """The spec of a beach-ball family (throw, topple): what both declare alike, their
+    envs ``Beachball<Family>Env`` and ``Beachball<Family>VectorEnv``, a step a throw
+    (launch velocity and spin), :data:`MAX_EPISODE_STEPS` of them, played by
+    :class:`~bbgym.envs.ball_keys.ThrowKeys`.
+
+    Args:
+        family: The folder's name under ``bbgym/envs/`` (``"throw"``).
+        policies: The family's scripted agent and planner.
+        **fields: The family's own :class:`~bbgym.spec.EnvSpec` fields.
+
+    Returns:
+        The family's spec.
+    """
+    name = family.capitalize()
+    scripted, planner = policies
+    return EnvSpec(
+        family=family,
+        env_class=f"Beachball{name}Env",
+        vector_env_class=f"Beachball{name}VectorEnv",
+        max_episode_steps=MAX_EPISODE_STEPS,
+        actions="launch velocity, spin",
+        integer_arguments=("throws_per_episode",),
+        policies={"scripted": scripted, "planner": planner},
+        keyboard=_keyboard,
+        step_unit="throws",
+        **fields,
+    )
 
 
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
@@ -138,14 +170,11 @@ def _sample_options(throw_task: Any, draw: Any) -> dict[str, Any] | None:
     return options or None
 
 
-SPEC = EnvSpec(
-    family="throw",
-    env_class="BeachballThrowEnv",
-    vector_env_class="BeachballThrowVectorEnv",
-    max_episode_steps=MAX_EPISODE_STEPS,
+SPEC = ball_family_spec(
+    "throw",
+    (_scripted, _planner),
     summary="throw a beach ball through the wind into a target, several throws an episode "
     "(Curve: round a screen, so only a spinning throw scores)",
-    actions="launch velocity, spin",
     versions=(
         Version(
             "BeachballThrow-v0",
@@ -182,11 +211,7 @@ SPEC = EnvSpec(
         ),
     ),
     param_groups={"ball": BallParams, "gust_params": GustParams},
-    integer_arguments=("throws_per_episode",),
-    policies={"scripted": _scripted, "planner": _planner},
     outcome=_outcome,
     argument_table=ARGUMENT_TABLE,
     fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=12, fit=_fit),
-    keyboard=_keyboard,
-    step_unit="throws",
 )

@@ -5,7 +5,7 @@ accepted intervals and the pure functions of :class:`ThrowTask`.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -141,7 +141,8 @@ class ThrowScenario(NamedTuple):
 
 
 class LastAction(NamedTuple):
-    """The last throw's action (clipped to [-1, 1]), as the observation shows it."""
+    """The last throw's action (clipped to [-1, 1]), as the observation shows it (both
+    ball tasks')."""
 
     impulse_x: Array
     impulse_y: Array
@@ -220,12 +221,28 @@ def launch_from_action(
     return scaled(action[..., :3], max_speed), scaled(action[..., 3:], max_spin)
 
 
-def _scaled(columns: tuple, limit: float, xp: Any) -> list:
-    """:func:`launch_from_action` on three columns, in any namespace (same bits)."""
-    v = [c * limit for c in columns]
-    norm = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    scale = xp.minimum(1.0, limit / xp.maximum(norm, 1e-12))
-    return [c * scale for c in v]
+def launch_columns(columns: tuple, max_speed: float, max_spin: float, xp: Any) -> tuple[list, list]:
+    """:func:`launch_from_action` column by column, in any namespace (the same bits): the
+    launch of both ball tasks' throws.
+
+    Args:
+        columns: The six action components in [-1, 1] (floats, or arrays ``(batch,)``).
+        max_speed: The launch speed's limit, m/s.
+        max_spin: The spin's limit, rad/s.
+        xp: The array namespace.
+
+    Returns:
+        The launch velocity's three components and the spin's, each vector scaled by its
+        limit and its norm clipped to it.
+    """
+
+    def scaled(c: tuple, limit: float) -> list:
+        v = [x * limit for x in c]
+        norm = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        factor = xp.minimum(1.0, limit / xp.maximum(norm, 1e-12))
+        return [x * factor for x in v]
+
+    return scaled(columns[:3], max_speed), scaled(columns[3:], max_spin)
 
 
 class ThrowTask(TaskCore):
@@ -480,8 +497,7 @@ class ThrowTask(TaskCore):
         else:
             columns = tuple(action[:, k] for k in range(6))
         sc = state.scenario
-        v = _scaled(columns[:3], self.max_speed, xp)
-        w = _scaled(columns[3:], self.max_spin, xp)
+        v, w = launch_columns(columns, self.max_speed, self.max_spin, xp)
         # Distinct arrays throughout: the compiled chunk sees the same aliasing every call.
         x, y = xp.zeros_like(state.sock_x), xp.zeros_like(state.sock_y)
         launch = ball_at(x, y, xp.zeros_like(state.sock_x) + self.launch_height, *v, *w)
@@ -506,41 +522,55 @@ class ThrowTask(TaskCore):
         if self.events:  # (never recording: the host flies a throw in one go)
             flight = carry.flight
             for _ in range(substeps):
-                flight, _ = event_flight_step(
-                    self.ball,
-                    flight,
-                    carry.wind_x,
-                    carry.wind_y,
-                    carry.screen,
-                    self.sim_dt,
-                    self.max_flight_time,
-                    self.field_radius,
-                    xp,
-                    orient=False,
-                )
+                flight, _ = self._event_step(flight, carry, xp, orient=False)
             return replaced(carry, flight=flight)
         recording = carry.poses is not None
         first = sample_count(carry.flight.substep, xp) if recording else 0
-        flight, poses = flight_chunk(
+        flight, poses = self._substeps(flight_chunk, carry, recording, xp, substeps)
+        if recording:  # (never on a compiled step: the substep number is read on the host)
+            poses = carry.poses + recorded_poses(
+                poses, first, self.record_every, self.flight_substeps
+            )
+        return replaced(carry, flight=flight, poses=poses if recording else None)
+
+    def _substeps(
+        self, run: Callable, carry: ThrowCarry, record: bool, xp: Any, *substeps: int
+    ) -> tuple[Flight, list]:
+        """``run`` on the throw's flight with the task's step and limits: :func:`flight_chunk`
+        (of ``substeps``) or :func:`fly` (to the end), as the topple task runs its interval."""
+        return run(
             self.ball,
             carry.flight,
             carry.wind_x,
             carry.wind_y,
             carry.screen,
             self.sim_dt,
-            substeps,
+            *substeps,
             self.flight_substeps,
             self.record_every,
-            recording,
+            record,
             xp,
             self.max_roll_time,
             self.field_radius,
         )
-        if recording:  # (never on a compiled step: the substep number is read on the host)
-            poses = carry.poses + recorded_poses(
-                poses, first, self.record_every, self.flight_substeps
-            )
-        return replaced(carry, flight=flight, poses=poses if recording else None)
+
+    def _event_step(
+        self, flight: Flight, carry: ThrowCarry, xp: Any, orient: bool
+    ) -> tuple[Flight, Any]:
+        """One RK4 step of a throw's flight (:func:`event_flight_step`); ``orient``: turn
+        the balls too (for the poses recorded)."""
+        return event_flight_step(
+            self.ball,
+            flight,
+            carry.wind_x,
+            carry.wind_y,
+            carry.screen,
+            self.sim_dt,
+            self.max_flight_time,
+            self.field_radius,
+            xp,
+            orient=orient,
+        )
 
     def all_done(self, carry: ThrowCarry, xp: Any) -> Any:
         """Every ball has finished its flight."""
@@ -556,20 +586,7 @@ class ThrowTask(TaskCore):
         carry = self.begin(state, action, noise, xp, record)
         if self.events:
             return self.end(state, self._fly_events(carry, record, xp), xp)
-        flight, poses = fly(
-            self.ball,
-            carry.flight,
-            carry.wind_x,
-            carry.wind_y,
-            carry.screen,
-            self.sim_dt,
-            self.flight_substeps,
-            self.record_every,
-            record,
-            xp,
-            self.max_roll_time,
-            self.field_radius,
-        )
+        flight, poses = self._substeps(fly, carry, record, xp)
         recorded = carry.poses + poses if record else None
         return self.end(state, replaced(carry, flight=flight, poses=recorded), xp)
 
@@ -577,14 +594,9 @@ class ThrowTask(TaskCore):
         """A throw's RK4 flight on the host; when recording, the poses (one per step)
         go on with the bounces and roll after the touchdown, for display."""
         flight, poses = fly_events(
-            self.ball,
+            lambda flight: self._event_step(flight, carry, xp, orient=True),
             carry.flight,
-            carry.wind_x,
-            carry.wind_y,
-            carry.screen,
-            self.sim_dt,
-            self.max_flight_time,
-            self.field_radius,
+            self.flight_substeps,
             record,
             xp,
         )

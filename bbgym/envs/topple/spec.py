@@ -5,13 +5,13 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from bbgym.envs.throw.spec import ball_family_spec
 from bbgym.envs.topple.task import ARGUMENT_TABLE
 from bbgym.physics.ball import BallParams
 from bbgym.physics.wall import WallParams
 from bbgym.physics.wind import GustParams
-from bbgym.spec import EnvSpec, FuzzSpec, Version
+from bbgym.spec import FuzzSpec, Version
 
-MAX_EPISODE_STEPS = 100
 # v1: the walls the planner can bring down: nearer, in an onshore breeze (from behind the
 # thrower: pi/2 .. 3 pi/2 counterclockwise from +x).
 ONSHORE = {"wall_distance_range": (3.0, 5.0), "wind_from_range": (0.5 * math.pi, 1.5 * math.pi)}
@@ -41,12 +41,6 @@ def _outcome(env: Any, info: dict[str, Any], terminated: bool, truncated: bool) 
             return "failed: wall fell toward you", False
         return "failed: out of throws, wall standing", False
     return "timed out", False
-
-
-def _keyboard(env: Any, seed: int | None) -> Any:
-    from bbgym.envs.ball_keys import ThrowKeys
-
-    return ThrowKeys(env, seed)
 
 
 def _sample_kwargs(version: Version, draw: Any) -> dict[str, Any]:
@@ -127,13 +121,10 @@ def _sample_options(topple_task: Any, draw: Any) -> dict[str, Any] | None:
     return options or None
 
 
-SPEC = EnvSpec(
-    family="topple",
-    env_class="BeachballToppleEnv",
-    vector_env_class="BeachballToppleVectorEnv",
-    max_episode_steps=MAX_EPISODE_STEPS,
+SPEC = ball_family_spec(
+    "topple",
+    (_scripted, _planner),
     summary="bring down a wall standing in gusty wind by throwing beach balls at it",
-    actions="launch velocity, spin",
     versions=(
         Version(
             "BeachballTopple-v0",
@@ -156,11 +147,7 @@ SPEC = EnvSpec(
         ),
     ),
     param_groups={"ball": BallParams, "wall": WallParams, "gust_params": GustParams},
-    integer_arguments=("throws_per_episode",),
-    policies={"scripted": _scripted, "planner": _planner},
     outcome=_outcome,
     argument_table=ARGUMENT_TABLE,
     fuzz=FuzzSpec(_sample_kwargs, _sample_options, step_share=0.2, episode_steps=8, fit=_fit),
-    keyboard=_keyboard,
-    step_unit="throws",
 )

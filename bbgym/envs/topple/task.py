@@ -34,6 +34,7 @@ from bbgym.envs.common import (
     option_path,
 )
 from bbgym.envs.functional import InitialNoise, TaskCore, stack_pair
+from bbgym.envs.throw.task import LastAction, launch_columns
 
 # (validation.interval by its module: the constructor's argument `interval` shadows the name)
 from bbgym.physics import validation
@@ -111,17 +112,6 @@ class ToppleScenario(NamedTuple):
     gusts: Array
 
 
-class Launch(NamedTuple):
-    """A step's action, clipped to [-1, 1]: launch velocity and spin components."""
-
-    vx: Array
-    vy: Array
-    vz: Array
-    wx: Array
-    wy: Array
-    wz: Array
-
-
 class ToppleState(NamedTuple):
     """Everything an env is, immutable: the scenario, gusts and wall, this episode's
     counters, the windsock's noise, the last action and what the last step reported (its
@@ -138,7 +128,7 @@ class ToppleState(NamedTuple):
     hit_y: Array
     sock_x: Array
     sock_y: Array
-    last_action: Launch
+    last_action: LastAction
     success: Array
     failure: Array
     throw: Array
@@ -158,7 +148,7 @@ class ToppleCarry(NamedTuple):
     noise: tuple
     scenario: ToppleScenario
     speed: Array
-    action: Launch
+    action: LastAction
 
 
 class ToppleEvents(NamedTuple):
@@ -170,19 +160,6 @@ class ToppleEvents(NamedTuple):
     thrown: Array
     taken: tuple | None
     samples: Array
-
-
-def _launch(a: tuple, max_speed: float, max_spin: float, xp: Any) -> tuple[list, list]:
-    """Launch velocity and spin components from the six action components in [-1, 1]:
-    scaled by ``max_speed`` and ``max_spin``, each vector's norm clipped to its limit."""
-
-    def scaled(c: tuple, limit: float) -> list:
-        v = [x * limit for x in c]
-        norm = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-        factor = xp.minimum(1.0, limit / xp.maximum(norm, 1e-12))
-        return [x * factor for x in v]
-
-    return scaled(a[:3], max_speed), scaled(a[3:], max_spin)
 
 
 class ToppleTask(TaskCore):
@@ -368,7 +345,7 @@ class ToppleTask(TaskCore):
             hit_y=zero,
             sock_x=zero + noise.stream[0],
             sock_y=zero + noise.stream[1],
-            last_action=Launch(*(zero for _ in range(6))),
+            last_action=LastAction(*(zero for _ in range(6))),
             success=zero,
             failure=zero,
             throw=zero,
@@ -430,7 +407,7 @@ class ToppleTask(TaskCore):
         else:
             # Columns of their own (clipped already: a copy), not strided views.
             a = tuple(xp.clip(action[:, k], -1.0, 1.0) for k in range(6))
-        v, w = _launch(a, self.max_speed, self.max_spin, xp)
+        v, w = launch_columns(a, self.max_speed, self.max_spin, xp)
         speed = xp.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
         thrown = speed >= self.wait_speed
         # Zeros of their own (a compiled chunk's inputs must not alias each other).
@@ -456,7 +433,7 @@ class ToppleTask(TaskCore):
             record,
         )
         rows = noise_rows(noise, 2 * self.step_noise_pairs)
-        return ToppleCarry(carry, rows, sc, speed, Launch(*a))
+        return ToppleCarry(carry, rows, sc, speed, LastAction(*a))
 
     def chunk(self, carry: ToppleCarry, xp: Any) -> ToppleCarry:
         """One chunk of the interval: ``chunk_substeps`` substeps
