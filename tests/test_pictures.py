@@ -162,6 +162,46 @@ def test_the_gif_writer_keeps_a_frame_budget_the_held_and_the_last_frame(tmp_pat
     assert max(durations[:-1]) >= 2000  # the held frame (123) kept, 40 periods
 
 
+def test_frames_the_gif_drops_are_not_drawn_and_the_file_is_the_same(tmp_path) -> None:
+    """A frame given as a function is drawn only where the GIF keeps it: a long episode
+    (400 frames into 50, so every 8th is kept by the end) draws under half of them, held
+    frames and the last included, and writes the same bytes as drawing every frame."""
+    pytest.importorskip("PIL")
+    pytest.importorskip("pygame")
+    from bbgym.cli.record import _CaptionedFrames
+    from bbgym.render.gif import GifWriter
+
+    def frame(k: int) -> np.ndarray:
+        image = np.zeros((48, 64, 3), np.uint8)
+        image[:, : k % 64] = (200, 40, 40)
+        image[0, 0] = (k % 7 * 30, 0, 0)
+        return image
+
+    drawn = []
+
+    def lazily(k: int):
+        return lambda: drawn.append(k) or frame(k)
+
+    for name, given in (("eager.gif", frame), ("lazy.gif", lazily)):
+        writer = GifWriter(tmp_path / name, fps=20.0, max_frames=50)
+        frames = _CaptionedFrames(writer, "left", title=True, frame_skip=1, hold_periods=8)
+        for k in range(400):
+            frames.add(given(k), f"step {k}", key=k == 123)
+        frames.add(frame(400), "step 400", key=False)  # the last: always drawn
+        frames.finish("done", (255, 255, 255))
+        writer.close()
+        assert frames.kept == 401  # every frame passed on, drawn or not
+    eager, lazy = ((tmp_path / n).read_bytes() for n in ("eager.gif", "lazy.gif"))
+    assert lazy == eager
+    assert 123 in drawn and len(drawn) < 200  # of 400
+    writer = GifWriter(tmp_path / "c.gif", fps=20.0, max_frames=4)
+    for k in range(9):  # the stride is 2 or more by now, and 9 is odd
+        writer(frame(k))
+    assert writer.stride > 1 and not writer.keeps() and writer.keeps(held=True)
+    with pytest.raises(ValueError, match="skip"):
+        writer.skip(periods=2)  # a held frame is kept: it needs its image
+
+
 def test_the_gif_writer_halves_a_gif_over_its_size_budget(tmp_path, capsys) -> None:
     pytest.importorskip("PIL")
     from bbgym.render.gif import GifWriter

@@ -186,17 +186,30 @@ class _CaptionedFrames:
         self.index = 0
         self.kept = 0
         """The frames passed on to the sink so far."""
-        # (frame, its caption's right side, kept?, periods): the frame that waits.
-        self._waiting: tuple[np.ndarray, str, bool, int] | None = None
+        # (frame or None where the sink skips it, its caption's right side, kept?,
+        # periods): the frame that waits.
+        self._waiting: tuple[np.ndarray | None, str, bool, int] | None = None
         self._captioner: Any = None
 
-    def add(self, frame: np.ndarray, right: str, key: bool) -> None:
-        """The next frame, captioned ``right``; a ``key`` frame is kept and held."""
+    def add(self, frame: np.ndarray | Callable[[], np.ndarray], right: str, key: bool) -> None:
+        """The next frame, captioned ``right``; a ``key`` frame is kept and held.
+
+        ``frame`` may be a function that draws it, for a frame that is not the episode's
+        last: it is drawn now (the env moves on after) unless the sink says it would not
+        keep it (a long episode's GIF keeps every second frame, ...), so that a frame
+        nobody sees costs no drawing and no caption; the file is the same."""
         waiting = self._waiting
         if waiting is not None and waiting[2]:
-            self.sink(self._captioned(waiting[0], waiting[1], NEUTRAL_COLOR), waiting[3])
+            if waiting[0] is None:  # a frame the sink does not keep: only its time
+                self.sink.skip(waiting[3])
+            else:
+                self.sink(self._captioned(waiting[0], waiting[1], NEUTRAL_COLOR), waiting[3])
             self.kept += 1
         kept = key or self.index % self.frame_skip == 0
+        if callable(frame):
+            keeps = getattr(self.sink, "keeps", None)
+            wanted = kept and (keeps is None or keeps(key and self.hold_periods > 1))
+            frame = frame() if wanted else None
         self._waiting = (frame, right, kept, self.hold_periods if key else 1)
         self.index += 1
 
@@ -265,7 +278,10 @@ def record_episode(
         if flights:
             for frame in env.unwrapped.render_flight():
                 frames.add(frame, _progress_caption(steps, before), key=False)
-        frames.add(env.render(), _progress_caption(steps, total), key=flights)
+        last = terminated or truncated or (max_steps is not None and steps >= max_steps)
+        frames.add(
+            env.render() if last else env.render, _progress_caption(steps, total), key=flights
+        )
     outcome, success = spec_of(env_id_of(env)).episode_outcome(env, info, terminated, truncated)
     color = {True: SUCCESS_COLOR, False: FAILURE_COLOR}.get(success, NEUTRAL_COLOR)
     frames.finish(f"final return {total:+.2f} \N{MIDDLE DOT} {outcome}", color)

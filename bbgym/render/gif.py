@@ -101,6 +101,39 @@ class GifWriter:
         self._pending_index = self.added
         self.added += 1
 
+    def keeps(self, held: bool = False) -> bool:
+        """Whether the next frame added could be kept: the first, a held one, or one on
+        the stride. A frame it would not keep need not be drawn: :meth:`skip` stands for it,
+        with the same file as a result (the stride only grows, so a frame off it now is
+        off it when it settles).
+
+        Args:
+            held: Whether the frame is shown longer than one period.
+
+        Returns:
+            False where the frame would only add its time to the frame before it.
+        """
+        return held or (not self.images and self._pending is None) or self.added % self.stride == 0
+
+    def skip(self, periods: int = 1) -> None:
+        """Add a frame that :meth:`keeps` says is not kept, without its image: its time goes
+        to the frame kept before it, as :meth:`__call__` would have done. Never the last
+        frame (that one is always kept).
+
+        Args:
+            periods: The frame periods it is shown.
+
+        Raises:
+            ValueError: If the frame would be kept (:meth:`keeps` is True for it).
+        """
+        if self.keeps(periods > 1):
+            raise ValueError("skip() of a frame the GIF keeps: add its image")
+        if self._pending is not None:
+            self._settle(*self._pending, index=self._pending_index)
+            self._pending = None
+        self.durations[-1] += periods * 1000.0 / self.fps
+        self.added += 1
+
     def _settle(self, image: Any, ms: float, held: bool, index: int) -> None:
         """Keep a frame that waited (on the stride, held, or the first), else add its time
         to the frame kept before it."""
