@@ -68,13 +68,18 @@ def test_bench_quick_backend_rows(tmp_path):
     assert "torch float32" in (tmp_path / "bench.md").read_text()
 
 
-def test_bench_quick_training_rows(tmp_path):
-    """--training adds TorchRL PPO's training throughput beside SB3's PPO on CartPole."""
+def test_bench_quick_training_and_multi_agent_rows(tmp_path):
+    """--training adds TorchRL PPO's training throughput beside SB3's PPO on CartPole;
+    --race (``--multi-agent``'s other spelling) the race spec's rows: the PettingZoo race
+    beside CartPole's single env, the fleet vector env beside CartPole's vector env at the
+    same N, in boat-steps. One run for both: each run starts the interpreter and times
+    CartPole and PPO again."""
     import pytest
 
     pytest.importorskip("torchrl")
     pytest.importorskip("stable_baselines3")
-    done = run_bench(tmp_path, "--training")
+    pytest.importorskip("pettingzoo")
+    done = run_bench(tmp_path, "--training", "--race")
     assert done.returncode == 0, done.stderr
     result = json.loads((tmp_path / "bench.json").read_text())
     rows = {(row["env"], row["kind"]): row for row in result["rows"]}
@@ -82,7 +87,16 @@ def test_bench_quick_training_rows(tmp_path):
     assert training["rate"] > 0
     assert training["ratio"] == training["rate"] / rows["CartPole-v1", "PPO 8 envs"]["rate"]
     assert 0.0 < training["update_share"] < 1.0 and training["first_batch_s"] > 0
-    assert "| BeachballSail-v0 | TorchRL PPO N=8 |" in (tmp_path / "bench.md").read_text()
+    table = (tmp_path / "bench.md").read_text()
+    assert "| BeachballSail-v0 | TorchRL PPO N=8 |" in table
+    race = [r for r in result["rows"] if r["env"] == "bbgym/BeachballRace-v0"]
+    assert [r["kind"] for r in race] == [
+        "PettingZoo, 4 boats",
+        "fleet N=4 (1 race)",
+        "fleet N=8 (2 races)",
+    ]
+    assert all(r["rate"] > 0 and r["ratio"] > 0 for r in race)
+    assert "boat-steps/s" in table
 
 
 def run_bench(tmp_path, *argv: str) -> subprocess.CompletedProcess:
@@ -175,42 +189,6 @@ def test_bench_times_tensors_in_and_out():
         output="torch",
     )
     assert row["rate"] > 0 and row["state_mb"] > 0
-
-
-def test_bench_quick_race_rows(tmp_path):
-    """``--race`` (``--multi-agent``'s other spelling): the PettingZoo race beside CartPole's
-    single env, the fleet vector env beside CartPole's vector env at the same N, in
-    boat-steps: the race spec's rows."""
-    done = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "bbgym",
-            "bench",
-            "--quick",
-            "--race",
-            "--envs",
-            "BeachballSail-v0",
-            "--out",
-            str(tmp_path),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert done.returncode == 0, done.stderr
-    rows = [
-        r
-        for r in json.loads((tmp_path / "bench.json").read_text())["rows"]
-        if r["env"] == "bbgym/BeachballRace-v0"
-    ]
-    assert [r["kind"] for r in rows] == [
-        "PettingZoo, 4 boats",
-        "fleet N=4 (1 race)",
-        "fleet N=8 (2 races)",
-    ]
-    assert all(r["rate"] > 0 and r["ratio"] > 0 for r in rows)
-    assert "boat-steps/s" in (tmp_path / "bench.md").read_text()
 
 
 def test_race_backend_rows_time_the_fleet_on_torch():
