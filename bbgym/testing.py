@@ -7,7 +7,8 @@ those asked for):
 =========================  =============================================================
 ``spaces``                 Gymnasium's ``check_env``; observations in the space, float32,
                            of its shape; a float reward, bool ends, a dict info
-``determinism``            the same seed and actions give the same episode
+``determinism``            the same seed and actions give the same episode, and another
+                           seed another one
 ``vector``                 sub-env ``i`` of the native vector env and of Gymnasium's
                            Sync and Async ones equals the single env seeded ``seed + i``,
                            through autoresets (NumPy, float64)
@@ -172,10 +173,12 @@ def _check_spaces(env_id: str, steps: int, num_envs: int, seed: int) -> None:
 
 def _check_determinism(env_id: str, steps: int, num_envs: int, seed: int) -> None:
     actions = _actions(env_id, steps, 1, seed)[:, 0]
-    runs = [_rollout_single(gym.make(env_id), seed, actions) for _ in range(2)]
-    for t, (a, b) in enumerate(zip(*runs, strict=True)):
+    runs = [_rollout_single(gym.make(env_id), s, actions) for s in (seed, seed, seed + 1)]
+    for t, (a, b) in enumerate(zip(*runs[:2], strict=True)):
         np.testing.assert_array_equal(a[0], b[0], err_msg=f"{env_id} determinism: step {t}")
         assert a[1:] == b[1:], f"{env_id} determinism: step {t}: {a[1:]} != {b[1:]}"
+    observed = [np.array([step[0] for step in run]) for run in (runs[0], runs[2])]
+    assert not np.array_equal(*observed), f"{env_id} determinism: seed {seed + 1} is seed {seed}"
 
 
 def _check_vector(env_id: str, steps: int, num_envs: int, seed: int) -> None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import os
-import pickle
 
 import gymnasium as gym
 import numpy as np
@@ -59,18 +58,9 @@ def test_registered_with_entry_points_and_time_limit():
     assert isinstance(vec, BeachballSailVectorEnv) and vec.max_episode_steps == 1200
 
 
-def test_check_env_passes():
-    check_env(gym.make("BeachballSail-v0").unwrapped, skip_render_check=True)
+def test_check_env_passes_without_gusts_on_the_seed_sail():
+    # The registered ids pass it in the kit (tests/test_conformance.py); this is a variant.
     check_env(BeachballSailEnv(gusts=False, sail_model="seed"), skip_render_check=True)
-
-
-def test_deterministic_under_seed():
-    actions = np.random.default_rng(0).uniform(-1, 1, (150, 2)).astype(np.float32)
-    a = rollout(gym.make("BeachballSail-v0"), 7, actions)
-    b = rollout(gym.make("BeachballSail-v0"), 7, actions)
-    c = rollout(gym.make("BeachballSail-v0"), 8, actions)
-    np.testing.assert_array_equal(a, b)
-    assert not np.array_equal(a[:10], c[:10])
 
 
 def test_vector_env_matches_single_envs():
@@ -116,17 +106,6 @@ def test_vector_env_autoresets_on_next_step():
     np.testing.assert_allclose(info["elapsed_time"], 0.0)
     np.testing.assert_allclose(info["position"], 0.0)
     assert INFO_KEYS <= set(info) and info["_boat_speed"].all()
-
-
-def test_pickle_round_trip_continues_identically():
-    env = gym.make("BeachballSail-v0")
-    env.reset(seed=3)
-    for _ in range(10):
-        env.step(np.array([0.2, 0.0], np.float32))
-    clone = pickle.loads(pickle.dumps(env))
-    a = env.step(np.array([0.5, -0.5], np.float32))[0]
-    b = clone.step(np.array([0.5, -0.5], np.float32))[0]
-    np.testing.assert_array_equal(a, b)
 
 
 def test_reset_options_pin_the_scenario():
