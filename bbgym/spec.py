@@ -237,6 +237,27 @@ the first; the generator returns the episode's statistics (``steps``, ``outcome`
 
 
 @dataclass(frozen=True)
+class MultiAgentFuzz:
+    """How ``bbgym fuzz`` fuzzes a family of many agents (:attr:`MultiAgentSpec.fuzz`): its
+    forms stepped in turn, each check's length, and the family's samplers and checks."""
+
+    forms: tuple[str, ...]
+    """The env's forms a check steps in turn (``("parallel", "aec")``)."""
+    episode_steps: int
+    """Steps of one check (a failure counts them all: a failing episode still ends)."""
+    sample_kwargs: Callable[[Any], dict[str, Any]]
+    """``sample_kwargs(draw)``: constructor arguments over their accepted intervals."""
+    sample_options: Callable[[Any], dict[str, Any] | None]
+    """``sample_options(draw)``: reset options, or ``None``."""
+    check_episode: Callable[..., int]
+    """``check_episode(kwargs, steps, seed, form, options)``: step random and bad actions,
+    check every output; returns the agent steps taken."""
+    check_rejections: Callable[[], int]
+    """``check_rejections()``: every invalid number of every numeric argument raises an
+    error naming it; returns how many were checked."""
+
+
+@dataclass(frozen=True)
 class MultiAgentSpec:
     """A family of many agents in one env (PettingZoo's), declared as :class:`EnvSpec`
     declares a Gymnasium family: what registration, ``bbgym record``, ``bbgym bench`` and
@@ -280,6 +301,15 @@ class MultiAgentSpec:
     """What an episode is called in the bench rows (``"race"``)."""
     policies: tuple[str, ...] = ()
     """What ``bbgym record`` sails every agent by (``"scripted"``, ``"random"``, ...)."""
+    argument_table: tuple[tuple[str, str], ...] = ()
+    """The accepted values of the constructor's arguments and the reset options, as
+    ``(arguments, accepted)`` rows of the documentation's table."""
+    param_groups: Mapping[str, type] = field(default_factory=dict)
+    """Constructor arguments that take a parameter dataclass (the docs' tables list their
+    fields)."""
+    fuzz: str | None = None
+    """Where ``bbgym fuzz`` finds the family's :class:`MultiAgentFuzz`, ``"module:name"``
+    in its package (``"fuzz:FUZZ"``); ``None``: not fuzzed."""
     record: str | None = None
     """Where ``bbgym record`` finds the episode recorder, ``"module:function"`` in the
     family's package (``"recording:recorded_race"``): ``record(policy_name, seed=,

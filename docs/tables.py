@@ -668,30 +668,32 @@ def polar_compare_table(path: Path | None = None) -> str:
 
 
 def families() -> dict[str, Any]:
-    """The registered env families' specs by name (:mod:`bbgym.spec`)."""
+    """The registered Gymnasium env families' specs by name (:mod:`bbgym.spec`)."""
     import bbgym  # noqa: F401  (registers the families)
     from bbgym.spec import specs
 
     return {spec.family: spec for spec in specs()}
 
 
+def every_family() -> dict[str, Any]:
+    """:func:`families` and the families of many agents (the race's spec) by name: what
+    the argument tables cover."""
+    from bbgym.spec import multi_agent_specs
+
+    return families() | {spec.family: spec for spec in multi_agent_specs()}
+
+
 def param_groups() -> dict[str, type]:
     """The physics parameter dataclasses that envs take as mappings, by their argument
-    name, from the families' specs (and the race's, which has no Gymnasium spec)."""
-    from bbgym.physics.shadow import ShadowParams
-
-    groups = {name: cls for spec in families().values() for name, cls in spec.param_groups.items()}
-    return groups | {"shadow_params": ShadowParams}
+    name, from the families' specs."""
+    specs = every_family().values()
+    return {name: cls for spec in specs for name, cls in spec.param_groups.items()}
 
 
 def argument_rows(family: str) -> list[tuple[str, str]]:
     """``(names, accepted)`` rows of an env family's arguments and reset options: its
     spec's ``argument_table`` (the intervals the validation uses, formatted by it)."""
-    if family == "race":  # a PettingZoo env: no Gymnasium spec
-        from bbgym.envs.race.task import ARGUMENT_TABLE
-
-        return [(str(names), str(accepted)) for names, accepted in ARGUMENT_TABLE]
-    known = families()
+    known = every_family()
     if family not in known:
         raise LookupError(f"unknown env family {family!r}; known: {', '.join(known)}")
     return [(str(names), str(accepted)) for names, accepted in known[family].argument_table]

@@ -22,18 +22,20 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_fuzz import hypothesis_draw
 
-from bbgym.fuzz import (
-    BAD_NUMBERS,
+from bbgym.envs.race.fuzz import (
     RACE_FORMS,
-    SCENE_MOST_BODIES,
     check_race_episode,
     check_race_rejections,
-    check_scene,
-    format_report,
     race_numeric_arguments,
-    run,
     sample_race_kwargs,
     sample_race_options,
+)
+from bbgym.fuzz import (
+    BAD_NUMBERS,
+    SCENE_MOST_BODIES,
+    check_scene,
+    format_report,
+    run,
     sample_scene_params,
     scene_count_caps,
 )
@@ -194,8 +196,12 @@ def test_a_wave_of_fewer_points_than_wavelengths_runs(backend):
 
 @needs_race
 def test_the_long_run_reports_the_race_and_the_scenes():
+    """The race through its spec's fuzz (bbgym/envs/race/fuzz.py): its forms in turn, its
+    invalid numbers, its steps beside the scenes'; an older report (the race's figures with
+    no ``multi_agent`` list, failures keyed ``race``) reads as before."""
     report = run(3000, seed=0, num_envs=2, env_ids=["BeachballSail-v0"], backends=("numpy",))
     assert report["failures"] == []
+    assert report["multi_agent"] == ["race"] and set(report["race"]["forms"]) == set(RACE_FORMS)
     assert report["race_steps"] > 0 and report["scene_steps"] > 0
     assert report["race"]["errors_checked"] == len(race_numeric_arguments()) * len(BAD_NUMBERS)
     assert report["scene_backends"] == ["numpy"]  # the backends asked for, torch not among
@@ -203,3 +209,12 @@ def test_the_long_run_reports_the_race_and_the_scenes():
     text = format_report(report)
     assert "| race (parallel) |" in text and "| scene push |" in text
     assert "race boat steps" in text and "scene steps" in text
+    assert "invalid race arguments checked" in text
+    older = {k: v for k, v in report.items() if k != "multi_agent"}
+    older["failures"] = [
+        {"race": "aec", "seed": 3, "kwargs": "{}", "options": "None", "error": "E"}
+    ]
+    older_text = format_report(older)
+    assert older_text.startswith(text.split("\n\n")[0])  # the same first table
+    assert "| race (parallel) |" in older_text and "race boat steps" in older_text
+    assert "- race (aec) seed=3: E\n  kwargs={}\n  options=None" in older_text

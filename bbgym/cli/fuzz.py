@@ -1,14 +1,15 @@
-"""Fuzz every env, the race and the course's scenes through their public API (see
-:mod:`bbgym.fuzz`).
+"""Fuzz every env, the families of many agents (the race) and the course's scenes through
+their public API (see :mod:`bbgym.fuzz`).
 
     bbgym fuzz [--steps 1000000] [--seed 0] [--num-envs 32] [--minutes M]
-               [--race-share 0.1] [--scene-share 0.1] [--out runs/fuzz]
+               [--multi-agent-share 0.1] [--scene-share 0.1] [--out runs/fuzz]
 
 Random valid constructor arguments (every physical constant over its whole accepted
 interval), reset options and actions, on single and native vector envs; every
 observation, reward and info float is checked, and every invalid number argument is
-checked to raise the right error naming it. The PettingZoo race (the ``race`` extra) is
-raced the same way in its parallel and AEC forms, and the course's scenes are run with
+checked to raise the right error naming it. Each family of many agents whose spec says how
+(:class:`bbgym.spec.MultiAgentFuzz`; the PettingZoo race, with the ``race`` extra, in its
+parallel and AEC forms) is run the same way, and the course's scenes are run with
 random parameters on NumPy and torch (the ``torch`` extra), each taking its share of the
 steps. Writes ``fuzz.md`` and ``fuzz.json``; exits with status 1 if anything failed, with
 what reproduces it.
@@ -42,7 +43,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--num-envs", type=positive_int, default=32, help="size of the vector envs")
     parser.add_argument("--minutes", type=positive_float, default=math.inf, help="stop after this")
     parser.add_argument(
-        "--race-share", type=share, default=0.1, help="the race's share of the steps (0: none)"
+        "--multi-agent-share",
+        "--race-share",
+        dest="multi_agent_share",
+        type=share,
+        default=0.1,
+        help="the share of the steps of the families of many agents (the race; 0: none)",
     )
     parser.add_argument(
         "--scene-share", type=share, default=0.1, help="the scenes' share of the steps (0: none)"
@@ -56,14 +62,16 @@ def run(args: argparse.Namespace) -> int:
 
     # Gymnasium's env checker warns about float precision and the like on every make.
     warnings.filterwarnings("ignore", module="gymnasium")
-    if args.race_share + args.scene_share >= 1.0:
-        raise UsageError("--race-share and --scene-share must sum to under 1 (the envs' share)")
+    if args.multi_agent_share + args.scene_share >= 1.0:
+        raise UsageError(
+            "--multi-agent-share and --scene-share must sum to under 1 (the envs' share)"
+        )
     report = fuzz(
         args.steps,
         args.seed,
         args.num_envs,
         args.minutes,
-        race_share=args.race_share,
+        multi_agent_share=args.multi_agent_share,
         scene_share=args.scene_share,
     )
     from bbgym.cli.bench import machine_info
@@ -72,7 +80,8 @@ def run(args: argparse.Namespace) -> int:
     minutes = "" if math.isinf(args.minutes) else f" --minutes {args.minutes:g}"
     report["command"] = (
         f"bbgym fuzz --steps {args.steps} --seed {args.seed} --num-envs {args.num_envs}"
-        f" --race-share {args.race_share:g} --scene-share {args.scene_share:g}{minutes}"
+        f" --multi-agent-share {args.multi_agent_share:g} --scene-share {args.scene_share:g}"
+        f"{minutes}"
         f" --out {args.out}"
     )
     report["machine"] = machine_info()

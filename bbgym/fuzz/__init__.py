@@ -13,15 +13,16 @@ draws each number, so a failure shrinks to a small example) and the long run of
 * :func:`check_episode` steps a single env or a native vector env with random actions and
   checks every output; :func:`check_rejections` passes invalid values and checks the
   errors;
-* :func:`sample_race_kwargs` and :func:`check_race_episode` do the same for the PettingZoo
-  race (``bbgym.envs.race``, its parallel and AEC forms), :func:`check_race_rejections`
-  for its invalid numbers;
+* a family of many agents (the PettingZoo race) brings its own sampler and checks, a
+  :class:`bbgym.spec.MultiAgentFuzz` its spec names (the race's:
+  :mod:`bbgym.envs.race.fuzz`, its parallel and AEC forms and its invalid numbers), built
+  from the tools here (:func:`check_step`, :func:`bad_action`, :func:`finite_floats`);
 * :func:`sample_scene_params` and :func:`check_scene` for the course's scenes
   (``bbgym.scenes``), on NumPy and torch.
 
 The package's modules: :mod:`~bbgym.fuzz.draws` (the draw tools every family's sampler
-uses; it imports no env), :mod:`~bbgym.fuzz.envs`, :mod:`~bbgym.fuzz.race`,
-:mod:`~bbgym.fuzz.scenes` and :mod:`~bbgym.fuzz.long_run`; their public names are here.
+uses; it imports no env), :mod:`~bbgym.fuzz.envs`, :mod:`~bbgym.fuzz.scenes` and
+:mod:`~bbgym.fuzz.long_run`; their public names are here.
 
 Step sizes and time limits are drawn from the slow end of their intervals only (a sim_dt
 of 1e-4 s is accepted, but a fuzz run of a million steps at it would take days): the
@@ -47,31 +48,23 @@ from bbgym.fuzz.envs import (  # noqa: F401
     BAD_ACTION_RATE,
     BAD_ACTIONS,
     BAD_NUMBERS,
+    bad_action,
     check_episode,
     check_refusals,
     check_rejections,
     check_step,
+    finite_floats,
     numeric_arguments,
     pin_version,
     sample_kwargs,
     sample_options,
 )
 from bbgym.fuzz.long_run import (  # noqa: F401
-    RACE_SHARE,
+    MULTI_AGENT_SHARE,
     SCENE_SHARE,
     format_report,
     installed_backends,
     run,
-)
-from bbgym.fuzz.race import (  # noqa: F401
-    RACE_EPISODE_STEPS,
-    RACE_FORMS,
-    RACE_INFINITE_UNTIL_SET,
-    check_race_episode,
-    check_race_rejections,
-    race_numeric_arguments,
-    sample_race_kwargs,
-    sample_race_options,
 )
 from bbgym.fuzz.scenes import (  # noqa: F401
     SCENE_BACKENDS,

@@ -61,14 +61,14 @@ def sample_options(env_id: str, env: Any, draw: Draw) -> dict[str, Any] | None:
     return _fuzzed(env_id).sample_options(getattr(env, "unwrapped", env).task, draw)
 
 
-def _finite_floats(value: Any, path: str) -> None:
+def finite_floats(value: Any, path: str) -> None:
     """Raise AssertionError naming the first non-finite float inside ``value``."""
     if isinstance(value, Mapping):
         for key, item in value.items():
-            _finite_floats(item, f"{path}[{key!r}]")
+            finite_floats(item, f"{path}[{key!r}]")
     elif isinstance(value, np.ndarray) and value.dtype == object:
         for i, item in enumerate(value):
-            _finite_floats(item, f"{path}[{i}]")
+            finite_floats(item, f"{path}[{i}]")
     elif isinstance(value, (float, int, np.floating, np.integer, np.ndarray)) and not isinstance(
         value, (bool, np.bool_)
     ):
@@ -81,8 +81,8 @@ def check_step(space: gym.Space, obs: Any, reward: Any, info: Mapping, where: st
     """Obs inside the space, reward finite, every float in info finite."""
     if not space.contains(obs):
         raise AssertionError(f"{where}: observation outside its space: {obs!r}")
-    _finite_floats(reward, f"{where}: reward")
-    _finite_floats(info, f"{where}: info")
+    finite_floats(reward, f"{where}: reward")
+    finite_floats(info, f"{where}: info")
 
 
 BACKENDS = ("numpy", "torch", "torchrl")
@@ -236,7 +236,7 @@ def check_episode(
     return steps * max(num_envs, 1)
 
 
-def _bad_action(action: np.ndarray, rng: np.random.Generator) -> tuple[str, np.ndarray, type]:
+def bad_action(action: np.ndarray, rng: np.random.Generator) -> tuple[str, np.ndarray, type]:
     """A copy of ``action`` with one entry of :data:`BAD_ACTIONS` (drawn, as its place):
     the bad value's name, the action and the error it must raise."""
     name, value, error = BAD_ACTIONS[int(rng.integers(len(BAD_ACTIONS)))]
@@ -247,7 +247,7 @@ def _bad_action(action: np.ndarray, rng: np.random.Generator) -> tuple[str, np.n
 
 def _check_refused(env: _Stepper, action: np.ndarray, rng: np.random.Generator, where: str):
     """``action`` with one bad entry raises the right error on ``env``'s path."""
-    name, bad, error = _bad_action(action, rng)
+    name, bad, error = bad_action(action, rng)
     try:
         env.step(bad)
     except error:

@@ -1,5 +1,5 @@
-"""The long run of ``bbgym fuzz``: every id, the race and the scenes for a number of steps,
-and the report's tables."""
+"""The long run of ``bbgym fuzz``: every id, the families of many agents (the race) and the
+scenes for a number of steps, and the report's tables."""
 
 from __future__ import annotations
 
@@ -23,14 +23,6 @@ from bbgym.fuzz.envs import (
     sample_kwargs,
     sample_options,
 )
-from bbgym.fuzz.race import (
-    RACE_EPISODE_STEPS,
-    RACE_FORMS,
-    check_race_episode,
-    check_race_rejections,
-    sample_race_kwargs,
-    sample_race_options,
-)
 from bbgym.fuzz.scenes import (
     SCENE_MOST_BODIES,
     SCENE_STEPS,
@@ -38,15 +30,16 @@ from bbgym.fuzz.scenes import (
     installed_scene_backends,
     sample_scene_params,
 )
-from bbgym.spec import spec_of
+from bbgym.spec import MultiAgentFuzz, MultiAgentSpec, multi_agent_specs, spec_of
 
 # -- the long run ------------------------------------------------------------------------------
 
 
 PROGRESS_EVERY_S = 30.0
 """How often a :func:`run` says on stderr how far it is."""
-RACE_SHARE = 0.1
-"""The share of a long run's steps given to the race (its boat steps), by default."""
+MULTI_AGENT_SHARE = 0.1
+"""The share of a long run's steps given to the families of many agents (their agent
+steps: the race's boat steps), by default."""
 SCENE_SHARE = 0.1
 """The share given to the course's scenes (their steps), by default."""
 
@@ -58,32 +51,36 @@ def run(
     minutes: float = math.inf,
     env_ids: list[str] | None = None,
     backends: tuple[str, ...] | None = None,
-    race_share: float = RACE_SHARE,
+    multi_agent_share: float = MULTI_AGENT_SHARE,
     scene_share: float = SCENE_SHARE,
 ) -> dict:
-    """Fuzz every registered id (or ``env_ids``), the race and the course's scenes for
-    about ``total_steps`` steps. The ids share ``1 - race_share - scene_share`` of them:
+    """Fuzz every registered id (or ``env_ids``), the families of many agents and the
+    course's scenes for about ``total_steps`` steps. The ids share ``1 - multi_agent_share
+    - scene_share`` of them:
     turn by turn a single env and a vector env of ``num_envs`` on each backend of
     :data:`BACKENDS` that is installed (or ``backends``), a fresh random configuration and
     reset options for each episode check, bad actions among the valid ones; and every
-    invalid number is checked once per id. The race (with the ``race`` extra) takes
-    ``race_share`` in boat steps, its parallel and AEC forms in turn
-    (:func:`check_race_episode`); the scenes ``scene_share`` in their steps, one scene
+    invalid number is checked once per id. The families of many agents (their spec's
+    :class:`~bbgym.spec.MultiAgentFuzz`, where their extra is installed: the race's
+    PettingZoo) split ``multi_agent_share`` in agent steps, each stepping its forms in turn
+    (the race: parallel and AEC); the scenes ``scene_share`` in their steps, one scene
     after another, on NumPy and torch in turn (:data:`SCENE_BACKENDS` installed and among
     ``backends``; :func:`check_scene`).
 
     Args:
-        total_steps: env steps, race boat steps and scene steps in all.
+        total_steps: env steps, agent steps and scene steps in all.
         seed: seeds every configuration.
         num_envs: the vector envs' size.
         minutes: stop after this.
         env_ids: the ids to fuzz (default: every registered one).
         backends: the vector paths (default: those installed).
-        race_share: the race's share of ``total_steps`` (0: no race).
+        multi_agent_share: the families of many agents' share of ``total_steps`` (0:
+            none).
         scene_share: the scenes' share (0: no scenes).
 
     Returns:
-        The figures: steps (by id and path, by race form, by scene and backend),
+        The figures: steps (by id and path, by family of many agents and form, by scene
+        and backend),
         configurations, refusals, failures (with what reproduces each), errors checked,
         seconds.
     """
@@ -91,10 +88,11 @@ def run(
 
     from bbgym.spec import env_ids as registered
 
-    if not (0.0 <= race_share and 0.0 <= scene_share and race_share + scene_share < 1.0):
+    shares = (multi_agent_share, scene_share)
+    if not (min(shares) >= 0.0 and sum(shares) < 1.0):
         raise ValueError(
-            f"race_share and scene_share must be >= 0 with a sum under 1, got "
-            f"{race_share} and {scene_share}"
+            f"multi_agent_share and scene_share must be >= 0 with a sum under 1, got "
+            f"{multi_agent_share} and {scene_share}"
         )
     rng = np.random.default_rng(seed)
     draw = numpy_draw(rng)
@@ -119,20 +117,21 @@ def run(
         family_ids[spec_of(env_id).family] = family_ids.get(spec_of(env_id).family, 0) + 1
     shares = {e: _fuzzed(e).step_share / family_ids[spec_of(e).family] for e in ids}
     total_share = sum(shares.values())
-    env_steps = total_steps * (1.0 - race_share - scene_share)
+    env_steps = total_steps * (1.0 - multi_agent_share - scene_share)
     budget = {env_id: env_steps * share / total_share for env_id, share in shares.items()}
     targets: list[str] = list(ids)
-    race = _race_figures(report, race_share)
-    if race is not None:
-        budget["race"] = total_steps * race_share
-        targets.append("race")
+    fuzzed = _multi_agent_figures(report, multi_agent_share)
+    for family in fuzzed:
+        budget[family] = total_steps * multi_agent_share / len(fuzzed)
+        targets.append(family)
     scene_backends = installed_scene_backends(backends)
     scene_names = _scene_figures(report, scene_share, scene_backends)
     if scene_names:
         budget["scenes"] = total_steps * scene_share
         targets.append("scenes")
     done = {target: 0 for target in targets}
-    race_turn = scene_turn = turn = 0
+    scene_turn = turn = 0
+    form_turns = {family: 0 for family in fuzzed}
     visits: dict[str, int] = {}
     last_said = time.perf_counter()
     while any(done[t] < budget[t] for t in targets):
@@ -155,10 +154,11 @@ def run(
         turn += 1
         if done[target] >= budget[target]:
             continue
-        if target == "race":
-            form = RACE_FORMS[race_turn % len(RACE_FORMS)]
-            race_turn += 1
-            done[target] += _race_turn(report, form, draw, int(rng.integers(2**31)))
+        if target in fuzzed:
+            spec, fuzz = fuzzed[target]
+            form = fuzz.forms[form_turns[target] % len(fuzz.forms)]
+            form_turns[target] += 1
+            done[target] += _agents_turn(report, spec, fuzz, form, draw, int(rng.integers(2**31)))
             continue
         if target == "scenes":
             name = scene_names[scene_turn % len(scene_names)]
@@ -197,8 +197,8 @@ def run(
         figures["configurations"] += 1
     report["seconds"] = time.perf_counter() - start
     report["steps"] = sum(f["steps"] for f in report["envs"].values())
-    if race is not None:
-        report["race_steps"] = sum(f["steps"] for f in race["forms"].values())
+    for family in fuzzed:
+        report[f"{family}_steps"] = sum(f["steps"] for f in report[family]["forms"].values())
     if scene_names:
         report["scene_steps"] = sum(f["steps"] for f in report["scenes"].values())
     return report
@@ -208,21 +208,32 @@ def _error_text(error: BaseException) -> str:
     return f"{type(error).__name__}: {error}"[:2000]
 
 
-def _race_figures(report: dict[str, Any], race_share: float) -> dict[str, Any] | None:
-    """The race's figures in ``report`` (and its invalid numbers checked), or ``None``
-    without its share or its extra (PettingZoo)."""
-    import importlib.util
+def _multi_agent_figures(
+    report: dict[str, Any], share: float
+) -> dict[str, tuple[MultiAgentSpec, MultiAgentFuzz]]:
+    """The figures of each fuzzed family of many agents in ``report`` (under its name,
+    ``report["multi_agent"]`` listing them; its invalid numbers checked): those whose spec
+    has a :class:`~bbgym.spec.MultiAgentFuzz` and whose extra is installed, none without a
+    share."""
+    from bbgym._extras import extra_needs, missing_modules
 
-    if race_share <= 0.0 or importlib.util.find_spec("pettingzoo") is None:
-        return None
-    forms = {form: {"steps": 0, "configurations": 0, "failures": 0} for form in RACE_FORMS}
-    race = {"forms": forms, "errors_checked": 0}
-    report["race"] = race
-    try:
-        race["errors_checked"] = check_race_rejections()
-    except Exception as error:  # noqa: BLE001 - reported as a failure
-        report["failures"].append({"race": "constructor", "error": _error_text(error)})
-    return race
+    fuzzed: dict[str, tuple[MultiAgentSpec, MultiAgentFuzz]] = {}
+    for spec in multi_agent_specs():
+        if share <= 0.0 or spec.fuzz is None or missing_modules(extra_needs(spec.extra)):
+            continue
+        fuzz = spec.load(spec.fuzz)
+        forms = {form: {"steps": 0, "configurations": 0, "failures": 0} for form in fuzz.forms}
+        figures = {"forms": forms, "errors_checked": 0}
+        report[spec.family] = figures
+        try:
+            figures["errors_checked"] = fuzz.check_rejections()
+        except Exception as error:  # noqa: BLE001 - reported as a failure
+            failure = {"family": spec.family, "form": "constructor", "error": _error_text(error)}
+            report["failures"].append(failure)
+        fuzzed[spec.family] = (spec, fuzz)
+    if fuzzed:
+        report["multi_agent"] = list(fuzzed)
+    return fuzzed
 
 
 def _scene_figures(
@@ -247,27 +258,36 @@ def _scene_figures(
     return list(SCENES)
 
 
-def _race_turn(report: dict[str, Any], form: str, draw: Draw, case_seed: int) -> int:
-    """One race check in ``form`` with fresh arguments and options; returns its boat steps
-    (a failure counts :data:`RACE_EPISODE_STEPS`, that a failing race still ends)."""
-    figures = report["race"]["forms"][form]
-    kwargs = sample_race_kwargs(draw)
-    options = sample_race_options(draw)
+def _agents_turn(
+    report: dict[str, Any],
+    spec: MultiAgentSpec,
+    fuzz: MultiAgentFuzz,
+    form: str,
+    draw: Draw,
+    case_seed: int,
+) -> int:
+    """One check of a family of many agents in ``form`` with fresh arguments and options;
+    returns its agent steps (a failure counts the check's steps: a failing episode still
+    ends)."""
+    figures = report[spec.family]["forms"][form]
+    kwargs = fuzz.sample_kwargs(draw)
+    options = fuzz.sample_options(draw)
     figures["configurations"] += 1
     try:
-        taken = check_race_episode(kwargs, RACE_EPISODE_STEPS, case_seed, form, options)
+        taken = fuzz.check_episode(kwargs, fuzz.episode_steps, case_seed, form, options)
     except Exception as error:  # noqa: BLE001 - every failure is reported, with its input
         figures["failures"] += 1
         report["failures"].append(
             {
-                "race": form,
+                "family": spec.family,
+                "form": form,
                 "kwargs": repr(kwargs),
                 "options": repr(options),
                 "seed": case_seed,
                 "error": _error_text(error),
             }
         )
-        return RACE_EPISODE_STEPS
+        return fuzz.episode_steps
     figures["steps"] += taken
     return taken
 
@@ -312,9 +332,9 @@ def installed_backends() -> tuple[str, ...]:
 
 def format_report(report: Mapping[str, Any]) -> str:
     """The figures of :func:`run` as markdown: a table of steps by id and by path (single
-    NumPy env, then each vector backend); a table of the race's boat steps by form and the
-    scenes' steps by backend, with the combinations each scene refused; and the failures
-    with what reproduces them.
+    NumPy env, then each vector backend); a table of the agent steps of each family of
+    many agents by form (the race's boat steps) and the scenes' steps by backend, with the
+    combinations each scene refused; and the failures with what reproduces them.
 
     Args:
         report: what :func:`run` returned (or its JSON; a report from before the race and
@@ -335,13 +355,13 @@ def format_report(report: Mapping[str, Any]) -> str:
             f"| {env_id} | {f['steps']:,} | {by_path} | {f['configurations']:,} "
             f"| {f['failures']} | {f['errors_checked']} |"
         )
-    lines += _race_scene_table(report)
+    lines += _agents_scene_table(report)
     non_finite = sum(
         "non-finite" in f["error"] or "outside" in f["error"] for f in report["failures"]
     )
     done = [f"{report['steps']:,} env steps"]
-    if "race_steps" in report:
-        done.append(f"{report['race_steps']:,} race boat steps")
+    for family in _multi_agent_families(report):
+        done.append(f"{report[f'{family}_steps']:,} {family} {_agent_name(family)} steps")
     if "scene_steps" in report:
         done.append(f"{report['scene_steps']:,} scene steps")
     lines.append(
@@ -354,36 +374,51 @@ def format_report(report: Mapping[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def _race_scene_table(report: Mapping[str, Any]) -> list[str]:
+def _multi_agent_families(report: Mapping[str, Any]) -> list[str]:
+    """The families of many agents a report has figures of (a report written before
+    ``multi_agent`` listed them has the race's alone, under ``race``)."""
+    return list(report.get("multi_agent", ["race"] if "race" in report else []))
+
+
+def _agent_name(family: str) -> str:
+    """What an agent of ``family`` is called (its spec's ``agent_name``: ``"boat"``)."""
+    spec = next((s for s in multi_agent_specs() if s.family == family), None)
+    return spec.agent_name if spec is not None else "agent"
+
+
+def _agents_scene_table(report: Mapping[str, Any]) -> list[str]:
     """The second table of :func:`format_report` (none in a report without either)."""
-    race, scenes = report.get("race"), report.get("scenes")
-    if race is None and scenes is None:
+    families, scenes = _multi_agent_families(report), report.get("scenes")
+    if not families and scenes is None:
         return []
     backends = list(report.get("scene_backends", ("numpy",)))
     lines = [
         "",
-        "| race / scene | steps | " + " | ".join(backends) + " | configurations | refused "
-        "| failures |",
+        f"| {' / '.join([*families, 'scene'])} | steps | "
+        + " | ".join(backends)
+        + " | configurations | refused | failures |",
         "|---|---:|" + "---:|" * len(backends) + "---:|---:|---:|",
     ]
-    for form, f in (race or {}).get("forms", {}).items():
-        # The race runs on NumPy alone.
-        by_backend = " | ".join(f"{f['steps']:,}" if b == "numpy" else "-" for b in backends)
-        lines.append(
-            f"| race ({form}) | {f['steps']:,} | {by_backend} "
-            f"| {f['configurations']:,} | - | {f['failures']} |"
+    notes = []
+    for family in families:
+        for form, f in report[family].get("forms", {}).items():
+            # The PettingZoo forms run on NumPy alone.
+            by_backend = " | ".join(f"{f['steps']:,}" if b == "numpy" else "-" for b in backends)
+            lines.append(
+                f"| {family} ({form}) | {f['steps']:,} | {by_backend} "
+                f"| {f['configurations']:,} | - | {f['failures']} |"
+            )
+        agent = _agent_name(family)
+        notes.append(
+            f"{family.capitalize()} steps are {agent} steps (each {agent}'s action in a "
+            f"parallel step; a turn in the AEC form); {report[family]['errors_checked']} "
+            f"invalid {family} arguments checked."
         )
     for name, f in (scenes or {}).items():
         by_backend = " | ".join(f"{f['by_backend'].get(b, 0):,}" for b in backends)
         lines.append(
             f"| scene {name} | {f['steps']:,} | {by_backend} "
             f"| {f['configurations']:,} | {f['refused']} | {f['failures']} |"
-        )
-    notes = []
-    if race is not None:
-        notes.append(
-            f"Race steps are boat steps (each racing boat's action; a turn in the AEC form); "
-            f"{race['errors_checked']} invalid race arguments checked."
         )
     if scenes is not None:
         notes.append(
@@ -395,18 +430,20 @@ def _race_scene_table(report: Mapping[str, Any]) -> list[str]:
 
 
 def _failure_line(failure: Mapping[str, Any]) -> str:
-    """One failure and what reproduces it, by its kind (env, race or scene)."""
+    """One failure and what reproduces it, by its kind (env, family of many agents or
+    scene)."""
     error = failure["error"][:300]
     if "scene" in failure:
         return (
             f"- scene {failure['scene']} {failure['backend']} steps={failure['steps']}: "
             f"{error}\n  params={failure['params']}"
         )
-    if "race" in failure:
+    if "family" in failure or "race" in failure:  # a family of many agents ("race": older)
+        family, form = failure.get("family", "race"), failure.get("form", failure.get("race"))
         if "kwargs" not in failure:
-            return f"- race {failure['race']}: {error}"
+            return f"- {family} {form}: {error}"
         return (
-            f"- race ({failure['race']}) seed={failure['seed']}: {error}"
+            f"- {family} ({form}) seed={failure['seed']}: {error}"
             f"\n  kwargs={failure['kwargs']}\n  options={failure['options']}"
         )
     return (

@@ -4,6 +4,8 @@ modules: ``import bbgym`` registers the race through it."""
 
 from __future__ import annotations
 
+from bbgym.envs.race.task import ARGUMENT_TABLE
+from bbgym.physics.shadow import ShadowParams
 from bbgym.spec import MultiAgentSpec
 
 SPEC = MultiAgentSpec(
@@ -19,6 +21,9 @@ SPEC = MultiAgentSpec(
     agent_name="boat",
     episode_name="race",
     policies=("scripted", "random", "ppo"),
+    argument_table=ARGUMENT_TABLE,
+    param_groups={"shadow_params": ShadowParams},
+    fuzz="fuzz:FUZZ",
     record="recording:recorded_race",
 )
 """``pettingzoo.make("parallel", SPEC.env_id)``; ``gym.make(SPEC.one_agent_env_id)``."""

@@ -1,5 +1,6 @@
-"""Fuzzing the PettingZoo race (``bbgym.envs.race``): its arguments, its parallel and AEC
-forms stepped with bad actions among the valid ones, and its invalid numbers."""
+"""Fuzzing the PettingZoo race: its arguments, its parallel and AEC forms stepped with bad
+actions among the valid ones, and its invalid numbers. ``bbgym fuzz`` finds it through the
+race's spec (:data:`FUZZ`); the tools it uses are :mod:`bbgym.fuzz`'s."""
 
 from __future__ import annotations
 
@@ -20,15 +21,14 @@ from bbgym.fuzz.draws import (
 )
 from bbgym.fuzz.envs import (
     BAD_ACTION_RATE,
-    _bad_action,
-    _finite_floats,
+    bad_action,
     check_refusals,
     check_step,
+    finite_floats,
 )
 from bbgym.physics.dinghy import DinghyParams
 from bbgym.physics.validation import Interval
-
-# -- the race (PettingZoo) ---------------------------------------------------------------------
+from bbgym.spec import MultiAgentFuzz
 
 RACE_FORMS = ("parallel", "aec")
 """The race's two PettingZoo forms :func:`check_race_episode` steps: every boat acting at
@@ -156,7 +156,7 @@ def _check_race_info(info: Mapping, where: str) -> None:
         if key in shown:
             value = np.asarray(shown[key], dtype=np.float64)
             shown[key] = np.where(value == math.inf, 0.0, value)
-    _finite_floats(shown, where)
+    finite_floats(shown, where)
 
 
 def _check_race_outputs(
@@ -280,7 +280,7 @@ def _race_parallel(
         actions = {agent: _race_action(race, agent, rng) for agent in racing}
         if rng.random() < BAD_ACTION_RATE:
             agent = racing[int(rng.integers(len(racing)))]
-            name, bad, error = _bad_action(actions[agent], rng)
+            name, bad, error = bad_action(actions[agent], rng)
             _check_race_refusal(
                 race,
                 race.step,
@@ -316,7 +316,7 @@ def _race_aec(
         if not (terminated or truncated):
             action = _race_action(env, agent, rng)
             if rng.random() < BAD_ACTION_RATE:
-                name, bad, error = _bad_action(action, rng)
+                name, bad, error = bad_action(action, rng)
                 _check_race_refusal(race, env.step, bad, agent, name, error, f"{where} turn {t}")
                 if env.agent_selection != agent:
                     raise AssertionError(
@@ -383,3 +383,14 @@ def check_race_rejections() -> int:
         and not isinstance(signature[path].default, bool)
     }
     return check_refusals(parallel_env, paths, integers, "race")
+
+
+FUZZ = MultiAgentFuzz(
+    forms=RACE_FORMS,
+    episode_steps=RACE_EPISODE_STEPS,
+    sample_kwargs=sample_race_kwargs,
+    sample_options=sample_race_options,
+    check_episode=check_race_episode,
+    check_rejections=check_race_rejections,
+)
+"""The race's fuzzing, as ``bbgym fuzz`` takes it (:attr:`bbgym.spec.MultiAgentSpec.fuzz`)."""
