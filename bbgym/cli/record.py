@@ -390,19 +390,22 @@ def run(args: argparse.Namespace) -> int:
     starting = f"recording {args.env} {args.policy} seed {args.seed} into {args.out} ..."
     print(starting, file=sys.stderr, flush=True)
     agents = multi_agent_spec_of(args.env)
-    if agents is not None:
-        return run_agents(agents, args)
+    if agents is not None and args.policy not in agents.policies:
+        raise UsageError(
+            f"{as_passed(args, 'policy', '--policy')} {args.policy}: {agents.env_id} records "
+            f"{', '.join(agents.policies)}"
+        )
     stats = record_to_file(args.env, args.policy, args.out, **recording_options(args))
-    print(
-        f"{recorded_text(args, stats)}, return {stats['return']:.2f}, "
-        f"success {stats['success']} ({stats['outcome']}) -> {args.out}"
-    )
+    result = stats["outcome"]  # an episode of every agent: its outcome says it all
+    if "return" in stats:
+        result = f"return {stats['return']:.2f}, success {stats['success']} ({result})"
+    print(f"{recorded_text(args, stats)}, {result} -> {args.out}")
     return 0
 
 
 def recording_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The keyword arguments of :func:`record_to_file` and :func:`record_agents` that
-    ``bbgym record``'s options set, the same for an env and a family of many agents."""
+    """The keyword arguments of :func:`record_to_file` that ``bbgym record``'s options
+    set."""
     return {
         "model": args.model,
         "seed": args.seed,
@@ -438,10 +441,36 @@ def record_to_file(
 ) -> dict[str, Any]:
     """Record one episode of ``policy_name`` on ``env_id`` into ``out`` (.gif or .mp4),
     captioned unless ``title`` is False; return the episode's statistics (see
-    :func:`record_episode`)."""
+    :func:`record_episode`). ``env_id`` may be the PettingZoo id of a family of many agents
+    (:class:`~bbgym.spec.MultiAgentSpec`: the race): then every agent is recorded, by its
+    spec's recorder, and the statistics are the spec's (``steps``, ``outcome``, ...)."""
     check_format(out)
-    spec_of(env_id)  # a bbgym id, else ValueError listing them (the captions need its spec)
+    agents = multi_agent_spec_of(env_id)
+    if agents is None or env_id != agents.env_id:
+        spec_of(env_id)  # a bbgym id, else ValueError listing them (the captions need it)
     require_all(animation_needs(out))
+    hold_periods = max(1, round(hold * fps))
+    if agents is not None and env_id == agents.env_id:
+        every_agent = _agents_episode(agents, policy_name, model, seed, max_steps)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        writer = open_writer(out, fps)
+        frames = _CaptionedFrames(
+            writer,
+            f"{env_id} \N{MIDDLE DOT} {policy_name}",
+            title=title,
+            frame_skip=frame_skip,
+            hold_periods=hold_periods,
+        )
+        while True:
+            try:
+                frame, caption = next(every_agent)
+            except StopIteration as end:
+                stats = dict(end.value)
+                break
+            frames.add(frame, caption, key=False)
+        frames.finish(stats["outcome"], NEUTRAL_COLOR)
+        writer.close()
+        return {**stats, "frames": frames.kept, "file_frames": file_frames(writer, frames.kept)}
     env = gym.make(env_id, render_mode="rgb_array")
     try:
         try:
@@ -457,7 +486,7 @@ def record_to_file(
             writer,
             frame_skip=frame_skip,
             max_steps=max_steps,
-            hold_periods=max(1, round(hold * fps)),
+            hold_periods=hold_periods,
             title=title,
             policy_name=policy_name,
         )
@@ -468,55 +497,12 @@ def record_to_file(
     return stats
 
 
-def run_agents(spec: MultiAgentSpec, args: argparse.Namespace) -> int:
-    """``bbgym record`` of an episode of every agent (:func:`record_agents`)."""
-    if args.policy not in spec.policies:
-        raise UsageError(
-            f"{as_passed(args, 'policy', '--policy')} {args.policy}: {spec.env_id} records "
-            f"{', '.join(spec.policies)}"
-        )
-    stats = record_agents(spec, args.policy, args.out, **recording_options(args))
-    print(f"{recorded_text(args, stats)}, {stats['outcome']} -> {args.out}")
-    return 0
-
-
-def record_agents(
-    spec: MultiAgentSpec,
-    policy_name: str,
-    out: Path,
-    *,
-    model: Path | None = None,
-    seed: int = 0,
-    fps: float = DEFAULT_FPS,
-    frame_skip: int = 1,
-    max_steps: int | None = None,
-    hold: float = 1.0,
-    title: bool = True,
-) -> dict[str, Any]:
-    """Record one episode of every agent of a family of many agents (its spec's
-    :attr:`~bbgym.spec.MultiAgentSpec.record`) into ``out``; return its statistics.
-
-    Args:
-        spec: The family.
-        policy_name: One of the spec's :attr:`~bbgym.spec.MultiAgentSpec.policies`.
-        out: The file, ``.gif`` or ``.mp4``.
-        model: A saved model, for a learnt policy.
-        seed: The episode's seed.
-        fps: Playback rate.
-        frame_skip: Keep every K-th frame (and the last).
-        max_steps: Cut the episode after this many steps.
-        hold: Seconds the last frame is shown.
-        title: Whether the frames have captions.
-
-    Returns:
-        The spec's statistics (``steps``, ``outcome``, ``capped``, ...), with ``frames``
-        and ``file_frames``.
-
-    Raises:
-        UsageError: If the spec records no such policy, or the model does not fit.
-    """
-    check_format(out)
-    require_all(animation_needs(out))
+def _agents_episode(
+    spec: MultiAgentSpec, policy_name: str, model: Path | None, seed: int, max_steps: int | None
+) -> Any:
+    """The spec's recorder's frames of one episode of every agent (a learnt policy loaded
+    by :func:`~bbgym.cli.evaluate.make_policy`); a policy it does not record, or a model
+    that does not fit, is a :class:`UsageError`."""
     if spec.record is None or policy_name not in spec.policies:
         raise UsageError(f"{spec.env_id} records {', '.join(spec.policies) or 'nothing'}")
 
@@ -524,27 +510,8 @@ def record_agents(
         return make_policy(policy_name, env, saved, seed)
 
     try:
-        episode = spec.load(spec.record)(
+        return spec.load(spec.record)(
             policy_name, seed=seed, max_steps=max_steps, model=model, load_policy=load_policy
         )
     except ValueError as err:
         raise UsageError(str(err)) from None
-    out.parent.mkdir(parents=True, exist_ok=True)
-    writer = open_writer(out, fps)
-    frames = _CaptionedFrames(
-        writer,
-        f"{spec.env_id} \N{MIDDLE DOT} {policy_name}",
-        title=title,
-        frame_skip=frame_skip,
-        hold_periods=max(1, round(hold * fps)),
-    )
-    while True:
-        try:
-            frame, caption = next(episode)
-        except StopIteration as end:
-            stats = dict(end.value)
-            break
-        frames.add(frame, caption, key=False)
-    frames.finish(stats["outcome"], NEUTRAL_COLOR)
-    writer.close()
-    return {**stats, "frames": frames.kept, "file_frames": file_frames(writer, frames.kept)}

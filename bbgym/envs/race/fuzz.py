@@ -97,15 +97,7 @@ def sample_race_kwargs(draw: Draw) -> dict[str, Any]:
         "penalty": race.PENALTIES[draw_int(draw, "penalty", 0, len(race.PENALTIES) - 1)],
         "penalty_time_s": number("penalty_time_s", race.PENALTY_TIME_S),
     }
-    for name in (
-        "progress_weight",
-        "waypoint_bonus",
-        "finish_bonus",
-        "ocs_penalty",
-        "capsize_penalty",
-        "time_penalty",
-        "foul_penalty",
-    ):
+    for name in race.REWARD_WEIGHTS:
         kwargs[name] = draw(name, race.REWARD_WEIGHT, False)
     boat: dict[str, Any] = {}
     if draw_flag(draw, "boat.has_sail_model"):

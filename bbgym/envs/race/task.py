@@ -79,6 +79,16 @@ COUNTDOWN_S = interval(0.0, 300.0)
 START_DEPTH_M = interval(0.0, 200.0)
 RACE_TIME_S = interval(10.0, 7200.0)
 REWARD_WEIGHT = interval(0.0, 1000.0)
+REWARD_WEIGHTS = (
+    "progress_weight",
+    "waypoint_bonus",
+    "finish_bonus",
+    "ocs_penalty",
+    "capsize_penalty",
+    "time_penalty",
+    "foul_penalty",
+)
+"""The reward's weights, each a constructor argument in :data:`REWARD_WEIGHT`."""
 RESTITUTION = interval(0.0, 1.0)
 KEEP_CLEAR_M = interval(0.0, 50.0)
 PENALTY_TIME_S = interval(0.0, 600.0)
@@ -325,15 +335,7 @@ class RaceTask:
         self.shadow = check_bool("shadow", shadow)
         self.shadow_params = build_params(ShadowParams, "shadow_params", shadow_params)
         self.shadow_area_m2 = profile_area_m2(self.shadow_params)
-        for name in (
-            "progress_weight",
-            "waypoint_bonus",
-            "finish_bonus",
-            "ocs_penalty",
-            "capsize_penalty",
-            "time_penalty",
-            "foul_penalty",
-        ):
+        for name in REWARD_WEIGHTS:
             setattr(self, name, check_number(name, locals()[name], REWARD_WEIGHT))
         self.collisions = check_bool("collisions", collisions)
         self.restitution = check_number("restitution", restitution, RESTITUTION)
