@@ -165,6 +165,27 @@ class EnvSpec:
         """The family's env ids, in the order of :attr:`versions`."""
         return tuple(v.env_id for v in self.versions)
 
+    def argument_rows(self) -> tuple[tuple[str, str], ...]:
+        """The documentation's rows of the constructor's arguments and reset options:
+        :attr:`argument_table`, or where it is empty and the task's arguments are one
+        dataclass (``params_class``), a row per field, from the interval it declares (the
+        one the validation checks): one source for the check and the table.
+
+        Returns:
+            ``(arguments, accepted)`` rows.
+        """
+        if self.argument_table:
+            return tuple(self.argument_table)
+        env_class = getattr(importlib.import_module(self.module), self.env_class)
+        params_class = getattr(getattr(env_class, "task_class", None), "params_class", None)
+        if params_class is None:
+            return ()
+        return tuple(
+            (f"`{f.name}`", str(f.metadata["interval"]))
+            for f in dataclasses.fields(params_class)
+            if "interval" in f.metadata
+        )
+
     def version(self, env_id: str) -> Version:
         """One of the family's versions, by its id.
 
@@ -321,6 +342,14 @@ class MultiAgentSpec:
     def module(self) -> str:
         """The module that holds the env classes and factories: ``bbgym.envs.<family>``."""
         return f"bbgym.envs.{self.family}"
+
+    def argument_rows(self) -> tuple[tuple[str, str], ...]:
+        """The documentation's rows of the constructor's arguments and reset options.
+
+        Returns:
+            :attr:`argument_table`.
+        """
+        return tuple(self.argument_table)
 
     @property
     def step_unit(self) -> str:

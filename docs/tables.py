@@ -696,7 +696,7 @@ def argument_rows(family: str) -> list[tuple[str, str]]:
     known = every_family()
     if family not in known:
         raise LookupError(f"unknown env family {family!r}; known: {', '.join(known)}")
-    return [(str(names), str(accepted)) for names, accepted in known[family].argument_table]
+    return [(str(names), str(accepted)) for names, accepted in known[family].argument_rows()]
 
 
 def arguments_table(family: str) -> str:

@@ -67,6 +67,23 @@ def test_the_time_limit_has_one_source_the_spec():
         spec_of_class(dict)
 
 
+def test_its_argument_table_comes_from_its_params_fields():
+    """A ``params_class`` task declares no table: the docs' rows are its fields, each with
+    the interval the validation checks (one source), in the order of the dataclass."""
+    import dataclasses
+
+    from bbgym.envs.puck.task import PuckParams
+    from bbgym.physics.validation import accepted_interval
+
+    spec = spec_of(puck.ENV_ID)
+    assert spec.argument_table == ()
+    names = [f.name for f in dataclasses.fields(PuckParams)]
+    assert [row[0] for row in spec.argument_rows()] == [f"`{n}`" for n in names]
+    for (_, accepted), name in zip(spec.argument_rows(), names, strict=True):
+        assert accepted == str(accepted_interval(PuckParams, name))
+    assert ("`max_jet_speed_mps`", "(0, 50]") in spec.argument_rows()  # an open end shown
+
+
 def test_the_jet_drags_the_puck_implicitly():
     """One step from rest in a steady jet w (no gusts): the implicit drag step gives
     v = (h k / m) w / (1 + h k / m), k = C_d A rho |w| / 2, and the puck never outruns the
