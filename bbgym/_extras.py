@@ -26,6 +26,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "plots": ("matplotlib", "PIL"),
     "train": ("stable_baselines3", "torch", "tensorboard"),
     "torch": ("torch", "array_api_compat"),
+    "jax": ("jax",),
     "rllib": ("ray", "torch"),
     "zoo": ("rl_zoo3", "torch"),
     "torchrl": ("torchrl", "tensordict", "torch", "array_api_compat"),

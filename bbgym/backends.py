@@ -4,12 +4,14 @@ device, in which float dtype, and the random numbers drawn there.
 ``numpy`` (float64, the reference) runs the task core op by op on NumPy with each env's
 own ``numpy.random.Generator``, so sub-env ``i`` equals the single env seeded ``seed + i``.
 ``torch`` runs the same core through ``array_api_compat.torch`` as one ``torch.compile``d
-function per step on ``device`` (``"cpu"`` or ``"cuda"``), in float64 or float32, with a
+function per step on ``device`` (``"cpu"`` or ``"cuda"``), in float64 or float32; ``jax``
+runs it through ``jax.numpy`` as one ``jax.jit`` executable. Both draw from a
 counter-based generator (:func:`uniforms`, :func:`normals`) evaluated inside that
-function: a pure hash of (env key, step counter, stream, index) in int64 arithmetic that
-never overflows, so the uniform draws are the same bits on every device and in every
-namespace (the normals agree to the rounding of ``log`` and ``cos``), a run is
-deterministic under a seed, and the generator's state is one counter per env.
+function: a pure hash of (env key, step counter, stream, index) in 32-bit modular
+arithmetic, done in int64 that never overflows (NumPy, torch) or in uint32 that wraps (JAX,
+which then needs no ``jax_enable_x64``), so the uniform draws are the same bits on every
+device and in every namespace (the normals agree to the rounding of ``log`` and ``cos``),
+a run is deterministic under a seed, and the generator's state is one counter per env.
 """
 
 from __future__ import annotations
@@ -28,9 +30,9 @@ from typing import Any
 
 import numpy as np
 
-BACKENDS = ("numpy", "torch")
+BACKENDS = ("numpy", "torch", "jax")
 DTYPES = ("float64", "float32")
-OUTPUTS = ("numpy", "torch")
+OUTPUTS = ("numpy", "torch", "jax")
 STEP_GRAPHS = ("auto", "parts", "one")
 """How the torch backend compiles a step: ``parts``, each part of ``VectorStep`` its own
 graph, called one by one; ``one``, the whole step one graph (``VectorStep.fused``), a
@@ -50,26 +52,50 @@ class Backend:
     """Where and how a vector env's step runs (see the module docstring)."""
 
     name: str = "numpy"
-    """The array namespace that runs the step: ``"numpy"`` or ``"torch"``
+    """The array namespace that runs the step: ``"numpy"``, ``"torch"`` or ``"jax"``
     (:data:`BACKENDS`)."""
     device: str = "cpu"
-    """Where torch runs it: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (always ``"cpu"`` for
-    numpy)."""
+    """Where torch or JAX runs it: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (always ``"cpu"``
+    for numpy)."""
     dtype: str = "float64"
-    """The float dtype of the state: ``"float64"`` or ``"float32"`` (torch only)."""
+    """The float dtype of the state: ``"float64"`` or ``"float32"`` (torch and JAX)."""
     output: str = "numpy"
-    """What ``reset`` and ``step`` return: ``"numpy"`` arrays or ``"torch"`` tensors on
-    :attr:`device`."""
+    """What ``reset`` and ``step`` return: ``"numpy"`` arrays, or the backend's own arrays
+    on :attr:`device` (``"torch"`` tensors, ``"jax"`` arrays)."""
     compile: bool = True
-    """Whether torch runs the step under ``torch.compile`` (``False``: eagerly)."""
+    """Whether torch runs the step under ``torch.compile``, JAX under ``jax.jit``
+    (``False``: eagerly)."""
     step_graph: str = "auto"
     """How torch compiles a step: ``"auto"``, ``"parts"`` or ``"one"``
-    (:data:`STEP_GRAPHS`)."""
+    (:data:`STEP_GRAPHS`); JAX always compiles it as one program."""
 
     @property
     def xp(self) -> Any:
         """The array namespace."""
+        if self.name == "jax":
+            return jax_namespace(self.dtype == "float64")
         return np if self.name == "numpy" else torch_namespace()
+
+    def context(self) -> Any:
+        """The context every call into this backend's arrays runs in: for JAX,
+        ``jax.enable_x64`` on for float64 and off for float32, so the step has the 64-bit
+        types it needs (or none it would not use) whatever the user's process sets;
+        nothing for the others.
+
+        Returns:
+            A context manager.
+        """
+        if self.name != "jax":
+            return _NO_CONTEXT
+        return jax_x64(self.dtype == "float64")
+
+    @property
+    def jax_device(self) -> Any:
+        """The ``jax.Device`` of :attr:`device` (JAX only)."""
+        import jax
+
+        platform, _, index = self.device.partition(":")
+        return jax.devices("cpu" if platform == "cpu" else "gpu")[int(index or 0)]
 
     @property
     def float_dtype(self) -> Any:
@@ -89,24 +115,27 @@ def resolve_backend(
     """Validate the backend keywords of a vector env; errors name the argument.
 
     Args:
-        backend: ``"numpy"`` (the float64 reference) or ``"torch"``.
-        device: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (torch only); ``None``: ``"cpu"``.
-        dtype: ``"float64"``, or ``"float32"`` (torch only).
-        output: ``"numpy"``, or ``"torch"`` for tensors on ``device`` (torch only).
-        compile: Whether torch compiles the step (``False``: runs it eagerly).
-        step_graph: ``"auto"``, ``"parts"`` or ``"one"`` (torch only;
-            :data:`STEP_GRAPHS`).
+        backend: ``"numpy"`` (the float64 reference), ``"torch"`` or ``"jax"``.
+        device: ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (torch and JAX); ``None``:
+            ``"cpu"``.
+        dtype: ``"float64"``, or ``"float32"`` (torch and JAX).
+        output: ``"numpy"``, or the backend's own arrays on ``device``: ``"torch"``
+            (torch only) or ``"jax"`` (JAX only).
+        compile: Whether torch or JAX compiles the step (``False``: runs it eagerly).
+        step_graph: ``"auto"``, ``"parts"`` or ``"one"`` (torch; JAX compiles one
+            program, ``"auto"`` or ``"one"``; :data:`STEP_GRAPHS`).
 
     Returns:
         The checked :class:`Backend`.
 
     Raises:
         ValueError: If a keyword is not one of its accepted values, is one that needs
-            the torch backend while ``backend="numpy"``, or names a CUDA device torch
+            another backend than the one named, or names a CUDA device the backend
             does not find.
         TypeError: If ``compile`` is not a bool.
         ImportError: If ``backend="torch"`` and torch or array-api-compat is not
-            installed; the message says how to install them.
+            installed, or ``backend="jax"`` and jax is not; the message says how to
+            install them.
     """
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {list(BACKENDS)}, got {backend!r}")
@@ -118,16 +147,18 @@ def resolve_backend(
         raise TypeError(f"compile must be a bool, got {compile!r}")
     if step_graph not in STEP_GRAPHS:
         raise ValueError(f"step_graph must be one of {list(STEP_GRAPHS)}, got {step_graph!r}")
+    if output != "numpy" and output != backend:
+        raise ValueError(f"output={output!r} needs backend={output!r}, got backend={backend!r}")
     if backend == "numpy":
         if step_graph == "one":
-            raise ValueError(f"step_graph={step_graph!r} needs backend='torch'")
+            raise ValueError(f"step_graph={step_graph!r} needs backend='torch' or 'jax'")
         if device not in (None, "cpu"):
             raise ValueError(f"device must be 'cpu' for backend='numpy', got {device!r}")
         if dtype != "float64":
             raise ValueError("dtype must be 'float64' for backend='numpy' (the reference)")
-        if output != "numpy":
-            raise ValueError("output='torch' needs backend='torch'")
         return Backend()
+    if backend == "jax":
+        return _resolve_jax(device, dtype, output, compile, step_graph)
     try:
         import array_api_compat  # noqa: F401
         import torch
@@ -138,12 +169,114 @@ def resolve_backend(
             "backend='torch' needs torch and array-api-compat (the 'torch' extra): "
             f"{install_hint('torch')} ({error})"
         ) from None
-    device = "cpu" if device is None else device
-    if not isinstance(device, str) or device.split(":")[0] not in ("cpu", "cuda"):
-        raise ValueError(f"device must be 'cpu' or 'cuda' (or 'cuda:N'), got {device!r}")
+    device = _check_device(device)
     if device.startswith("cuda") and not torch.cuda.is_available():
         raise ValueError(f"device={device!r}: torch finds no CUDA device on this machine")
     return Backend("torch", device, dtype, output, compile, step_graph)
+
+
+def _check_device(device: Any) -> str:
+    """``device`` checked as ``"cpu"``, ``"cuda"`` or ``"cuda:N"`` (None: ``"cpu"``)."""
+    device = "cpu" if device is None else device
+    if not isinstance(device, str) or device.split(":")[0] not in ("cpu", "cuda"):
+        raise ValueError(f"device must be 'cpu' or 'cuda' (or 'cuda:N'), got {device!r}")
+    return device
+
+
+def _resolve_jax(device: Any, dtype: str, output: str, compile: bool, step_graph: str) -> Backend:
+    """:func:`resolve_backend` for ``backend="jax"`` (its other keywords checked)."""
+    if step_graph == "parts":
+        raise ValueError(
+            "step_graph='parts' needs backend='torch': backend='jax' compiles the whole "
+            "step as one program (step_graph='auto' or 'one')"
+        )
+    try:
+        import jax
+    except ImportError as error:
+        from bbgym._extras import install_hint
+
+        raise ImportError(
+            f"backend='jax' needs jax (the 'jax' extra): {install_hint('jax')} ({error})"
+        ) from None
+    device = _check_device(device)
+    platform, _, index = device.partition(":")
+    try:
+        found = jax.devices("cpu" if platform == "cpu" else "gpu")
+    except RuntimeError:
+        found = []
+    if int(index or 0) >= len(found):
+        raise ValueError(f"device={device!r}: jax finds no such device on this machine")
+    return Backend("jax", device, dtype, output, compile, "one")
+
+
+class _NoContext:
+    """A context manager that does nothing (reusable, unlike ``nullcontext`` in 3.10)."""
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, *exc: Any) -> None:
+        return None
+
+
+_NO_CONTEXT = _NoContext()
+
+_JAX_NAMESPACES: dict[bool, Any] = {}
+
+
+def jax_namespace(x64: bool = False) -> Any:
+    """``jax.numpy`` (the array API standard's names since jax 0.4.32) as the namespace of
+    a step in float64 (``x64``, run under ``jax.enable_x64(True)``) or in float32. In
+    float32 the step runs without JAX's 64-bit types, and ``int64`` names ``int32`` (the
+    counts a task keeps, substeps and hits, fit in 31 bits), so a task's
+    ``xp.astype(mask, xp.int64)`` neither warns nor asks for a type JAX lacks there.
+
+    Args:
+        x64: Whether the step runs with JAX's 64-bit types (float64 state).
+
+    Returns:
+        A namespace object (made once per process and mode) with the array API's names.
+    """
+    if x64 in _JAX_NAMESPACES:
+        return _JAX_NAMESPACES[x64]
+    import jax.numpy as jnp
+
+    names = {k: getattr(jnp, k) for k in dir(jnp) if not k.startswith("_")}
+    if not x64:
+        names["int64"] = jnp.int32
+    names["bbgym_backend"] = "jax"
+    _JAX_NAMESPACES[x64] = SimpleNamespace(**names)
+    return _JAX_NAMESPACES[x64]
+
+
+def jax_x64(on: bool) -> Any:
+    """``jax.enable_x64(on)``, the context that turns JAX's 64-bit types on or off for the
+    block only (``jax.experimental.enable_x64`` before jax 0.7).
+
+    Args:
+        on: Whether the block has JAX's 64-bit types.
+
+    Returns:
+        A context manager.
+    """
+    import jax
+
+    switch = getattr(jax, "enable_x64", None)
+    if switch is None:  # jax < 0.7 (Python 3.10 installs 0.6)
+        from jax.experimental import enable_x64 as switch
+    return switch(on)
+
+
+def is_jax(xp: Any) -> bool:
+    """Whether ``xp`` is a namespace of :func:`jax_namespace`.
+
+    Args:
+        xp: An array namespace.
+
+    Returns:
+        True for the JAX namespaces.
+    """
+    return getattr(xp, "bbgym_backend", None) == "jax"
 
 
 _TORCH_NAMESPACE: Any = None
@@ -255,8 +388,12 @@ def compiled(fn: Any, backend: Backend) -> Any:
     Returns:
         A callable taking ``fn``'s positional arguments: ``fn`` compiled, or ``fn``.
     """
-    if backend.name != "torch" or not backend.compile:
+    if backend.name == "numpy" or not backend.compile:
         return fn
+    if backend.name == "jax":
+        import jax
+
+        return jax.jit(fn)
     import torch
     import torch._dynamo
     from torch._dynamo.exc import TorchDynamoException
@@ -452,17 +589,25 @@ def compile_logged(
     Yields:
         Nothing; the block compiles while a thread says it is still compiling.
     """
-    from torch._dynamo.utils import counters
-
     interval = PROGRESS_INTERVAL_S if interval_s is None else interval_s
-    key = (what, backend.device, backend.dtype, batch, graph)
+    key = (backend.name, what, backend.device, backend.dtype, batch, graph)
     first = key not in _ANNOUNCED
     _ANNOUNCED.add(key)
-    cache = compile_cache_dir()
-    kind = {"one": "the step as one graph", "parts": "the step's parts"}.get(graph or "")
+    if backend.name == "jax":
+        cache = jax_cache_dir()
+        kind = "the step as one program"
+        graph_count: Callable[[], int] = lambda: 0  # noqa: E731
+        expected = _expected_jax_wait(cache)
+    else:
+        from torch._dynamo.utils import counters
+
+        cache = compile_cache_dir()
+        kind = {"one": "the step as one graph", "parts": "the step's parts"}.get(graph or "")
+        graph_count = lambda: counters["stats"]["unique_graphs"]  # noqa: E731
+        expected = _expected_wait(cache)
     start_line = (
-        f"compiling {what} for torch ({backend.device}, {backend.dtype}, batch {batch})"
-        f"{'' if kind is None else f' ({kind})'}: {_expected_wait(cache)}; later "
+        f"compiling {what} for {backend.name} ({backend.device}, {backend.dtype}, batch "
+        f"{batch}){'' if kind is None else f' ({kind})'}: {expected}; later "
         f"calls and runs reuse the compile cache ({cache})"
     )
     progress_log = logging.getLogger(f"{__name__}.progress")
@@ -470,7 +615,7 @@ def compile_logged(
         notice(start_line)
     else:  # this process announced it: a recompile here is quick, and said only if not
         logger.info("%s", start_line)
-    graphs = counters["stats"]["unique_graphs"]
+    graphs = graph_count()
     start = time.perf_counter()
 
     def progress() -> None:
@@ -479,9 +624,8 @@ def compile_logged(
 
     with _ticking(progress, interval) as spoke:
         yield
-    end_line = (
-        f"compiled {what} in {time.perf_counter() - start:.1f} s "
-        f"({counters['stats']['unique_graphs'] - graphs} new graphs)"
+    end_line = f"compiled {what} in {time.perf_counter() - start:.1f} s" + (
+        "" if backend.name == "jax" else f" ({graph_count() - graphs} new graphs)"
     )
     if first or spoke.is_set():
         notice(end_line)
@@ -489,25 +633,85 @@ def compile_logged(
         logger.info("%s", end_line)
 
 
+TYPICAL_JAX_COMPILE_S = {"cold": (3, 15), "warm": (0.5, 2)}
+""":data:`TYPICAL_COMPILE_S` for the JAX backend (``scripts/compile_times.py``)."""
+
+JAX_CACHE_VARIABLE = "BBGYM_JAX_CACHE"
+"""The environment variable naming the folder of JAX's persistent compile cache that bbgym
+sets where the user has set none (``0``: bbgym sets none)."""
+
+
+def jax_cache_dir() -> str:
+    """The folder of JAX's persistent compilation cache, which bbgym turns on at a JAX
+    env's first step where the process has none (``jax_compilation_cache_dir`` unset):
+    :data:`JAX_CACHE_VARIABLE`, else ``$XDG_CACHE_HOME/bbgym/jax`` (``~/.cache/bbgym/jax``).
+    A later process that compiles the same step loads it from there in about a second.
+
+    Returns:
+        The folder in use, or a sentence saying the cache is off.
+    """
+    import jax
+
+    current = jax.config.jax_compilation_cache_dir
+    if current:
+        return str(current)
+    chosen = os.environ.get(JAX_CACHE_VARIABLE)
+    if chosen == "0":
+        return "none: BBGYM_JAX_CACHE=0 turned it off"
+    if not chosen:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        chosen = os.path.join(base, "bbgym", "jax")
+    jax.config.update("jax_compilation_cache_dir", chosen)
+    return chosen
+
+
+def _expected_jax_wait(cache: str) -> str:
+    """:func:`_expected_wait` for JAX: the typical seconds, cold and warm."""
+    (cold_low, cold_high), (warm_low, warm_high) = TYPICAL_JAX_COMPILE_S.values()
+    empty = not os.path.isdir(cache) or not os.listdir(cache)
+    state = "the cache is empty, so expect the cold time" if empty else "the cache has programs"
+    return (
+        f"a first step takes {cold_low:.0f}-{cold_high:.0f} s with a cold compile cache and "
+        f"{warm_low:.1f}-{warm_high:.0f} s with a warm one on a 2-core CPU ({state})"
+    )
+
+
 # -- counter-based random numbers -----------------------------------------------------------
+def _is_uint32(x: Any) -> bool:
+    """Whether ``x`` holds its 32-bit words as uint32 (JAX), where arithmetic wraps modulo
+    2^32 by itself, rather than in int64 (NumPy, torch), where it is masked."""
+    return str(getattr(x, "dtype", "")) == "uint32"
+
+
+def _low32(x: Any) -> Any:
+    """``x mod 2^32``: a mask on int64, nothing on uint32 (which cannot hold more)."""
+    return x if _is_uint32(x) else x & _MASK32
+
+
+def _word(value: int, like: Any) -> Any:
+    """The 32-bit constant ``value`` to combine with ``like``'s words: a ``np.uint32`` for
+    uint32 words (a Python int over 2^31 would not fit JAX's default int), else the int."""
+    return np.uint32(value) if _is_uint32(like) else value
+
+
 def _mul32(x: Any, c: int) -> Any:
-    """``x * c mod 2^32`` for ``0 <= x < 2^32`` in int64 without overflow (products stay
-    below 2^49), so the same bits come out of NumPy, torch (CPU, CUDA, compiled) and any
-    array-API namespace."""
+    """``x * c mod 2^32`` for ``0 <= x < 2^32``, in int64 without overflow (products stay
+    below 2^49) or in uint32 wrapping, so the same bits come out of NumPy, torch (CPU,
+    CUDA, compiled), JAX and any array-API namespace."""
     low, high = c & 0xFFFF, c >> 16
-    return (x * low + (((x & 0xFFFF) * high) & 0xFFFF) * 65536) & _MASK32
+    return _low32(x * low + (((x & 0xFFFF) * high) & 0xFFFF) * 65536)
 
 
 def hash32(x: Any) -> Any:
     """A 32-bit integer hash with good avalanche (Wellons' "lowbias32"), on int64 arrays
-    holding values in ``[0, 2^32)``.
+    holding values in ``[0, 2^32)`` or on uint32 arrays (the same bits).
 
     Args:
         x: An int64 array (NumPy, torch or any array-API namespace) of values in
-            ``[0, 2^32)``.
+            ``[0, 2^32)``, or a uint32 array (JAX without ``jax_enable_x64``).
 
     Returns:
-        An int64 array of the same shape, values in ``[0, 2^32)``.
+        An array of ``x``'s shape and dtype, values in ``[0, 2^32)``.
     """
     x = x ^ (x >> 16)
     x = _mul32(x, 0x7FEB352D)
@@ -535,7 +739,8 @@ def env_keys(seed: int, num_envs: int, xp: Any, device: Any = None) -> Any:
 
 def _stream_base(key: Any, counter: Any, stream: int) -> Any:
     """The hash every draw of one (env, step, stream) starts from."""
-    return hash32(hash32(key ^ (counter & _MASK32)) ^ ((stream * 0x9E3779B1 + 1) & _MASK32))
+    salt = _word((stream * 0x9E3779B1 + 1) & _MASK32, key)
+    return hash32(hash32(key ^ _low32(counter)) ^ salt)
 
 
 def uniforms(key: Any, counter: Any, stream: int, count: int, dtype: Any, xp: Any) -> list:
@@ -577,7 +782,10 @@ def _uniform_rows_at(
     # arange into index arithmetic, which Triton does in int32, and 0x85EBCA77 does not
     # fit there (torch 2.11 on CUDA refused to compile the step; bits are the same).
     salts = [(k * 0x85EBCA77) & _MASK32 for k in range(places.start + 1, places.stop + 1)]
-    salt = xp.asarray(salts, dtype=xp.int64, device=base.device)
+    if _is_uint32(base):  # JAX: a constant of the program (a traced array has no device)
+        salt = xp.asarray(np.asarray(salts, dtype=np.uint32))
+    else:
+        salt = xp.asarray(salts, dtype=xp.int64, device=base.device)
     bits = hash32(xp.expand_dims(base, axis=0) ^ xp.reshape(salt, (count,) + (1,) * base.ndim))
     if dtype == xp.float32:
         return (xp.astype(bits >> 8, dtype) + 0.5) * (1.0 / 16777216.0)
@@ -640,16 +848,31 @@ def draw_at(
     return radius * (xp.cos(angle) if place % 2 == 0 else xp.sin(angle))
 
 
-def to_numpy(x: Any) -> Any:
-    """A torch tensor as a NumPy array (zero-copy on the CPU); anything else unchanged.
+def is_jax_array(x: Any) -> bool:
+    """Whether ``x`` is a JAX array (without importing JAX where it is not).
 
     Args:
-        x: A torch tensor (on any device), or anything else.
+        x: Anything.
 
     Returns:
-        A NumPy array for a tensor (copied to the host from a GPU), else ``x``.
+        True for a ``jax.Array`` (or a tracer of one).
+    """
+    return type(x).__module__.startswith("jax")
+
+
+def to_numpy(x: Any) -> Any:
+    """A torch tensor or a JAX array as a NumPy array; anything else unchanged.
+
+    Args:
+        x: A torch tensor or JAX array (on any device), or anything else.
+
+    Returns:
+        A NumPy array for a tensor (zero-copy on the CPU, copied to the host from a GPU)
+        or a JAX array (a writable copy: JAX's own buffers are read-only), else ``x``.
     """
     if hasattr(x, "detach"):
         x = x.detach()
         return (x if x.device.type == "cpu" else x.cpu()).numpy()
+    if is_jax_array(x):
+        return np.array(x)
     return x

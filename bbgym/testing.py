@@ -17,8 +17,8 @@ those asked for):
                            bad action raise errors that name them
 ``arguments``              every number argument refuses bad values, naming itself
 ``fuzz``                   a short random episode of random accepted arguments
-``backends``               the step on ``array_api_strict``, torch eager and torch
-                           compiled equals NumPy's, through autoresets (same keys)
+``backends``               the step on ``array_api_strict``, torch and JAX, each eager
+                           and compiled, equals NumPy's, through autoresets (same keys)
 =========================  =============================================================
 
 ``python -c "from bbgym.testing import check_family; check_family('sail')"`` checks a
@@ -45,7 +45,7 @@ from bbgym.spec import EnvSpec, register_spec, specs, unregister_spec
 
 CHECKS = ("spaces", "determinism", "vector", "pickle", "options", "arguments", "fuzz", "backends")
 """Every check :func:`check_family` runs, in order."""
-BACKENDS = ("array_api_strict", "torch", "torch-compiled")
+BACKENDS = ("array_api_strict", "torch", "torch-compiled", "jax", "jax-compiled")
 """The backends the ``backends`` check compares with NumPy (each where installed)."""
 
 
@@ -255,16 +255,28 @@ def _check_fuzz(env_id: str, steps: int, num_envs: int, seed: int) -> None:
         fuzz.check_episode(env_id, kwargs, options, steps, seed, n)
 
 
-def _keyed_rollout(env_id: str, xp: Any, dtype: Any, seed: int, actions: np.ndarray) -> list:
+def _keyed_rollout(
+    env_id: str,
+    xp: Any,
+    dtype: Any,
+    seed: int,
+    actions: np.ndarray,
+    max_episode_steps: int | None = None,
+    parts: bool = False,
+    with_state: bool = False,
+) -> list:
     """The vector step run as pure functions on namespace ``xp`` (what the torch backend
-    compiles), from the counter-based keys: (obs, reward, terminated, truncated) per step.
-    A ``"generator"`` task on NumPy draws from its generators; this is how its torch
-    backend is checked against NumPy."""
+    compiles), from the counter-based keys: (obs, reward, terminated, truncated) per step,
+    and the state after it where ``with_state``. A ``"generator"`` task on NumPy draws from
+    its generators; this is how its torch and JAX backends are checked against NumPy.
+    ``parts`` runs the step's parts (as the compiled backends do) rather than a host
+    transition, which a task may fly its own way (the same physics, other rounding)."""
     num_envs = actions.shape[1]
     vec = gym.make_vec(env_id, num_envs=1, vectorization_mode="vector_entry_point")
     task, max_steps = vec.unwrapped.task, vec.unwrapped.max_episode_steps
     vec.close()
-    step = VectorStep(task, max_steps, xp, dtype)
+    step = VectorStep(task, max_episode_steps or max_steps, xp, dtype)
+    step_parts = (step.begin, step.chunk, step.end, step.restart, step.observe) if parts else None
 
     def to_xp(x: np.ndarray) -> Any:
         return xp.asarray(x)
@@ -278,10 +290,12 @@ def _keyed_rollout(env_id: str, xp: Any, dtype: Any, seed: int, actions: np.ndar
     out = []
     for a in actions:
         state, obs, reward, term, trunc, _, counter, steps = step(
-            state, xp.asarray(a, dtype=dtype), keys, counter, steps, restarting
+            state, xp.asarray(a, dtype=dtype), keys, counter, steps, restarting, step_parts
         )
         restarting = term | trunc
         out.append(tuple(_np(x) for x in (obs, reward, term, trunc)))
+        if with_state:
+            out[-1] += (state,)
     return out
 
 
@@ -295,21 +309,20 @@ def _check_backend(env_id: str, backend: str, steps: int, num_envs: int, seed: i
 
             dtype: Any = xp.float64
         else:
-            import torch  # noqa: F401
+            __import__(backend.split("-")[0])
     except ImportError:
         return f"{where}: skipped, not installed"
     reference = _keyed_rollout(env_id, np, np.float64, seed, actions)
     if backend == "array_api_strict":
         got = _keyed_rollout(env_id, xp, dtype, seed, actions)
     else:
-        compiled = backend == "torch-compiled"
         vec = gym.make_vec(
             env_id,
             num_envs=num_envs,
             vectorization_mode="vector_entry_point",
-            backend="torch",
+            backend=backend.split("-")[0],
             dtype="float64",
-            compile=compiled,
+            compile=backend.endswith("-compiled"),
         )
         got = _rollout_vector(vec, seed, actions)[1:]
         vec.close()

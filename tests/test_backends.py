@@ -175,7 +175,7 @@ def test_torch_runs_are_deterministic_under_a_seed() -> None:
 def test_backend_arguments_are_checked() -> None:
     with pytest.raises(ValueError, match="backend"):
         gym.make_vec(
-            "BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point", backend="jax"
+            "BeachballSail-v0", num_envs=2, vectorization_mode="vector_entry_point", backend="mlx"
         )
     with pytest.raises(ValueError, match="dtype"):
         make_torch("BeachballSail-v0", dtype="float16")

@@ -23,11 +23,12 @@ def test_every_version_conforms_on_the_host(env_id):
 
 @pytest.mark.parametrize("family", [s.family for s in specs()])
 def test_the_newest_version_steps_alike_on_every_eager_backend(family):
-    """``array_api_strict`` and torch (eager, float64) step as NumPy does through autoresets
+    """``array_api_strict``, torch (eager, float64) and JAX (jitted: its compile takes
+    seconds, its eager ops compile one by one) step as NumPy does through autoresets
     (torch compiled is checked per family in tests/**/test_backends*.py, where its compile
     time is paid once)."""
     newest = next(s for s in specs() if s.family == family).ids[-1]
-    backends = ("array_api_strict", "torch")
+    backends = ("array_api_strict", "torch", "jax-compiled")
     report = testing.check_family(
         family, ids=[newest], checks=["backends"], backends_=backends, steps=4
     )
@@ -36,8 +37,8 @@ def test_the_newest_version_steps_alike_on_every_eager_backend(family):
 
 def test_the_template_conforms_on_every_backend():
     """The puck, the template of docs/new-env.md, unregistered: registered for the kit,
-    which runs every check on Python floats, NumPy, array_api_strict and torch eager and
-    compiled, and removes it after."""
+    which runs every check on Python floats, NumPy, array_api_strict, and torch and JAX
+    eager and compiled, and removes it after."""
     pytest.importorskip("torch")
     report = testing.check_family(puck.SPEC)
     assert len(report) == len(testing.CHECKS) - 1 + len(testing.BACKENDS)

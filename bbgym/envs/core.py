@@ -424,6 +424,8 @@ def check_tensor_actions(actions: Any, shape: tuple[int, ...], backend: Any) -> 
     Returns:
         The checked, clipped tensor.
     """
+    if backends.is_jax_array(actions):
+        return _check_jax_actions(actions, shape, backend)
     if actions.is_complex():  # a cast would drop the imaginary part with a mere warning
         raise TypeError(f"actions must be real, got a {actions.dtype} tensor")
     if tuple(actions.shape) != tuple(shape):
@@ -437,6 +439,24 @@ def check_tensor_actions(actions: Any, shape: tuple[int, ...], backend: Any) -> 
         rows = [int(i) for i in (~finite).nonzero().flatten()[:8]]
         raise ValueError(f"actions must be finite: rows {rows} hold NaN or inf")
     return a.clamp(-1.0, 1.0)
+
+
+def _check_jax_actions(actions: Any, shape: tuple[int, ...], backend: Any) -> Any:
+    """:func:`check_tensor_actions` for a JAX array (on the backend's device, one
+    reduction and a sync a step, as for torch)."""
+    import jax
+
+    xp = backend.xp
+    if xp.iscomplexobj(actions):
+        raise TypeError(f"actions must be real, got a {actions.dtype} array")
+    if tuple(actions.shape) != tuple(shape):
+        raise ValueError(f"actions must have shape {tuple(shape)}, got {tuple(actions.shape)}")
+    a = jax.device_put(xp.astype(actions, backend.float_dtype), backend.jax_device)
+    finite = xp.all(xp.isfinite(a), axis=-1)
+    if not bool(xp.all(finite)):
+        rows = [int(i) for i in np.flatnonzero(~np.asarray(finite))[:8]]
+        raise ValueError(f"actions must be finite: rows {rows} hold NaN or inf")
+    return xp.clip(a, -1.0, 1.0)
 
 
 class CoreVectorEnv(VectorEnv):
@@ -562,8 +582,8 @@ class CoreVectorEnv(VectorEnv):
     @property
     def keyed(self) -> bool:
         """Whether the draws come from the counter-based keys (every backend for a
-        ``"keys"`` task, torch for every task), not from each env's generator."""
-        return self.backend.name == "torch" or self.task.randomness == "keys"
+        ``"keys"`` task, torch and JAX for every task), not from each env's generator."""
+        return self.backend.name != "numpy" or self.task.randomness == "keys"
 
     def _restart(self, mask: np.ndarray, options: dict[str, Any]) -> None:
         """Fresh episodes for the envs in ``mask`` (:func:`restart`), each from its own
@@ -582,10 +602,17 @@ class CoreVectorEnv(VectorEnv):
             # fields a fresh state shares (zeros) as aliases, and recompile once they part.
             state = tree_map(lambda t: t.clone(), state)
         self.state = state
-        self._counter = self._counter + xp.astype(m, xp.int64)
+        self._counter = self._counter + xp.astype(m, self._counter.dtype)
 
     def _tensor(self, x: Any, dtype: Any = None) -> Any:
         """``x`` as an array of the backend (on its device)."""
+        if self.backend.name == "jax":
+            import jax
+
+            x = np.asarray(x, dtype=dtype)
+            if x.dtype == np.int64 and self.backend.dtype == "float32":
+                x = x.astype(np.int32)  # JAX's int without 64-bit types (the counts fit)
+            return jax.device_put(x, self.backend.jax_device)
         if self.backend.name != "torch":
             return np.asarray(x, dtype=dtype)
         import torch
@@ -609,7 +636,7 @@ class CoreVectorEnv(VectorEnv):
         step = VectorStep(
             self.task, self.max_episode_steps, self.xp, self.backend.float_dtype, self.info_keys
         )
-        if self.backend.name != "torch":  # a "keys" task on NumPy: the host step
+        if self.backend.name == "numpy":  # a "keys" task on NumPy: the host step
 
             def run_host(*args: Any, any_restarting: bool | None = None) -> tuple:
                 step.record = self.records
@@ -618,7 +645,7 @@ class CoreVectorEnv(VectorEnv):
                 return out
 
             return run_host
-        if self.step_graph == "one":
+        if self.step_graph == "one" or (self.backend.name == "jax" and self.backend.compile):
             fused = backends.compiled(step.fused, self.backend)
 
             def run_one(*args: Any, any_restarting: bool | None = None) -> tuple:
@@ -658,7 +685,8 @@ class CoreVectorEnv(VectorEnv):
             ValueError: for a negative seed, a list of the wrong length or an option out
                 of its interval.
         """
-        return self._reset(seed, options)
+        with self.backend.context():
+            return self._reset(seed, options)
 
     def _reset(self, seed: Any, options: dict[str, Any] | None) -> tuple[Any, dict[str, Any]]:
         options = self.task.check_options(options)
@@ -696,8 +724,11 @@ class CoreVectorEnv(VectorEnv):
                 for i, s in enumerate(seeds)
             ]
         )
-        self._keys = self._tensor(keys)
-        self._counter = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
+        # JAX holds the 32-bit keys as uint32, whose arithmetic wraps as the hash needs
+        # without 64-bit types (backends.hash32); NumPy and torch as int64.
+        word = np.uint32 if self.backend.name == "jax" else np.int64
+        self._keys = self._tensor(keys.astype(word))
+        self._counter = self._tensor(np.zeros(self.num_envs, dtype=word))
 
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         """Step every sub-env (Gymnasium's ``VectorEnv.step``), with next-step autoreset:
@@ -720,7 +751,8 @@ class CoreVectorEnv(VectorEnv):
         if not self.started:
             raise gym.error.ResetNeeded("Call reset() before step()")
         if self.keyed:
-            return self._step_keyed(actions)
+            with self.backend.context():
+                return self._step_keyed(actions)
         # A "generator" task on NumPy: the same step, its draws from GeneratorDraws.
         a = self.task.check_action(actions, self.num_envs)
         restarting = self._autoreset
@@ -760,7 +792,8 @@ class CoreVectorEnv(VectorEnv):
         return {}
 
     def _step_keyed(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
-        if hasattr(actions, "detach"):  # a tensor from a GPU-resident learner
+        if hasattr(actions, "detach") or backends.is_jax_array(actions):
+            # a tensor or JAX array from a device-resident learner
             a = check_tensor_actions(actions, self.action_space.shape, self.backend)
         else:
             a = self._tensor(
@@ -774,7 +807,7 @@ class CoreVectorEnv(VectorEnv):
             # nothing), so every part compiles now rather than when the first episode ends.
             any_restarting = True
         restarting = self._autoreset
-        compiling = first and self.backend.name == "torch" and self.backend.compile
+        compiling = first and self.backend.name != "numpy" and self.backend.compile
         with self._compile_logged() if compiling else nullcontext():
             out = self._compiled_step(
                 self.state,
@@ -791,7 +824,7 @@ class CoreVectorEnv(VectorEnv):
         if self.backend.output == "numpy":  # the host has the ends: no sync next step
             terminated, truncated = backends.to_numpy(terminated), backends.to_numpy(truncated)
             self._any_restarting = bool(terminated.any() or truncated.any())
-        if self._wants_reset_hook or self.backend.name != "torch":
+        if self._wants_reset_hook or self.backend.name == "numpy":
             self._on_reset(backends.to_numpy(restarting))
         self._on_step(a)
         if self.render_mode == LIST_MODE:
@@ -828,7 +861,8 @@ class CoreVectorEnv(VectorEnv):
             Every env's observation, ``(num_envs, size)`` float32 (NumPy, or a tensor with
             ``output="torch"``).
         """
-        return self._reset_envs(np.asarray(mask, dtype=bool))
+        with self.backend.context():
+            return self._reset_envs(np.asarray(mask, dtype=bool))
 
     def _reset_envs(self, mask: np.ndarray) -> Any:
         if mask.any():
@@ -847,7 +881,7 @@ class CoreVectorEnv(VectorEnv):
         )
 
     def _out(self, x: Any) -> Any:
-        return x if self.backend.output == "torch" else backends.to_numpy(x)
+        return x if self.backend.output != "numpy" else backends.to_numpy(x)
 
     def _vector_info(self, info: dict[str, Any]) -> dict[str, Any]:
         return vector_info(tree_map(self._out, info), self.num_envs)

@@ -948,46 +948,61 @@ def tree_with_leaves(tree: Any, leaves: list) -> Any:
     return tree_map(lambda _: next(it), tree)
 
 
+def _varying_leaves(task: Any, carry: Any, xp: Any, array_type: type) -> tuple[list, list, list]:
+    """The carry's leaves, one chunk's leaves, and the places of those a chunk changes,
+    found by a chunk
+    traced for that alone: its results are unused, so the compiler drops its ops, and the
+    program holds the chunk once (in the loop), not twice, which is most of what it costs
+    to compile."""
+    probe = task.chunk(carry, xp)
+    before, after = tree_leaves(carry), tree_leaves(probe)
+    varying = [
+        j
+        for j, (old, new) in enumerate(zip(before, after, strict=True))
+        if isinstance(new, array_type) and new is not old
+    ]
+    return before, after, varying
+
+
+def _with_varying(carry: Any, leaves: list, varying: list, arrays: tuple) -> Any:
+    """``carry`` with its leaves ``leaves``, those at ``varying`` replaced by ``arrays``."""
+    replaced = list(leaves)
+    for j, array in zip(varying, arrays, strict=True):
+        replaced[j] = array
+    return tree_with_leaves(carry, replaced)
+
+
 def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
-    """``task.chunks`` chunks of a transition from ``carry`` in a ``while_loop`` (torch's
-    loop primitive, which ``torch.compile`` keeps rolled: one chunk in the graph, not
-    hundreds) that also stops once every env is done (``task.stops_early``). The loop
-    carries only the tensors a chunk changes; the rest (the wind, the screen) it reads as
-    constants.
+    """``task.chunks`` chunks of a transition from ``carry`` in a while loop (torch's
+    ``while_loop``, which ``torch.compile`` keeps rolled, or ``jax.lax.while_loop``: one
+    chunk in the program, not hundreds) that also stops once every env is done
+    (``task.stops_early``). The loop carries only the arrays a chunk changes; the rest
+    (the wind, the screen) it reads as constants.
 
     Args:
         task: the task core (its ``chunks``, ``stops_early``, :meth:`~TaskCore.chunk` and
             :meth:`~TaskCore.all_done`); a task of one chunk runs it once, with no loop.
-        carry: what :meth:`TaskCore.begin` made (of torch tensors where it has chunks).
-        xp: the array namespace (torch's where the task has chunks).
+        carry: what :meth:`TaskCore.begin` made (of torch tensors or JAX arrays where it
+            has chunks).
+        xp: the array namespace (torch's or JAX's where the task has chunks).
 
     Returns:
         The carry after the last chunk.
     """
     if task.chunks <= 1:
         return task.chunk(carry, xp)
+    if backends.is_jax(xp):
+        return _jax_rolled_chunks(task, carry, xp)
     import torch
     from torch._higher_order_ops import while_loop
 
-    # Which leaves a chunk changes, from a chunk traced for that alone: its results are
-    # unused, so the compiler drops its ops, and the graph holds the chunk once (in the
-    # loop), not twice, which is most of what it costs to compile.
-    probe = task.chunk(carry, xp)
-    before = tree_leaves(carry)
-    varying = [
-        j
-        for j, (old, new) in enumerate(zip(before, tree_leaves(probe), strict=True))
-        if isinstance(new, torch.Tensor) and new is not old
-    ]
+    before, _, varying = _varying_leaves(task, carry, xp, torch.Tensor)
     # No two of the loop's inputs may share memory (rows of one noise draw are views of
     # it, a flight's fields may be one array): each gets its own copy.
     leaves = [leaf.clone() if isinstance(leaf, torch.Tensor) else leaf for leaf in before]
 
     def rebuild(tensors: tuple) -> Any:
-        replaced = list(leaves)
-        for j, tensor in zip(varying, tensors, strict=True):
-            replaced[j] = tensor
-        return tree_with_leaves(carry, replaced)
+        return _with_varying(carry, leaves, varying, tensors)
 
     def more(done_chunks: Any, *tensors: Any) -> Any:
         go = done_chunks < task.chunks
@@ -1015,4 +1030,33 @@ def rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
     )
     with constant_ints:
         out = while_loop(more, chunk, carried)
+    return rebuild(tuple(out[1:]))
+
+
+def _jax_rolled_chunks(task: Any, carry: Any, xp: Any) -> Any:
+    """:func:`rolled_chunks` in ``jax.lax.while_loop``: the loop carries the leaves a chunk
+    changes, each with the dtype and shape a chunk gives it (a Python number in the first
+    carry becomes an array of the chunk's type, as the loop needs)."""
+    import jax
+
+    before, after, varying = _varying_leaves(task, carry, xp, jax.Array)
+
+    def rebuild(arrays: tuple) -> Any:
+        return _with_varying(carry, before, varying, arrays)
+
+    def more(carried: tuple) -> Any:
+        go = carried[0] < task.chunks
+        if task.stops_early:
+            go = go & xp.logical_not(xp.all(task.all_done(rebuild(carried[1:]), xp)))
+        return go
+
+    def chunk(carried: tuple) -> tuple:
+        out = tree_leaves(task.chunk(rebuild(carried[1:]), xp))
+        return (carried[0] + 1, *[out[j] for j in varying])
+
+    first = [
+        xp.broadcast_to(xp.asarray(before[j], dtype=after[j].dtype), after[j].shape)
+        for j in varying
+    ]
+    out = jax.lax.while_loop(more, chunk, (xp.asarray(0, dtype=xp.int32), *first))
     return rebuild(tuple(out[1:]))

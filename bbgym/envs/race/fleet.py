@@ -39,9 +39,10 @@ class BeachballRaceFleetEnv(VectorEnv):
 
     ``backend="torch"`` steps the races on torch (``device``, ``dtype`` float64 or float32,
     ``compile``: one ``torch.compile``d graph a step, else eager; ``output="torch"`` returns
-    observations, rewards and ends as tensors on ``device``, infos stay NumPy): the same core
-    and the same random draws (each race's own NumPy generator, a few numbers a step), so in
-    float64 a race sails as on NumPy to rounding.
+    observations, rewards and ends as tensors on ``device``, infos stay NumPy), and
+    ``backend="jax"`` on JAX (one ``jax.jit`` program a step; ``output="jax"``): the same
+    core and the same random draws (each race's own NumPy generator, a few numbers a
+    step), so in float64 a race sails as on NumPy to rounding.
     ``reset`` takes an int (race ``r`` seeded ``seed + r``), a seed per race, or a seed per
     boat (each race takes its first boat's). :meth:`reset_envs` restarts at once what a
     step ended, for stable-baselines3 through :class:`bbgym.sb3.NativeVecEnvAdapter`.
@@ -94,7 +95,7 @@ class BeachballRaceFleetEnv(VectorEnv):
             uniform[r] = self._generators[r].uniform(size=2 + 4 * k)
             normal[r] = self._generators[r].standard_normal(size=2)
         state = self.task.initial(self._array(uniform), self._array(normal), options, self.xp)
-        if self.xp is np:
+        if self.xp is np or self.backend.name == "jax":  # JAX arrays are values: no aliasing
             return state
         # Leaves of a new state share arrays (one zeros for many fields); a compiled step
         # guards on which inputs are the same tensor and would compile again for the
@@ -106,6 +107,10 @@ class BeachballRaceFleetEnv(VectorEnv):
         if self.xp is np:
             return values
         dtype = self.backend.float_dtype if values.dtype.kind == "f" else None
+        if self.backend.name == "jax":
+            import jax
+
+            return jax.device_put(self.xp.asarray(values, dtype=dtype), self.backend.jax_device)
         return self.xp.asarray(values, dtype=dtype, device=self.backend.device)
 
     def _select(self, races: np.ndarray, fresh: RaceState, old: RaceState) -> RaceState:
@@ -136,6 +141,10 @@ class BeachballRaceFleetEnv(VectorEnv):
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple:
+        with self.backend.context():
+            return self._reset(seed, options)
+
+    def _reset(self, seed: Any, options: dict[str, Any] | None) -> tuple:
         if not isinstance(seed, (int, np.integer)) and seed is not None:
             seed = list(seed)
             if len(seed) == self.num_envs:  # a seed per boat: each race takes its first's
@@ -152,6 +161,12 @@ class BeachballRaceFleetEnv(VectorEnv):
     def step(self, actions: Any) -> tuple:
         if self.state is None:
             raise RuntimeError("step() called before reset()")
+        with self.backend.context():
+            return self._step(actions)
+
+    def _step(self, actions: Any) -> tuple:
+        if backends.is_jax_array(actions):
+            actions = np.asarray(actions)  # checked on the host, as a NumPy batch is
         if hasattr(actions, "detach") and self.xp is not np:  # a learner's tensor, kept there
             action = actions.to(device=self.backend.device, dtype=self.backend.float_dtype)
             if tuple(action.shape) != self.action_space.shape:
@@ -174,7 +189,7 @@ class BeachballRaceFleetEnv(VectorEnv):
         )
         before = self.state
         noise = self._array(gust_noise)
-        compiling = self._cold and self.backend.name == "torch" and self.backend.compile
+        compiling = self._cold and self.backend.name != "numpy" and self.backend.compile
         logged = backends.compile_logged("the race step", self.backend, self.num_envs)
         with logged if compiling else nullcontext():
             moved, reward, out, timed_out = self._advance(before, action, noise)
@@ -217,6 +232,10 @@ class BeachballRaceFleetEnv(VectorEnv):
         observation."""
         if self.state is None:
             raise RuntimeError("reset_envs() called before reset()")
+        with self.backend.context():
+            return self._reset_envs()
+
+    def _reset_envs(self) -> Any:
         ended = self._ended.copy()
         if ended.any():
             self.state = self._select(ended, self._fresh(ended, {}), self.state)
@@ -237,12 +256,16 @@ class BeachballRaceFleetEnv(VectorEnv):
         if blank is not None:
             obs = xp.where(self._array(blank)[:, :, None], xp.zeros_like(obs), obs)
         obs = xp.reshape(obs, (self.num_envs, -1))
-        return obs if self.backend.output == "torch" else backends.to_numpy(obs)
+        return obs if self.backend.output != "numpy" else backends.to_numpy(obs)
 
     def _output(self, values: np.ndarray) -> Any:
         """A NumPy result as :attr:`backend` outputs it."""
-        if self.backend.output != "torch":
+        if self.backend.output == "numpy":
             return values
+        if self.backend.name == "jax":
+            import jax
+
+            return jax.device_put(values, self.backend.jax_device)
         return self.xp.asarray(values, device=self.backend.device)
 
     def _info(self) -> dict[str, Any]:
