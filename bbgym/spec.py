@@ -118,6 +118,12 @@ class EnvSpec:
     param_groups: Mapping[str, type] = field(default_factory=dict)
     """Constructor arguments that take a parameter dataclass (``"dinghy": DinghyParams``):
     the fuzzer draws and checks every field of each."""
+    jax_params: tuple[str, ...] = ()
+    """The constructor arguments that may vary inside a JAX program, by path
+    (``"dinghy.mass_kg"``, ``"wind_speed_range"``): the leaves of
+    :class:`bbgym.jax_env.EnvParams`, which ``jax.vmap`` batches (domain randomization).
+    Each is one the task builds from without branching on its value; a test checks that
+    a traced value steps as a task built with it."""
     shorthands: Mapping[str, str] = field(default_factory=dict)
     """Constructor arguments that set a parameter group's field (``"sail_model":
     "dinghy.sail_model"``): a user's value for either spelling replaces a version's value

@@ -37,6 +37,7 @@ MODULES = [
     "bbgym.envs.functional",
     "bbgym.testing",
     "bbgym.envs.core",
+    "bbgym.jax_env",
 ]
 """The modules whose public API this test holds to the rule (extend it as modules are
 documented)."""

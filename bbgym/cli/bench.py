@@ -45,6 +45,10 @@ to ``--out``:
   as it compiles by default).
   torch runs with ``--torch-threads`` threads (default 2), pinned for every row, the PPO
   rows included;
+* ``--jax`` (the ``jax`` extra): the same rows on the JAX backend (each of ``--dtypes``,
+  one ``jax.jit`` program a step, its first step the compile), beside torch's and
+  CartPole's at the same N; on ``--device cuda`` with JAX arrays in and out where the
+  ``jax`` extra (with ``jax[cuda12]``) is installed;
 * ``--device cuda``: the GPU check in one command. The torch rows alone, on the GPU with
   tensors in and out (``output="torch"``, the actions made on the device before the timed
   loop, the device synchronized before the clock stops), at N = 4096, 65536 and 2^20,
@@ -62,6 +66,7 @@ times (best kept).
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import os
 import platform
@@ -74,6 +79,7 @@ import gymnasium as gym
 import numpy as np
 
 import bbgym  # noqa: F401  (registers the envs)
+from bbgym import backends
 from bbgym._extras import extra_needs
 from bbgym.backends import STEP_GRAPHS
 from bbgym.cli import add_aliased, check_device, positive_float, positive_int, require_all
@@ -214,9 +220,15 @@ def time_backend(
         import torch
 
         actions = [torch.as_tensor(a, device=device) for a in actions]
+    if backend.get("output") == "jax":  # JAX arrays on the device, as a JAX learner's
+        import jax
+
+        place = env.unwrapped.backend.jax_device
+        actions = [jax.device_put(a.astype(np.float32), place) for a in actions]
     env.reset(seed=seed)
     start = time.perf_counter()
-    env.step(actions[0])  # compiles
+    out = env.step(actions[0])  # compiles
+    _synchronize(device, out)
     first_step = time.perf_counter() - start
     env.step(actions[1])
     rate = 0.0
@@ -224,11 +236,11 @@ def time_backend(
         done = 0
         start = time.perf_counter()
         for action in actions:
-            env.step(action)
+            out = env.step(action)
             done += 1
             if time.perf_counter() - start > seconds:
                 break
-        _synchronize(device)  # a GPU's queued steps are done before the clock stops
+        _synchronize(device, out)  # a device's queued steps are done before the clock stops
         rate = max(rate, done * num_envs / (time.perf_counter() - start))
     state_bytes = 0
     state = getattr(env.unwrapped, "state", None)
@@ -240,8 +252,11 @@ def time_backend(
     return {"rate": rate, "warmup_s": first_step, "state_mb": state_bytes / 2**20}
 
 
-def _synchronize(device: str) -> None:
-    if device.startswith("cuda"):
+def _synchronize(device: str, out: Any = None) -> None:
+    """Wait for a device's queued work: JAX's outputs ready, or torch's CUDA stream."""
+    if out is not None and backends.is_jax_array(out[0]):
+        out[0].block_until_ready()
+    elif device.startswith("cuda"):
         import torch
 
         torch.cuda.synchronize(device)
@@ -256,6 +271,7 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
     rows on ``--device`` (off the CPU, with tensors in and out: ``output="torch"``)."""
     rows: list[dict[str, Any]] = []
     on_device = {} if args.device == "cpu" else {"device": args.device, "output": "torch"}
+    jax_device = {} if args.device == "cpu" else {"device": args.device, "output": "jax"}
     where = "" if args.device == "cpu" else f" {args.device}"
     for n in args.backend_envs:
         steps = max(3, args.steps // n)
@@ -282,6 +298,15 @@ def backend_rows(args: argparse.Namespace) -> list[dict[str, Any]]:
                 )
                 for d in args.dtypes
                 for graph in args.step_graph
+                if args.backends
+            ]
+            kinds += [
+                (
+                    f"jax {d}{where}",
+                    {"backend": "jax", "dtype": d, "compile": args.compile, **jax_device},
+                )
+                for d in args.dtypes
+                if args.jax
             ]
             for kind, backend in kinds:
                 r = time_backend(env_id, n, steps, args.seconds, args.seed, args.repeats, **backend)
@@ -392,7 +417,18 @@ def machine_info() -> dict[str, Any]:
         "numpy": np.__version__,
         "gymnasium": gym.__version__,
         **torch_info(),
+        **jax_info(),
     }
+
+
+def jax_info() -> dict[str, Any]:
+    """The installed jax's version (read without importing it), or nothing."""
+    from importlib import metadata
+
+    try:
+        return {"jax": metadata.version("jax")}
+    except metadata.PackageNotFoundError:
+        return {}
 
 
 def torch_info() -> dict[str, Any]:
@@ -583,7 +619,7 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
     memory = {
         env_id: vector_memory_mb(env_id, args.memory_envs, 2, args.seed) for env_id in args.envs
     }
-    backend = backend_rows(args) if args.backends else []
+    backend = backend_rows(args) if args.backends or args.jax else []
     return {"rows": rows, "backend_rows": backend, "memory_mb": memory, "machine": machine_info()}
 
 
@@ -719,6 +755,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of the envs and actions")
     parser.add_argument("--backends", action="store_true", help="add the torch backend rows")
     parser.add_argument(
+        "--jax",
+        action="store_true",
+        help="add the JAX backend rows (the jax extra; with --device cuda where it is installed)",
+    )
+    parser.add_argument(
         "--torch-threads", type=positive_int, default=2, help="torch's thread count"
     )
     add_aliased(
@@ -791,6 +832,7 @@ def _sizes(args: argparse.Namespace) -> None:
         args.step_graph = ["parts", "one"] if args.device != "cpu" else ["auto"]
     if args.device != "cpu":
         args.backends = args.training = True
+        args.jax = args.jax or importlib.util.find_spec("jax") is not None
         args.backend_envs = GPU_ENVS
         # Many envs per batch: a GPU's steps are cheap, its launches are not.
         args.training_settings = {"num_envs": 16384, "n_steps": 32, "minibatch_size": 65536}
@@ -820,9 +862,10 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     )
     if args.scenes:
         return extra_needs("torch")
+    jax = extra_needs("jax") if args.jax else []
     if args.training or args.device != "cpu":
-        return extra_needs("torchrl") + multi
-    return (extra_needs("torch") if args.backends else []) + multi
+        return extra_needs("torchrl") + jax + multi
+    return (extra_needs("torch") if args.backends else []) + jax + multi
 
 
 def run(args: argparse.Namespace) -> int:

@@ -214,6 +214,21 @@ def is_real_number(value: Any) -> bool:
     return isinstance(value, numbers.Real)
 
 
+def is_traced(value: Any) -> bool:
+    """Whether ``value`` is a JAX tracer: an argument that varies inside a jitted program
+    (:mod:`bbgym.jax_env`'s params), which has no value to check while the program is
+    traced. The checks pass it through; :meth:`bbgym.jax_env.JaxEnv.check_params` checks
+    the concrete values before they go in.
+
+    Args:
+        value: Anything.
+
+    Returns:
+        True for a JAX tracer (found without importing JAX).
+    """
+    return type(value).__module__.startswith("jax") and "Tracer" in type(value).__name__
+
+
 def check_number(path: str, value: Any, accepted: Interval | None = None, why: str = "") -> float:
     """``value`` as a Python float: a finite real number inside ``accepted`` (``why``, if
     given, says in the error where the interval comes from).
@@ -233,6 +248,8 @@ def check_number(path: str, value: Any, accepted: Interval | None = None, why: s
         TypeError: If ``value`` is not a real number (:func:`is_real_number`).
         ValueError: If ``value`` is not finite or lies outside ``accepted``.
     """
+    if is_traced(value):
+        return value
     if not is_real_number(value):
         raise TypeError(f"{path} must be a real number, got {value!r} ({type(value).__name__})")
     v = float(value)
@@ -342,7 +359,7 @@ def check_range(
         raise ValueError(f"{path} must be a (low, high) pair of numbers, got {value!r}")
     lo = check_number(f"{path}[0]", value[0], accepted, why)
     hi = check_number(f"{path}[1]", value[1], accepted, why)
-    if lo > hi:
+    if not (is_traced(lo) or is_traced(hi)) and lo > hi:
         raise ValueError(f"{path} must have low <= high, got {value!r}")
     return lo, hi
 
@@ -441,7 +458,7 @@ def check_at_least(obj: Any, name: str, least: str, why: str = "") -> None:
         ValueError: ``"<Class>.<name> must be >= <least> (<its value>), got <value><why>"``.
     """
     value, floor = getattr(obj, name), getattr(obj, least)
-    if value < floor:
+    if not (is_traced(value) or is_traced(floor)) and value < floor:
         raise ValueError(
             f"{type(obj).__name__}.{name} must be >= {least} ({floor!r}), got {value!r}{why}"
         )

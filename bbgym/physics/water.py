@@ -55,7 +55,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bbgym.physics.common import GRAVITY_MPS2
-from bbgym.physics.namespace import Array, replaced
+from bbgym.physics.namespace import Array, iterate, replaced
 from bbgym.physics.validation import accepted_interval, check_fields, interval, param
 
 MAX_WAVE_STEEPNESS = 0.6
@@ -289,11 +289,12 @@ def _displacement(
 def particle_label(p: WaterParams, sea: Sea, x_m: Array, y_m: Array, xp: Any = np) -> tuple:
     """The rest position ``a`` of the surface particle that is at ``(x, y)`` now: the fixed
     point of ``a = p + sum_i d_i A_i sin(theta_i(a))`` (module docstring)."""
-    a_x, a_y = x_m, y_m
-    for _ in range(p.label_iterations):
-        shift_x, shift_y, _ = _displacement(p, sea, a_x, a_y, xp)
-        a_x, a_y = x_m + shift_x, y_m + shift_y
-    return a_x, a_y
+
+    def closer(label: tuple) -> tuple:
+        shift_x, shift_y, _ = _displacement(p, sea, label[0], label[1], xp)
+        return x_m + shift_x, y_m + shift_y
+
+    return iterate(closer, p.label_iterations, (x_m, y_m), xp)
 
 
 def particle_position(p: WaterParams, sea: Sea, a_x: Array, a_y: Array, xp: Any = np) -> tuple:

@@ -178,6 +178,7 @@ SPEC = EnvSpec(
             actions="rudder, main sheet, jib sheets",
         ),
     ),
+    jax_params=("dinghy.mass_kg", "dinghy.sail_area_m2"),
     param_groups={"dinghy": DinghyParams, "gust_params": GustParams, "water": WaterParams},
     shorthands={"sail_model": "dinghy.sail_model"},
     integer_arguments=("water.wave_components",),

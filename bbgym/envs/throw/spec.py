@@ -210,6 +210,7 @@ SPEC = ball_family_spec(
             preset="beachball_curve_v2",
         ),
     ),
+    jax_params=("gust_params.shift_std_rad", "windsock_noise"),
     param_groups={"ball": BallParams, "gust_params": GustParams},
     outcome=_outcome,
     argument_table=ARGUMENT_TABLE,

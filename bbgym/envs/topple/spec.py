@@ -146,6 +146,7 @@ SPEC = ball_family_spec(
             preset="beachball_topple",
         ),
     ),
+    jax_params=("windsock_noise",),
     param_groups={"ball": BallParams, "wall": WallParams, "gust_params": GustParams},
     outcome=_outcome,
     argument_table=ARGUMENT_TABLE,
