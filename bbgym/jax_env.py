@@ -3,7 +3,7 @@ state, action, params)`` over one env, that ``jax.jit``, ``jax.vmap`` and ``jax.
 take like any gymnax env, so that a learner and its envs compile into one program
 (PureJaxRL, rejax).
 
-``env, params = bbgym.jax_env.make("BeachballSail-v1")`` gives the env and its default
+``env, params = bbgym.jax_env.make(env_id)`` gives the env and its default
 params. The observation, the reward and the ends are those of the Gymnasium id: the same
 task core runs in both (:mod:`bbgym.envs.functional`), and an episode here equals sub-env
 ``i`` of the native vector env on ``backend="jax"`` whose keys it shares
@@ -167,7 +167,7 @@ class JaxEnv:
     """One bbgym env as gymnax's ``Environment``: see the module docstring.
 
     Args:
-        env_id: a registered id (``"BeachballSail-v1"``; the ``bbgym/`` prefix optional).
+        env_id: a registered id (the ``bbgym/`` prefix optional).
         dtype: ``"float32"`` (the default) or ``"float64"`` (needs ``jax_enable_x64``).
         vary: the argument paths the params hold, among the family's ``jax_params``
             (None: all of them; ``()``: none, so every argument is a constant of the
@@ -488,7 +488,7 @@ def make(
     """A bbgym env for JAX and its default params, as ``gymnax.make`` returns them.
 
     Args:
-        env_id: a registered id (``"BeachballSail-v1"``).
+        env_id: a registered id.
         dtype: ``"float32"`` or ``"float64"`` (needs ``jax_enable_x64``).
         vary: the arguments the params hold (:class:`JaxEnv`; None: the family's all).
         **kwargs: the task's arguments on top of the id's.
