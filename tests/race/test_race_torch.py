@@ -101,7 +101,7 @@ def test_a_match_on_torch_equals_one_on_numpy() -> None:
 @pytest.mark.parametrize(
     "kwargs, names",
     [
-        ({"backend": "jax"}, "backend"),
+        ({"backend": "mlx"}, "backend"),
         ({"backend": "torch", "dtype": "float16"}, "dtype"),
         ({"backend": "torch", "device": "tpu"}, "device"),
         ({"dtype": "float32"}, "dtype"),
