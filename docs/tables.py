@@ -18,9 +18,12 @@ on a page whose written table differs from what its results and code give now:
     <!-- table: fuzz -->                     docs/results/fuzz/fuzz.json (bbgym fuzz)
     <!-- table: compile -->                  docs/results/speed/compile.json
                                              (scripts/compile_times.py)
+    <!-- table: compile-jax -->              docs/results/speed/compile-jax.json
+                                             (scripts/compile_times.py --backend jax)
     <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
     <!-- table: params GROUP -->             the intervals of a physics parameter dataclass
-    <!-- include: CHANGELOG.md -->           a file of docs/, as it is
+    <!-- include: CHANGELOG.md -->           a file of docs/, as it is (a .py file as a
+                                             code block)
 
 Every results table names the command that wrote its results file, and says where a file
 was transcribed rather than written by that command (its ``source`` field). A missing or
@@ -73,6 +76,7 @@ SCENES_SPEED_FILE = "speed/bench-scenes.json"
 POLAR_FILE = "polar/polar.json"
 FUZZ_FILE = "fuzz/fuzz.json"
 COMPILE_FILE = "speed/compile.json"
+COMPILE_JAX_FILE = "speed/compile-jax.json"
 RACE_SELFPLAY_FILES = ("race/selfplay.json", "race/selfplay_absolute.json")
 """The race's self-play results (``scripts/race_selfplay.py --results``), one row each."""
 
@@ -273,6 +277,8 @@ def _train_minutes(data: dict, summary: dict) -> str:
     else:
         found = re.match(r"[\d.]+(?:-[\d.]+)? min", str(data.get("wall_time", "")))
         text = found.group(0) if found else "-"
+    if summary.get("engine") == "rejax":  # one program trains every seed: its share
+        return f"{text} ({len(seconds or [1])} seeds in one JAX program, its time / seeds)"
     jobs, threads = summary.get("jobs", 1), summary.get("torch_threads", 1)
     how = f"{jobs} at once" if jobs > 1 else "one at a time"
     return f"{text} ({how}, {threads} thread{'s' if threads > 1 else ''} each)"
@@ -303,7 +309,7 @@ def _summary_cells(path: Path) -> tuple[str, str, list[str], str]:
             ratio = f"{unit} {learnt['mean_length'] / scripted['mean_length']:.2f}x"
         else:
             ratio = f"{unit}: not recorded"
-        name = f"{algo.upper()}" + (" (TorchRL)" if engine == "torchrl" else "")
+        name = algo.upper() + {"torchrl": " (TorchRL)", "rejax": " (rejax, JAX)"}.get(engine, "")
         preset = summary.get("config") or "-"
         cells = [
             f"{name}, `{preset}`",
@@ -868,15 +874,44 @@ def fuzz_table(path: Path | None = None) -> str:
     return f"{format_report(data)}\n\nWritten by `{command}`. {_machine(data)}"
 
 
-def _compile_cell(run: dict | None) -> str:
-    """A first step's seconds and what inductor's cache did (``78 s (miss)``)."""
+def _compile_cell(run: dict | None, cache: str = "inductor_cache", digits: int = 0) -> str:
+    """A first step's seconds and what the compile cache did (``78 s (miss)``).
+
+    Args:
+        run: a run of ``scripts/compile_times.py`` (None: not run).
+        cache: the run's key of cache counters named ``..._cache_hit`` and the like
+            (``inductor_cache`` on torch, ``jax_cache`` on JAX).
+        digits: the decimals of the seconds.
+
+    Returns:
+        The table cell.
+    """
     if not run:
         return "-"
     if "error" in run:
         return f"failed: {run['error']}"
-    cache = run.get("inductor_cache") or {}
-    did = [k.split("_cache_")[-1] for k, v in sorted(cache.items()) if v and "_cache_" in k]
-    return f"{run['first_step_s']:.0f} s ({', '.join(did) or 'no cache'})"
+    counters = run.get(cache) or {}
+    did = [k.split("_cache_")[-1] for k, v in sorted(counters.items()) if v and "_cache_" in k]
+    return f"{run['first_step_s']:.{digits}f} s ({', '.join(did) or 'no cache'})"
+
+
+def _later_cell(warm: dict, digits: int = 0) -> str:
+    """The warm run's second step in milliseconds (``2 ms``), or ``-``."""
+    return f"{warm['second_step_s'] * 1000:.{digits}f} ms" if "second_step_s" in warm else "-"
+
+
+def _compile_note(data: dict, path: Path, package: str) -> str:
+    """The footer of a compile table: the command that wrote ``path`` and the machine, with
+    ``package``'s version (``"torch"``, ``"jax"``)."""
+    command = field(data, "command", path, str)
+    source = f" {data['source']}" if data.get("source") else ""
+    m = data.get("machine") or {}
+    return (
+        f"Written by `{command}`, each run a fresh process (cold: an empty cache folder)."
+        + f"{source} "
+        + f"Machine: {m.get('platform', '?')}, {m.get('cpu_count', '?')} CPUs, {package} "
+        + f"{m.get(package, '?')}."
+    )
 
 
 def compile_table(path: Path | None = None) -> str:
@@ -897,22 +932,51 @@ def compile_table(path: Path | None = None) -> str:
     ]
     for row in rows:
         warm = row.get("warm") or {}
-        later = f"{warm['second_step_s'] * 1000:.0f} ms" if "second_step_s" in warm else "-"
         lines.append(
             f"| {row['env_id']} | {row['num_envs']}, {row['dtype']} "
             f"| {_compile_cell(row.get('cold'))} | {_compile_cell(warm)} "
-            f"| {_compile_cell(row.get('warm_other_threads'))} | {later} |"
+            f"| {_compile_cell(row.get('warm_other_threads'))} | {_later_cell(warm)} |"
         )
-    command = field(data, "command", path, str)
-    source = f" {data['source']}" if data.get("source") else ""
-    m = data.get("machine") or {}
-    return (
-        "\n".join(lines)
-        + f"\n\nWritten by `{command}`, each run a fresh process (cold: an empty cache folder)."
-        + f"{source} "
-        + f"Machine: {m.get('platform', '?')}, {m.get('cpu_count', '?')} CPUs, torch "
-        + f"{m.get('torch', '?')}."
+    return "\n".join(lines) + "\n\n" + _compile_note(data, path, "torch")
+
+
+def compile_jax_table(path: Path | None = None) -> str:
+    """The JAX backend's first step per env (the ``jax.jit`` compile), with a cold and a
+    warm persistent compile cache, from ``scripts/compile_times.py --backend jax``'s JSON
+    file: seconds to a tenth, later steps to a hundredth of a millisecond."""
+    path = path or RESULTS / COMPILE_JAX_FILE
+    data = read_json(path)
+    rows = field(data, "rows", path, list)
+    lines = [
+        "| env | batch, dtype | cold cache | warm cache | later steps |",
+        "|---|---|---:|---:|---:|",
+    ]
+    try:
+        for row in rows:
+            warm = row.get("warm") or {}
+            cold, warm_cell = (_compile_cell(r, "jax_cache", 1) for r in (row.get("cold"), warm))
+            lines.append(
+                f"| {row['env_id']} | {row['num_envs']}, {row['dtype']} | {cold} | {warm_cell} "
+                f"| {_later_cell(warm, 2)} |"
+            )
+        made = [
+            run["make_and_reset_s"]
+            for row in rows
+            for run in (row.get("cold"), row.get("warm"))
+            if run and "make_and_reset_s" in run
+        ]
+    except (KeyError, TypeError, ValueError) as err:
+        raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
+    # The reset runs JAX's ops one by one, each compiled in every process and too quick to
+    # cache: a cost the first-step columns leave out.
+    span = sorted({f"{min(made):.1f}", f"{max(made):.1f}"}, key=float) if made else []
+    reset = (
+        f" Making and resetting the env, before the first step: {'-'.join(span)} s a run, "
+        "cold or warm."
+        if span
+        else ""
     )
+    return "\n".join(lines) + "\n\n" + _compile_note(data, path, "jax") + reset
 
 
 def table(spec: str) -> str:
@@ -939,6 +1003,8 @@ def table(spec: str) -> str:
         return race_selfplay_table()
     if kind == "compile" and not arg:
         return compile_table()
+    if kind == "compile-jax" and not arg:
+        return compile_jax_table()
     if kind == "fuzz" and not arg:
         return fuzz_table()
     if kind == "arguments":
@@ -963,6 +1029,8 @@ def include(name: str) -> str:
     if DOCS not in path.parents or not path.is_file():
         raise LookupError(f"include: no file {name!r} in docs/")
     text = path.read_text(encoding="utf-8")
+    if path.suffix == ".py":  # a runnable example, shown whole as code
+        return f"```python\n{text.rstrip()}\n```"
     return re.sub(r"\A# .*\n", "", text)  # the page keeps its own title
 
 
@@ -1084,7 +1152,10 @@ def baseline_results(run: Path, command: str | None = None, note: str = "") -> d
     wall = f"{min(seconds) / 60:.1f}-{max(seconds) / 60:.1f} min a seed"
     if len(seconds) == 1:
         wall = f"{seconds[0] / 60:.1f} min"
-    wall += f" (up to {summary.get('jobs', 1)} at once, {threads} torch thread(s) each)"
+    if summary.get("engine") == "rejax":
+        wall += f" ({len(seconds)} seeds in one JAX program, its wall time / seeds)"
+    else:
+        wall += f" (up to {summary.get('jobs', 1)} at once, {threads} torch thread(s) each)"
     if summary.get("eval_wall_time_s") is not None:
         wall += f"; evaluation {summary['eval_wall_time_s']:.0f} s"
     data = {

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -259,3 +261,51 @@ def test_bench_scenes_times_the_spring_and_sph_scenes_alone(tmp_path):
         assert row["steps_per_s"] > 0 and row["rate"] == row["steps_per_s"] * row["particles"]
     assert [row["cost"] for row in sph[:3]] == [1.0, 1.0, 1.0]
     assert "cost of a step" in (tmp_path / "bench.md").read_text()
+
+
+def test_bench_jax_adds_float64_and_float32_rows(tmp_path):
+    """--jax: the JAX step's rows in each dtype beside CartPole at the same N, timed (the
+    test's settings are --quick's, the smallest the command takes)."""
+    pytest.importorskip("jax")
+    from bbgym.cli import main
+
+    argv = ["bench", "--quick", "--jax", "--envs", "BeachballSail-v0", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    result = json.loads((tmp_path / "bench.json").read_text())
+    rows = {row["kind"]: row for row in result["backend_rows"] if row["env"] != "CartPole-v1"}
+    assert set(rows) == {"N=8 jax float64", "N=8 jax float32"}
+    assert all(row["rate"] > 0 and row["ratio"] > 0 for row in rows.values())
+    assert "| BeachballSail-v0 | N=8 jax float32 |" in (tmp_path / "bench.md").read_text()
+    assert result["machine"]["jax"]
+
+
+def load_compile_times():
+    """scripts/compile_times.py as a module (scripts/ is no package)."""
+    path = Path(__file__).resolve().parents[1] / "scripts" / "compile_times.py"
+    spec = importlib.util.spec_from_file_location("bbgym_compile_times", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_compile_times_takes_each_backends_defaults_and_refuses_torch_threads_on_jax(capsys):
+    """scripts/compile_times.py: torch as before (float64, compile.json); --backend jax in
+    float32 into compile-jax.json; a torch thread option with jax fails naming it."""
+    script = load_compile_times()
+    torch_args = script.parse_args([])
+    assert (torch_args.backend, torch_args.dtype, torch_args.torch_threads) == (
+        "torch",
+        "float64",
+        "default",
+    )
+    assert torch_args.out.name == "compile.json"
+    jax_args = script.parse_args(["--backend", "jax", "--num-envs", "8"])
+    assert (jax_args.dtype, jax_args.num_envs, jax_args.out.name) == (
+        "float32",
+        8,
+        "compile-jax.json",
+    )
+    for flag in ("--other-threads", "--torch-threads"):
+        with pytest.raises(SystemExit):
+            script.parse_args(["--backend", "jax", flag, "1"])
+        assert f"{flag}: torch's thread count" in capsys.readouterr().err

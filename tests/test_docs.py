@@ -82,6 +82,8 @@ def test_the_compile_table_shows_every_id_and_the_cache_serving_warm_runs():
     and both warm runs (another thread count included) hits."""
     import gymnasium as gym
 
+    import bbgym  # noqa: F401  (registers the ids: the test passes run alone too)
+
     text = tables.compile_table()
     rows = [line for line in text.splitlines() if line.startswith("| Beachball")]
     assert sorted(row.split(" | ")[0][2:] for row in rows) == sorted(
@@ -91,6 +93,25 @@ def test_the_compile_table_shows_every_id_and_the_cache_serving_warm_runs():
         cold, warm, other = row.split(" | ")[2:5]
         assert cold.endswith("(miss)") and warm.endswith("(hit)") and other.endswith("(hit)"), row
     assert "`python scripts/compile_times.py " in text
+
+
+def test_the_jax_compile_table_shows_the_cache_serving_warm_runs(tmp_path):
+    """scripts/compile_times.py --backend jax's results: each id's cold run compiled the
+    step and wrote it to the cache (a miss), its warm run loaded it (a hit); a malformed
+    row fails naming the file."""
+    text = tables.compile_jax_table()
+    rows = [line for line in text.splitlines() if line.startswith("| Beachball")]
+    assert rows
+    for row in rows:
+        cold, warm = row.split(" | ")[2:4]
+        assert cold.endswith("(miss)") and warm.endswith("(hit)"), row
+    assert "`python scripts/compile_times.py --backend jax" in text and "CPUs, jax " in text
+    data = json.loads((tables.RESULTS / tables.COMPILE_JAX_FILE).read_text())
+    del data["rows"][0]["env_id"]
+    path = tmp_path / "compile-jax.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(tables.ResultsError, match="compile-jax.json: malformed"):
+        tables.compile_jax_table(path)
 
 
 def test_speed_and_polar_tables_name_their_commands():
