@@ -557,6 +557,7 @@ class CoreVectorEnv(VectorEnv):
         self._keys: Any = None
         self._counter: Any = None
         self._compiled_step: Any = None
+        self._reset_program: Any = None
         self._any_restarting: bool | None = None
         self._renderer: Any = None
         self._collected: list[list[Any]] = []  # rgb_array_list: per drawn sub-env
@@ -699,7 +700,17 @@ class CoreVectorEnv(VectorEnv):
             if self.keyed:
                 self._seed_keys(seeds)
         self.state = None if self.keyed and seed is not None else self.state
-        self._restart(everyone, options)
+        fresh = None
+        if self.backend.name == "jax" and self.backend.compile and self.keyed and not options:
+            # One program (compiled once a process, cached by JAX), not a compile of each
+            # of the restart's many small ops, which JAX runs one by one outside jit.
+            if self._reset_program is None:
+                self._reset_program = backends.compiled(self._fresh_episodes, self.backend)
+            fresh = self._reset_program(self._keys, self._counter)
+            self.state = fresh[0]
+            self._counter = self._counter + 1
+        else:
+            self._restart(everyone, options)
         self._steps = self._tensor(np.zeros(self.num_envs, dtype=np.int64))
         self._autoreset = self._tensor(np.zeros(self.num_envs, dtype=bool))
         self._any_restarting = False
@@ -707,12 +718,25 @@ class CoreVectorEnv(VectorEnv):
         if self.render_mode == LIST_MODE:
             self._collected = [[] for _ in range(self._drawn_envs)]
             self._collect(everyone)
-        m = self.task.measure(self.state, self.xp)
-        obs = columns_to_observation(self.task.observation(self.state, m, self.xp), self.xp)
-        info = select_info(self.task.info(self.state, m, self.xp), self.info_keys)
+        if fresh is not None:
+            obs, info = fresh[1:]
+        else:
+            m = self.task.measure(self.state, self.xp)
+            obs = columns_to_observation(self.task.observation(self.state, m, self.xp), self.xp)
+            info = select_info(self.task.info(self.state, m, self.xp), self.info_keys)
         if self.backend.name == "numpy":  # the host keeps the samples a renderer draws
             info = {**info, **self._step_info()}
         return self._out(obs), self._vector_info(info)
+
+    def _fresh_episodes(self, keys: Any, counter: Any) -> tuple[Any, Any, dict[str, Any]]:
+        """Every env's fresh episode at its key and counter, without reset options: the
+        state, the observations and the infos (what a reset computes, as one function)."""
+        xp = self.xp
+        noise = counter_initial_noise(self.task, keys, counter, self.backend.float_dtype, xp)
+        state = restart(self.task, None, None, noise, {}, xp)
+        m = self.task.measure(state, xp)
+        obs = columns_to_observation(self.task.observation(state, m, xp), xp)
+        return state, obs, select_info(self.task.info(state, m, xp), self.info_keys)
 
     def _seed_keys(self, seeds: list[int | None]) -> None:
         base = seeds[0]
