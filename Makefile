@@ -26,7 +26,7 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet $(TORCH_PIP) "$(TORCH)"
-	$(PY) -m pip install --quiet -e ".[dev,train,torch,torchrl,rllib,zoo,docs,jax]"
+	$(PY) -m pip install --quiet -e ".[dev,train,torch,torchrl,rllib,zoo,docs,jax,rejax]"
 	touch $(STAMP) $(RUN_STAMP)
 
 $(RUN_STAMP): pyproject.toml

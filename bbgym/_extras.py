@@ -27,6 +27,7 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "train": ("stable_baselines3", "torch", "tensorboard"),
     "torch": ("torch", "array_api_compat"),
     "jax": ("jax",),
+    "rejax": ("rejax", "jax", "flax", "gymnax"),
     "rllib": ("ray", "torch"),
     "zoo": ("rl_zoo3", "torch"),
     "torchrl": ("torchrl", "tensordict", "torch", "array_api_compat"),

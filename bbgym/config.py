@@ -344,3 +344,56 @@ def load_torchrl(preset: str | Path) -> dict[str, Any]:
             f"{path}: torchrl.learning_rate must be in (0, 1) or 'lin_<number>', got {rate!r}"
         )
     return settings
+
+
+REJAX_DEFAULTS: dict[str, Any] = {
+    "algo": "sac",
+    "total_timesteps": 200_000,
+    "eval_every_timesteps": 20_000,
+    "eval_episodes": 50,
+    "dtype": "float32",
+}
+"""The ``rejax`` section of a preset (``bbgym train --engine rejax``: rejax's PPO or SAC with
+the env in one ``jax.jit`` program, :mod:`bbgym.rejax`): bbgym's own settings and their
+defaults. ``algo`` is ``ppo`` or ``sac``; every other key of the section is a setting of
+that rejax algorithm under rejax's own name (``num_envs``, ``learning_rate``,
+``hidden_layer_sizes``, ``fill_buffer``, ...), checked against its fields when training
+starts. ``eval_every_timesteps`` is rejax's ``eval_freq``: the policy is evaluated inside
+the program on ``eval_episodes`` episodes (:func:`bbgym.rejax.train`)."""
+
+
+def load_rejax(preset: str | Path) -> dict[str, Any]:
+    """The ``rejax`` section of a preset (an env id, a shipped preset's name or a file)
+    with :data:`REJAX_DEFAULTS` for what it leaves out.
+
+    Args:
+        preset: an env id, a shipped preset's name or a YAML file.
+
+    Returns:
+        The settings: bbgym's (:data:`REJAX_DEFAULTS`) and the algorithm's own.
+
+    Raises:
+        ValueError: naming the setting (``rejax.<name>``) for an invalid bbgym setting, or
+            where the preset has no ``rejax`` section.
+    """
+    import yaml
+
+    path = preset_path(preset)
+    with open(path, encoding="utf-8") as f:
+        section = yaml.safe_load(f).get("rejax")
+    if not isinstance(section, dict):
+        raise ValueError(f"{path}: no rejax section (the settings of --engine rejax)")
+    settings = {**REJAX_DEFAULTS, **section}
+    if settings["algo"] not in ALGORITHMS:
+        raise ValueError(
+            f"{path}: rejax.algo must be one of {ALGORITHMS}, got {settings['algo']!r}"
+        )
+    for name in ("total_timesteps", "eval_every_timesteps", "eval_episodes"):
+        value = settings[name]
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ValueError(f"{path}: rejax.{name} must be a positive int, got {value!r}")
+    if settings["dtype"] not in ("float32", "float64"):
+        raise ValueError(
+            f"{path}: rejax.dtype must be float32 or float64, got {settings['dtype']!r}"
+        )
+    return settings

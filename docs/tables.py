@@ -8,6 +8,7 @@ on a page whose written table differs from what its results and code give now:
 
     <!-- table: baselines [ENV_PREFIX] -->   docs/results/baselines/*.json (bbgym baseline)
     <!-- table: baselines-summary [PREFIX] --> the same, a row per task, algorithm and engine
+    <!-- table: baselines-files NAME ... -->  the same columns, a row per named results file
     <!-- table: speed -->                    docs/results/speed/bench.json (bbgym bench)
     <!-- table: speed-summary -->            the same, as ratios to CartPole-v1 in one grid
     <!-- table: speed-gpu -->                docs/results/speed/cuda-*.log (bench --device cuda)
@@ -18,6 +19,8 @@ on a page whose written table differs from what its results and code give now:
     <!-- table: fuzz -->                     docs/results/fuzz/fuzz.json (bbgym fuzz)
     <!-- table: compile -->                  docs/results/speed/compile.json
                                              (scripts/compile_times.py)
+    <!-- table: backends-jax -->             docs/results/speed/bench-jax.json
+                                             (bbgym bench --jax)
     <!-- table: compile-jax -->              docs/results/speed/compile-jax.json
                                              (scripts/compile_times.py --backend jax)
     <!-- table: arguments FAMILY -->         ARGUMENT_TABLE of bbgym.envs.FAMILY (the code)
@@ -55,8 +58,10 @@ BASELINE_FILES = (
     "BeachballSail-v1-sac-quick.json",
     "BeachballSail-v1-ppo.json",
     "BeachballSail-v1-torchrl-ppo.json",
+    "BeachballSail-v1-rejax-sac.json",
     "BeachballSail-v0-ppo.json",
     "BeachballThrow-v1-ppo.json",
+    "BeachballThrow-v1-rejax-ppo.json",
     "BeachballThrow-v0-ppo.json",
     "BeachballThrow-v0-torchrl-ppo.json",
     "BeachballCurve-v2-ppo.json",
@@ -72,6 +77,7 @@ BASELINE_FILES = (
 """The baselines' results files, in the order of the table's rows."""
 SPEED_FILE = "speed/bench.json"
 BACKENDS_FILE = "speed/bench-backends-0.3.1.json"
+BACKENDS_JAX_FILE = "speed/bench-jax.json"
 SCENES_SPEED_FILE = "speed/bench-scenes.json"
 POLAR_FILE = "polar/polar.json"
 FUZZ_FILE = "fuzz/fuzz.json"
@@ -273,7 +279,7 @@ def _train_minutes(data: dict, summary: dict) -> str:
     seconds = summary.get("train_wall_time_s_per_seed")
     if seconds:
         low, high = min(seconds.values()) / 60, max(seconds.values()) / 60
-        text = f"{low:.1f} min" if len(seconds) == 1 else f"{low:.1f}-{high:.1f} min"
+        text = f"{low:.1f} min" if low == high else f"{low:.1f}-{high:.1f} min"
     else:
         found = re.match(r"[\d.]+(?:-[\d.]+)? min", str(data.get("wall_time", "")))
         text = found.group(0) if found else "-"
@@ -309,7 +315,7 @@ def _summary_cells(path: Path) -> tuple[str, str, list[str], str]:
             ratio = f"{unit} {learnt['mean_length'] / scripted['mean_length']:.2f}x"
         else:
             ratio = f"{unit}: not recorded"
-        name = algo.upper() + {"torchrl": " (TorchRL)", "rejax": " (rejax, JAX)"}.get(engine, "")
+        name = algo.upper() + {"torchrl": " (TorchRL)", "rejax": " (rejax)"}.get(engine, "")
         preset = summary.get("config") or "-"
         cells = [
             f"{name}, `{preset}`",
@@ -362,7 +368,24 @@ def baselines_summary_table(
         task, number = _version(row[0])
         return (tasks.index(task) if task in tasks else len(tasks), -number, row[1] != "sb3")
 
-    rows = sorted(chosen.values(), key=order)
+    return _summary_rows(sorted(chosen.values(), key=order), current)
+
+
+def baselines_files_table(names: str, results: Path = RESULTS) -> str:
+    """The summary rows (:func:`baselines_summary_table`'s columns) of the named results
+    files, in the order named: ``names`` is space-separated file names without ``.json``,
+    e.g. two engines' runs of one env side by side."""
+    rows = []
+    for name in names.split():
+        if f"{name}.json" not in BASELINE_FILES:
+            raise ResultsError(f"baselines-files: {name}.json is not in BASELINE_FILES")
+        rows.append(_summary_cells(results / "baselines" / f"{name}.json"))
+    return _summary_rows(rows, current_ids())
+
+
+def _summary_rows(rows: list[tuple], current: list[str]) -> str:
+    """The summary table of ``rows`` (``(env, engine, cells, command)``), its legend and
+    the collapsed note of each row's command."""
     lines = [
         "| env | algorithm, preset | success (worst seed) | scripted oracle: success; learnt "
         "/ oracle | training a seed (2 cores) |",
@@ -542,7 +565,7 @@ def gpu_speed_table(path: Path | None = None, smallest: int = 4096) -> str:
 
 
 def backends_table(path: Path | None = None) -> str:
-    """The torch backend rows of a ``bbgym bench --backends`` run."""
+    """The backend rows of a ``bbgym bench --backends`` (torch) or ``--jax`` run."""
     path = path or RESULTS / BACKENDS_FILE
     data, note = _bench(path)
     rows = field(data, "backend_rows", path, list)
@@ -967,8 +990,8 @@ def compile_jax_table(path: Path | None = None) -> str:
         ]
     except (KeyError, TypeError, ValueError) as err:
         raise ResultsError(f"{_name(path)}: malformed results ({err!r})") from None
-    # The reset runs JAX's ops one by one, each compiled in every process and too quick to
-    # cache: a cost the first-step columns leave out.
+    # The reset is a program of its own, compiled in every process (too quick for JAX to
+    # cache it): a cost the first-step columns leave out.
     span = sorted({f"{min(made):.1f}", f"{max(made):.1f}"}, key=float) if made else []
     reset = (
         f" Making and resetting the env, before the first step: {'-'.join(span)} s a run, "
@@ -983,6 +1006,8 @@ def table(spec: str) -> str:
     """The table a marker's words ask for (``"baselines BeachballSail"``)."""
     kind, _, arg = spec.partition(" ")
     arg = arg.strip()
+    if kind == "baselines-files":
+        return baselines_files_table(arg)
     if kind == "baselines-summary":
         return baselines_summary_table(arg)
     if kind == "speed-summary" and not arg:
@@ -995,6 +1020,8 @@ def table(spec: str) -> str:
         return speed_table()
     if kind == "backends" and not arg:
         return backends_table()
+    if kind == "backends-jax" and not arg:
+        return backends_table(RESULTS / BACKENDS_JAX_FILE)
     if kind == "polar" and not arg:
         return polar_table()
     if kind == "polar-compare" and not arg:
@@ -1150,8 +1177,8 @@ def baseline_results(run: Path, command: str | None = None, note: str = "") -> d
     seconds = list(summary["train_wall_time_s_per_seed"].values())
     threads = summary.get("torch_threads", "?")
     wall = f"{min(seconds) / 60:.1f}-{max(seconds) / 60:.1f} min a seed"
-    if len(seconds) == 1:
-        wall = f"{seconds[0] / 60:.1f} min"
+    if len(set(seconds)) == 1:  # one seed, or one program's time shared by its seeds
+        wall = f"{seconds[0] / 60:.1f} min" + (" a seed" if len(seconds) > 1 else "")
     if summary.get("engine") == "rejax":
         wall += f" ({len(seconds)} seeds in one JAX program, its wall time / seeds)"
     else:

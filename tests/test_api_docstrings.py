@@ -38,6 +38,8 @@ MODULES = [
     "bbgym.testing",
     "bbgym.envs.core",
     "bbgym.jax_env",
+    "bbgym.mlp_policy",
+    "bbgym.rejax",
 ]
 """The modules whose public API this test holds to the rule (extend it as modules are
 documented)."""

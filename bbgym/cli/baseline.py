@@ -10,13 +10,15 @@ quick preset (``beachball_sail_v2_quick``) and one training seed. Steps, each re
 it goes:
 
 1. train as ``bbgym train`` does (the preset's ``algo``, its section and ``train``; with
-   ``--engine torchrl``, TorchRL's PPO from its ``torchrl`` section on ``--device``), once per
-   training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>`` (``--jobs`` trainings
-   at once, each on ``--torch-threads`` threads); ``--no-train`` skips this and evaluates
-   the models already there;
+   ``--engine torchrl``, TorchRL's PPO from its ``torchrl`` section on ``--device``; with
+   ``--engine rejax``, rejax's algorithm from its ``rejax`` section, every seed in one JAX
+   program), once per training seed ``seed .. seed + seeds - 1``, into ``<out>/seed<k>``
+   (``--jobs`` trainings at once, each on ``--torch-threads`` threads); ``--no-train``
+   skips this and evaluates the models already there;
 2. evaluate each seed's best model of training (``best_model.zip``, or ``best_model.pt`` of
-   ``--engine torchrl``; chosen on the evaluation seeds 10000+; or
-   its final model, where the preset's ``train.evaluate_model`` is ``final``), a
+   ``--engine torchrl``; chosen on the evaluation seeds 10000+; or its final model, where
+   the preset's ``train.evaluate_model`` is ``final``; ``best_model.npz`` of ``--engine
+   rejax``), a
    uniform random policy and the env's scripted agent (the VMG autopilot for sailing) over
    the same ``--episodes`` seeded episodes (seeds ``0 .. episodes-1``, apart from
    training's), with the breakdown of failures;
@@ -71,10 +73,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     train.add_threads_argument(parser)
     parser.add_argument(
         "--engine",
-        choices=("sb3", "torchrl"),
+        choices=("sb3", "torchrl", "rejax"),
         default="sb3",
         help="training library (torchrl: PPO on the env's torch backend, the "
-        "preset's torchrl section)",
+        "preset's torchrl section; rejax: the seeds in one JAX program, the preset's rejax "
+        "section)",
     )
     train.add_device_argument(parser)
     parser.add_argument(
@@ -86,7 +89,8 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
     """``(module, extra)`` the run needs, checked before training starts: training
     (``train``), the learning curves (``plots``) and the recorded episode (``render`` to
     draw it, Pillow of ``plots`` to write the GIF)."""
-    return extra_needs("torchrl" if args.engine == "torchrl" else "train", "plots", "render")
+    learner = {"sb3": "train"}.get(args.engine, args.engine)
+    return extra_needs(learner, "plots", "render")
 
 
 def best_model_index(timesteps: np.ndarray, mean_returns: np.ndarray, train_log: dict) -> int:
@@ -359,15 +363,23 @@ def run(args: argparse.Namespace) -> int:
         settings = train.torchrl_settings(config)
         algo, evaluated, n_envs = "ppo", "best", settings["num_envs"]
         model_file = "best_model.pt"
+    elif args.engine == "rejax":
+        settings = train.rejax_settings(config)
+        algo, evaluated = settings["algo"], "best"
+        n_envs, model_file = settings.get("num_envs", "rejax's default"), "best_model.npz"
     else:
         _, settings = load_training(config)
         algo, evaluated, n_envs = settings["algo"], settings["evaluate_model"], settings["n_envs"]
         model_file = EVALUATED_MODELS[evaluated]
     budget = args.timesteps or settings["total_timesteps"]
+    how = (
+        "all in one JAX program"
+        if args.engine == "rejax"
+        else f"{args.jobs} at once, {args.torch_threads} torch thread(s) each"
+    )
     print(
         f"[1/4] training {algo.upper()} ({args.engine}) on {args.env}: seeds {seeds}, "
-        f"{budget} timesteps each, {n_envs} envs, {args.jobs} at once, {args.torch_threads} "
-        "torch thread(s) each"
+        f"{budget} timesteps each, {n_envs} envs, {how}"
     )
     train_logs, train_wall = _train_or_reuse(args, folders, budget)
     budget = train_logs[seeds[0]]["timesteps"]
@@ -504,6 +516,10 @@ def _plot_learning_curves(
 def train_seeds(args: argparse.Namespace, folders: dict[int, Path], budget: int) -> None:
     """Train every seed's model into its folder: one after another with a progress bar, or
     ``--jobs`` at once in separate processes (each pinned to ``--torch-threads``)."""
+    if args.engine == "rejax":  # every seed in one program
+        print(f"      seeds {list(folders)} in one program -> {args.out}/seed*")
+        train.train_rejax(args.env, folders=folders, preset=args.preset, timesteps=budget)
+        return
     kwargs = {"preset": args.preset, "timesteps": budget, "torch_threads": args.torch_threads}
     trainer = train.train_sb3
     if args.engine == "torchrl":

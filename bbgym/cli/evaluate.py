@@ -80,10 +80,20 @@ def make_policy(name: str, env: gym.Env, model_path: Path | None, seed: int) -> 
         if not Path(model_path).is_file():
             raise ValueError(
                 f"--model {model_path}: no such file (a saved SB3 model .zip, "
-                "or a policy .pt of --engine torchrl)"
+                "a policy .pt of --engine torchrl, or a policy .npz of --engine rejax)"
             )
         if Path(model_path).suffix == ".pt":
             return _torchrl_policy(name, model_path)
+        if Path(model_path).suffix == ".npz":  # bbgym train --engine rejax: NumPy alone
+            from bbgym.mlp_policy import MLPPolicy
+
+            policy = MLPPolicy.load(model_path)
+            if policy.meta.get("algo", name) != name:
+                raise ValueError(
+                    f"--model {model_path}: a policy of {policy.meta['algo']} "
+                    f"(--policies {policy.meta['algo']}), not {name}"
+                )
+            return policy
         require("stable_baselines3", "train")
         from bbgym.sb3 import load_model
 
@@ -430,9 +440,10 @@ def needs(args: argparse.Namespace) -> list[tuple[str, str]]:
 
 def model_needs(policies: list[str], model: Path | None) -> list[tuple[str, str]]:
     """The extra a saved model's policy needs: ``torchrl`` for a ``.pt`` policy of
-    ``bbgym train --engine torchrl``, else ``train`` (stable-baselines3); none where no
-    policy in ``policies`` is a saved model."""
-    if not set(policies) & set(LEARNT):
+    ``bbgym train --engine torchrl``, none for a ``.npz`` of ``--engine rejax`` (NumPy
+    evaluates it), else ``train`` (stable-baselines3); none where no policy in
+    ``policies`` is a saved model."""
+    if not set(policies) & set(LEARNT) or Path(model or "").suffix == ".npz":
         return []
     return extra_needs("torchrl" if Path(model or "").suffix == ".pt" else "train")
 

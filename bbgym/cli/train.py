@@ -39,6 +39,14 @@ section; seeded and reproducible like ``sb3``, evaluated alike (``<out>/eval``),
 policies saved as ``<out>/model.pt`` and ``<out>/best_model.pt`` (which ``bbgym evaluate
 --policies ppo --model`` reads).
 
+Engine ``rejax`` (the ``rejax`` extra): rejax's SAC or PPO with the env in one
+``jax.jit`` program (:mod:`bbgym.rejax`), from the preset's ``rejax`` section; the run
+folder has the final policy as ``<out>/model.npz`` and the best evaluation's as
+``<out>/best_model.npz`` (:class:`bbgym.mlp_policy.MLPPolicy`, which ``bbgym evaluate
+--model`` reads with NumPy alone), and the evaluations made inside the program in
+``<out>/eval``. ``bbgym baseline --engine rejax`` trains its seeds in one
+program.
+
 Engine ``rllib`` (the ``rllib`` extra; PPO presets): Ray RLlib's PPO on its new API stack, each env
 runner stepping the env's native vector env; ``--iterations`` training iterations, a
 checkpoint in ``<out>/checkpoint`` and a summary in ``<out>/rllib.json``. Without
@@ -56,8 +64,10 @@ import time
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from bbgym._extras import extra_needs
-from bbgym._files import copy_atomic, link_or_copy, write_text_atomic
+from bbgym._files import copy_atomic, link_or_copy, write_atomic, write_text_atomic
 from bbgym.cli import (
     UsageError,
     check_device,
@@ -70,7 +80,7 @@ from bbgym.cli import (
 EVAL_SEED_OFFSET = 10_000
 """Evaluation episodes use seeds far from the training ones."""
 
-ENGINES = ("sb3", "rllib", "torchrl")
+ENGINES = ("sb3", "rllib", "torchrl", "rejax")
 
 MODEL_FILE = "model.zip"
 """The final model of a run, which ``--resume`` continues."""
@@ -186,7 +196,17 @@ def run_provenance(seed: int, threads: int) -> dict[str, Any]:
 
     from bbgym import __version__  # the code's, even where an editable install is stale
 
-    names = ("torch", "stable-baselines3", "gymnasium", "numpy", "ray", "torchrl", "tensordict")
+    names = (
+        "torch",
+        "stable-baselines3",
+        "gymnasium",
+        "numpy",
+        "ray",
+        "torchrl",
+        "tensordict",
+        "jax",
+        "rejax",
+    )
     versions = {"python": platform.python_version(), "bbgym": __version__}
     return {
         "seed": seed,
@@ -202,6 +222,8 @@ def run(args: argparse.Namespace) -> int:
         return _run_rllib(args)
     if args.engine == "torchrl":
         return _run_torchrl(args)
+    if args.engine == "rejax":
+        return _run_rejax(args)
     if args.out is None:
         from bbgym.config import load_training
 
@@ -227,9 +249,9 @@ def format_summary(summary: dict[str, Any], out: Path) -> str:
     asked = summary.get("timesteps_requested")
     trained = summary["timesteps_trained"]
     rounded = f" (asked {asked})" if asked is not None and asked != trained else ""
+    models = dict.fromkeys([Path(summary["model"]).name, Path(summary["best_model"]).name])
     files = [
-        Path(summary["model"]).name,
-        Path(summary["best_model"]).name,
+        *models,
         "train.json with the full summary",
         "eval/",
     ]
@@ -673,14 +695,133 @@ def _run_torchrl(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run_rejax(args: argparse.Namespace) -> int:
+    if args.resume:
+        raise UsageError("--resume is for --engine sb3")
+    out = args.out or Path("runs") / "rejax" / f"{args.env}-seed{args.seed}"
+    summary = train_rejax(
+        args.env, preset=args.preset, timesteps=args.timesteps, folders={args.seed: out}
+    )[args.seed]
+    print(format_summary(summary, out))
+    return 0
+
+
+def rejax_settings(path: Path) -> dict[str, Any]:
+    """:func:`bbgym.config.load_rejax`, its errors as usage errors of ``--preset``."""
+    from bbgym.config import load_rejax
+
+    return _section(load_rejax, path)
+
+
+def _section(load: Any, path: Path) -> dict[str, Any]:
+    """An engine's section of the preset ``path`` by ``load``, a ``ValueError`` turned into
+    a usage error of ``--preset``."""
+    try:
+        return load(path)
+    except ValueError as err:
+        raise UsageError(f"--preset: {err}") from None
+
+
+def train_rejax(
+    env: str,
+    *,
+    folders: dict[int, Path],
+    preset: str | Path | None = None,
+    timesteps: int | None = None,
+) -> dict[int, dict[str, Any]]:
+    """Train rejax's algorithm on ``env`` for every seed of ``folders`` in one compiled
+    program (:func:`bbgym.rejax.train`), from the preset's ``rejax`` section and its env
+    arguments; write each seed's run folder (``model.npz``, ``eval/evaluations.npz`` in
+    stable-baselines3's layout, ``best_model.npz``: the policy of the evaluation with the
+    highest mean return, ``config.yaml``, ``train.json``).
+
+    Args:
+        env: a bbgym id.
+        folders: training seed -> its run folder.
+        preset: the preset (None: the env's).
+        timesteps: the budget per seed (None: the section's).
+
+    Returns:
+        Each seed's summary (its ``train.json``). Its wall and training times are the
+        program's shared among the seeds: one program trains them all.
+    """
+    require_all(extra_needs("rejax"))
+    path, env_kwargs = resolve_preset(env, preset)
+    settings = rejax_settings(path)
+    from bbgym import rejax
+
+    try:
+        algorithm_kwargs = rejax.algorithm_settings(settings)
+    except ValueError as err:
+        raise UsageError(f"--preset {path}: {err}") from None
+    start = time.perf_counter()
+    result = rejax.train(env, settings, list(folders), timesteps=timesteps, env_kwargs=env_kwargs)
+    wall = time.perf_counter() - start
+    share = len(folders)
+    summaries = {}
+    for seed, out in folders.items():
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "eval").mkdir(exist_ok=True)
+        copy_atomic(path, out / "config.yaml")
+        write_atomic(out / "model.npz", result.policies[seed].save)
+        best_policy = result.best_policies[seed]
+        write_atomic(out / "best_model.npz", best_policy.save)
+        curve = result.evaluations[seed]
+        write_atomic(
+            out / "eval" / "evaluations.npz",
+            lambda file, curve=curve: _save_evaluations(file, curve),
+        )
+        last_returns = curve["returns"][-1]
+        best = list(curve["timesteps"]).index(best_policy.meta["timesteps"])
+        summary = {
+            "env": env,
+            "engine": "rejax",
+            "algo": settings["algo"],
+            "seed": seed,
+            "seeds_in_program": list(folders),
+            "timesteps": result.timesteps,
+            "timesteps_requested": timesteps or settings["total_timesteps"],
+            "timesteps_trained": result.timesteps,
+            "wall_time_s": wall / share,
+            "train_time_s": result.train_time_s / share,
+            "timesteps_per_s": result.timesteps * share / result.train_time_s,
+            "compile_time_s": result.compile_time_s,
+            "program_wall_time_s": wall,
+            # Inside the program, part of its training time: not measured apart.
+            "eval_time_s": 0.0,
+            "evaluations": len(curve["timesteps"]),
+            "last_eval_episodes": len(last_returns),
+            "last_success_rate": float(np.mean(curve["successes"][-1])),
+            "model": str(out / "model.npz"),
+            "best_model": str(out / "best_model.npz"),
+            "best_model_timesteps": int(curve["timesteps"][best]),
+            "best_mean_return": float(curve["returns"][best].mean()),
+            "config": str(path),
+            "settings": {**result.algorithm, "algorithm_kwargs": algorithm_kwargs},
+            **run_provenance(seed, 1),
+        }
+        write_text_atomic(out / "train.json", json.dumps(summary, indent=2) + "\n")
+        summaries[seed] = summary
+    return summaries
+
+
+def _save_evaluations(file: Path, curve: dict[str, np.ndarray]) -> None:
+    """stable-baselines3's ``evaluations.npz`` layout, which the learning curves read."""
+    with open(file, "wb") as f:
+        np.savez(
+            f,
+            timesteps=curve["timesteps"],
+            results=curve["returns"],
+            ep_lengths=curve["lengths"],
+            successes=curve["successes"],
+        )
+
+
 def torchrl_settings(path: Path) -> dict[str, Any]:
     """:func:`bbgym.config.load_torchrl`, its errors as usage errors of ``--preset``."""
     from bbgym.config import load_torchrl
 
-    try:
-        return load_torchrl(path)
-    except ValueError as err:
-        raise UsageError(f"--preset: {err}") from None
+    return _section(load_torchrl, path)
 
 
 def train_torchrl(
