@@ -6,7 +6,7 @@ evaluating, recording or deploying it needs NumPy alone (no JAX, no flax):
 
     from bbgym.mlp_policy import MLPPolicy
 
-    policy = MLPPolicy.load("runs/rejax/BeachballSail-v1-seed0/model.npz")
+    policy = MLPPolicy.load("runs/rejax/<env id>-seed0/best_model.npz")
     action = policy(obs)          # one observation or a batch of them
 
 The network is ``hidden = activation(x @ W + b)`` per hidden layer, then the mean head
